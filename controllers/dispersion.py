@@ -1,0 +1,85 @@
+"""Potential-field dispersion: the classic deployment baseline (Howard, Mataric & Sukhatme 2002).
+
+Every robot is repelled by neighbours closer than ``d_cover`` (force growing as they get closer)
+and attracted toward the beacon while it is off the target; once on the target it stays on it:
+a step whose probe says it would leave the target is cancelled. Robots with no neighbour within
+range and nothing to do sleep.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmsim.controller import Action, Perception, RobotSetup, register
+
+IDLE, SEEKING, SPREADING = 0, 1, 2
+
+
+@dataclass(frozen=True)
+class DispersionParams:
+    """Parameters (units; speeds in units per tick).
+
+    Attributes:
+        d_cover: neighbours closer than this repel (the desired spacing).
+        v: top speed (paper: 0.1).
+        gain: repulsion gain (speed per unit of missing distance).
+        deadband: speeds below this are treated as zero (the robot rests).
+        probe_distance: how far ahead the floor probe looks before a step.
+    """
+
+    d_cover: float = 6.0
+    v: float = 0.1
+    gain: float = 0.05
+    deadband: float = 0.005
+    probe_distance: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("d_cover", "v", "gain", "probe_distance"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        if self.deadband < 0:
+            raise ValueError(f"deadband must be >= 0, got {self.deadband!r}")
+
+
+@register
+class Dispersion:
+    """Repel neighbours within d_cover; head for the beacon until on the target; stay on it."""
+
+    name = "dispersion"
+    Params = DispersionParams
+    STATUSES = ("Idle", "Seeking", "Spreading")
+    MESSAGE_FIELDS: list = []
+
+    @classmethod
+    def sensing_range(cls, params: DispersionParams) -> float:
+        return params.d_cover
+
+    def __init__(self, setup: RobotSetup, params: DispersionParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.group = setup.group
+        self.p = params
+
+    def step(self, p: Perception) -> Action:
+        v = np.zeros(2)
+        close = p.distances < self.p.d_cover
+        if close.any():
+            d = np.maximum(p.distances[close], 1e-6)
+            push = (self.p.d_cover - d) / d
+            v -= self.p.gain * (p.offsets[close] * push[:, None]).sum(axis=0)
+        if not p.on_target and p.beacon is not None:
+            v += p.beacon * self.p.v
+        speed = float(np.hypot(*v))
+        if speed > self.p.v:
+            v *= self.p.v / speed
+            speed = self.p.v
+        if speed > self.p.deadband and p.on_target:
+            if not p.probe(v / speed * self.p.probe_distance):
+                v[:] = 0.0
+                speed = 0.0
+        status = SPREADING if speed > self.p.deadband else (SEEKING if not p.on_target else IDLE)
+        msg = (self.id, status, 0, self.group, False, speed > self.p.deadband)
+        if speed <= self.p.deadband:
+            return Action((0.0, 0.0), msg, sleep=True)
+        return Action((float(v[0]), float(v[1])), msg)

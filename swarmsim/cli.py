@@ -1,0 +1,177 @@
+"""Command line: ``swarmsim run | worlds | controllers | params``.
+
+Every input error prints one line naming the file, key and value, and exits with status 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from swarmsim.config import SimConfig, parse_value
+from swarmsim.errors import ConfigError
+
+LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
+
+
+def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
+        out[key.strip().replace("-", "_")] = parse_value(value)
+    return out
+
+
+def _add_run_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("run", help="run one simulation",
+                       description="Run one simulation and print a one-line summary.")
+    p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
+    p.add_argument("--controller", default="ggc",
+                   help="controller name or module:Class (default: ggc)")
+    p.add_argument("--robots", type=int, help="number of robots (default: the world's)")
+    p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
+    p.add_argument("--d-cover", type=float, dest="d_cover",
+                   help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
+    p.add_argument("--seed", type=int, default=0, help="run seed (default 0)")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit (default 100000)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="any other parameter; see 'swarmsim params'")
+    p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, coverage.png")
+    p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
+    p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
+    p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
+                   help="a video frame every K ticks (default: about 600 frames per run)")
+    p.add_argument("--color-by", default="gradient", dest="color_by",
+                   choices=("gradient", "group", "status"), help="robot colouring in videos")
+    p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
+    p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
+                   help="ring robots that touch something (collision-realism videos)")
+    p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="swarmsim",
+        description="Physics-based 2-D swarm-robotics simulator (GGC area coverage).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    _add_run_parser(sub)
+    sub.add_parser("worlds", help="list shipped worlds with target area and lattice capacity")
+    sub.add_parser("controllers", help="list registered controllers")
+    pp = sub.add_parser("params", help="list every parameter with its default and meaning")
+    pp.add_argument("--controller", default="ggc")
+    return parser
+
+
+def cmd_worlds() -> int:
+    from swarmsim.world import available_worlds, load_world
+
+    head = f"{'world':<10} {'area':>9} " + " ".join(f"{'cap@' + str(d):>8}"
+                                                   for d in LATTICE_SPACINGS)
+    print(head + f" {'robots':>7} {'groups':>6}")
+    for name in available_worlds():
+        w = load_world(name)
+        caps = " ".join(f"{w.lattice_capacity(d):>8}" for d in LATTICE_SPACINGS)
+        print(f"{name:<10} {w.target_area:>9.0f} {caps} {w.defaults.get('robots', '-'):>7} "
+              f"{w.defaults.get('groups', '-'):>6}")
+    print("cap@d = robots a hexagonal lattice of spacing d holds: area / (0.866 d^2)")
+    return 0
+
+
+def cmd_controllers() -> int:
+    from swarmsim.controller import available_controllers, get_controller
+
+    for name in available_controllers():
+        cls = get_controller(name)
+        doc = (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+        print(f"{name:<12} {doc}")
+    return 0
+
+
+def _doc_lines(cls: type) -> dict[str, str]:
+    """Attribute descriptions from a dataclass docstring's 'Attributes:' section."""
+    out, current = {}, None
+    for line in (cls.__doc__ or "").splitlines():
+        stripped = line.strip()
+        if ":" in stripped and stripped.split(":")[0].isidentifier() and line.startswith(" " * 8):
+            current, _, text = stripped.partition(":")
+            out[current] = text.strip()
+        elif current and stripped and line.startswith(" " * 12):
+            out[current] += " " + stripped
+    return out
+
+
+def cmd_params(controller: str) -> int:
+    from swarmsim.controller import get_controller
+    from swarmsim.physics import PhysicsConfig
+
+    cls = get_controller(controller)
+    for title, klass in (("engine", SimConfig), ("physics", PhysicsConfig),
+                         (f"controller {controller}", cls.Params)):
+        print(f"[{title}]")
+        docs = _doc_lines(klass)
+        for f in dataclasses.fields(klass):
+            print(f"  {f.name:<20} = {f.default!r:<10} {docs.get(f.name, '')}")
+    return 0
+
+
+def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
+    if args.frame_every and args.frame_every < 0:
+        raise ConfigError(f"must be positive, got {args.frame_every!r}", key="--frame-every")
+    return args.frame_every or max(1, min(50, max_ticks // 600))
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from swarmsim.recording import Recorder
+    from swarmsim.sim import Simulation
+
+    if args.fps <= 0:
+        raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
+    sim = Simulation(args.world, controller=args.controller, robots=args.robots,
+                     groups=args.groups, seed=args.seed, d_cover=args.d_cover,
+                     max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
+                        frame_every=_frame_every(args, sim.config.max_ticks),
+                        color_by=args.color_by, width=args.width,
+                        highlight_contacts=args.highlight_contacts)
+    with recorder:
+        result = sim.run(progress=not args.quiet,
+                         on_tick=recorder.on_tick)
+    s = result.summary
+    if args.out:
+        recorder.write_outputs(args.out, result)
+    done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
+    print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
+          f"seed={s['seed']}: coverage {100 * s['coverage']:.1f}% ({done}), ticks {s['ticks']}, "
+          f"distance {s['total_distance']:.0f}, contacts {s['collisions_robot_robot']}, "
+          f"{s['wall_seconds']:.1f}s")
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "worlds":
+            return cmd_worlds()
+        if args.command == "controllers":
+            return cmd_controllers()
+        if args.command == "params":
+            return cmd_params(args.controller)
+        return cmd_run(args)
+    except ConfigError as exc:
+        print(f"swarmsim: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("swarmsim: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,179 @@
+"""Run settings: engine parameters, their defaults, and resolving ``--set KEY=VALUE``.
+
+A run has three kinds of parameters, all with documented defaults:
+
+* :class:`SimConfig`: the tick loop, metrics and stopping rules (paper Table 2 where it has one),
+* :class:`swarmsim.physics.PhysicsConfig`: bodies and drive,
+* the controller's own ``Params`` dataclass (e.g. GGC's d_cover, R_c, ...).
+
+``resolve_settings`` routes each key to the one place that knows it; an unknown key, or a value
+of the wrong type, is a :class:`ConfigError` naming the key and value.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from swarmsim.errors import ConfigError
+from swarmsim.physics import PhysicsConfig
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Engine settings of one run.
+
+    Attributes:
+        robots: number of robots N.
+        groups: number of groups K (paper Section 4).
+        seed: the one seed that decides the run.
+        max_ticks: hard limit on ticks.
+        start: "random" (uniform in the spawn areas) or "formation" (one hexagonal formation
+            per group around its leader); "" lets the controller choose.
+        spawn_spacing: minimum centre distance at a random start, units (d_safe = 1).
+        formation_spacing: lattice spacing of a formation start, units (d_min = d_safe = 1).
+        v_max: top speed v, units per tick (paper: 0.1).
+        coverage_radius: coverage radius r of one robot, units (paper: 4).
+        eps0: completion threshold: done when 1 - P <= eps0 (paper's epsilon_0).
+        grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
+        record_every: a time-series row every this many ticks.
+        plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
+            many ticks.
+        plateau_delta: see plateau_ticks (fraction of the target).
+        stall_ticks: stop ("stalled") when no robot moved or changed its message for this long.
+        stop_on_complete: stop at the completion tick.
+        probe_range: longest floor-probe offset a robot may look at, units.
+        wake_eps: displacement (units) that counts as "moved" for waking sleeping robots.
+        decide_order: "index" or "shuffled" (a check: results must not depend on it).
+        allow_sleep: honour controllers' sleep requests (a check: results must not depend on it).
+    """
+
+    robots: int = 100
+    groups: int = 1
+    seed: int = 0
+    max_ticks: int = 100_000
+    start: str = ""
+    spawn_spacing: float = 1.0
+    formation_spacing: float = 1.0
+    v_max: float = 0.1
+    coverage_radius: float = 4.0
+    eps0: float = 0.01
+    grid_size: int = 100
+    record_every: int = 10
+    plateau_ticks: int = 6000
+    plateau_delta: float = 0.002
+    stall_ticks: int = 1000
+    stop_on_complete: bool = True
+    probe_range: float = 2.0
+    wake_eps: float = 1e-3
+    decide_order: str = "index"
+    allow_sleep: bool = True
+
+    def __post_init__(self) -> None:
+        positive = ("robots", "groups", "max_ticks", "spawn_spacing", "formation_spacing",
+                    "v_max", "coverage_radius", "grid_size", "record_every", "plateau_ticks",
+                    "stall_ticks", "probe_range", "wake_eps")
+        for name in positive:
+            value = getattr(self, name)
+            if not value > 0:
+                raise ConfigError(f"must be positive, got {value!r}", key=name)
+        if not 0 <= self.eps0 < 1:
+            raise ConfigError(f"must be in [0, 1), got {self.eps0!r}", key="eps0")
+        if self.groups > self.robots:
+            raise ConfigError(f"{self.groups} groups need at least as many robots "
+                              f"(robots = {self.robots})", key="groups")
+        if self.start not in ("", "random", "formation"):
+            raise ConfigError(f"must be 'random' or 'formation', got {self.start!r}", key="start")
+        if self.decide_order not in ("index", "shuffled"):
+            raise ConfigError(f"must be 'index' or 'shuffled', got {self.decide_order!r}",
+                              key="decide_order")
+
+
+def parse_value(text: str) -> Any:
+    """Parse a ``--set`` value: int, float, true/false, or a plain string."""
+    low = text.strip().lower()
+    if low in ("true", "yes", "on"):
+        return True
+    if low in ("false", "no", "off"):
+        return False
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def coerce(value: Any, default: Any, key: str) -> Any:
+    """Convert ``value`` to the type of the field's ``default``; error if it cannot be."""
+    if isinstance(default, bool):
+        if isinstance(value, bool):
+            return value
+        if isinstance(value, str):
+            parsed = parse_value(value)
+            if isinstance(parsed, bool):
+                return parsed
+    elif isinstance(default, int):
+        if isinstance(value, int) and not isinstance(value, bool):
+            return value
+        if isinstance(value, float) and value.is_integer():
+            return int(value)
+        if isinstance(value, str) and isinstance(parse_value(value), int):
+            return parse_value(value)
+    elif isinstance(default, float):
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            return float(value)
+        if isinstance(value, str) and isinstance(parse_value(value), (int, float)):
+            return float(parse_value(value))
+    elif isinstance(default, str):
+        return str(value)
+    else:
+        return value
+    raise ConfigError(f"expected {type(default).__name__}, got {value!r}", key=key)
+
+
+def field_defaults(cls: type) -> dict[str, Any]:
+    """Default value of every field of a dataclass."""
+    out = {}
+    for f in dataclasses.fields(cls):
+        if f.default is not dataclasses.MISSING:
+            out[f.name] = f.default
+        elif f.default_factory is not dataclasses.MISSING:
+            out[f.name] = f.default_factory()
+    return out
+
+
+def resolve_settings(settings: Mapping[str, Any], params_cls: type
+                     ) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """Split ``settings`` into SimConfig, PhysicsConfig and controller-params keyword dicts."""
+    targets = (field_defaults(SimConfig), field_defaults(PhysicsConfig),
+               field_defaults(params_cls))
+    out: tuple[dict, dict, dict] = ({}, {}, {})
+    for key, value in settings.items():
+        for defaults, dest in zip(targets, out, strict=True):
+            if key in defaults:
+                dest[key] = coerce(value, defaults[key], key)
+                break
+        else:
+            known = sorted(set().union(*targets))
+            raise ConfigError(f"unknown parameter (value {value!r}); known parameters: "
+                              f"{', '.join(known)}", key=key)
+    return out
+
+
+def build_configs(settings: Mapping[str, Any], params_cls: type
+                  ) -> tuple[SimConfig, PhysicsConfig, Any]:
+    """Build validated configs; every error names the key and value."""
+    sim_kw, phys_kw, ctrl_kw = resolve_settings(settings, params_cls)
+    sim = SimConfig(**sim_kw)
+    try:
+        phys = PhysicsConfig(**phys_kw)
+    except ValueError as exc:
+        raise ConfigError(str(exc)) from None
+    try:
+        params = params_cls(**ctrl_kw)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(str(exc)) from None
+    return sim, phys, params

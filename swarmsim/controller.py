@@ -1,0 +1,226 @@
+"""The controller interface: what a robot perceives, what it may do, and the registry.
+
+A controller is one robot's brain. Each tick the engine hands it a :class:`Perception`
+(its own local view: neighbours' relative positions and last broadcasts, a floor sensor and a
+short-range floor probe, the beacon's bearing) and it returns an :class:`Action` (a desired
+velocity, a message to broadcast, and whether it may sleep). Controllers never see pymunk, the
+Space, other robots' objects or any global position: that is what makes "local only" true.
+
+Frames and units: offsets are in the world-aligned frame (robots share a compass but have no
+global position), lengths in the paper's units, velocities in units per tick.
+
+Writing a controller::
+
+    class MyController:
+        name = "mine"
+        Params = MyParams                     # frozen dataclass: every field has a default
+        STATUSES = ("Idle", "Moving")         # names for the status codes it broadcasts
+        MESSAGE_FIELDS = [("hops", "i4")]     # extra broadcast fields (numpy dtype spec)
+
+        @classmethod
+        def sensing_range(cls, params) -> float: ...   # how far it listens, in units
+
+        def __init__(self, setup: RobotSetup, params, rng: numpy.random.Generator): ...
+        def step(self, p: Perception) -> Action: ...
+
+Register it with ``@register`` (built-ins) or use ``module:Class`` on the command line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+
+from swarmsim.errors import ConfigError
+
+INF_GRADIENT = np.iinfo(np.int32).max
+"""Gradient value that means "no gradient yet" (the paper's INFINITE)."""
+
+BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
+    ("id", "i4"),  # the sender's own id (robots know their id, like a Kilobot's UID)
+    ("status", "i1"),  # index into the controller's STATUSES
+    ("gradient", "i4"),  # hop gradient, INF_GRADIENT when unknown
+    ("group", "i2"),  # group id, 0 = none
+    ("leader", "?"),
+    ("moving", "?"),  # the sender is moving on purpose (not waiting or arrived)
+]
+"""Fields every broadcast carries; observers (metrics, render) read these."""
+
+
+NO_SENDER = -1
+"""``id`` of a neighbour row whose message did not arrive (failed robot, lost message)."""
+
+
+def message_dtype(extra_fields: list[tuple[str, Any]] | None = None) -> np.dtype:
+    """The structured dtype of a controller's broadcasts: base fields plus its own."""
+    return np.dtype(BASE_MESSAGE_FIELDS + list(extra_fields or []))
+
+
+def silent_message(dtype: np.dtype) -> np.void:
+    """The row a robot sees for a neighbour it senses but hears nothing from.
+
+    ``id`` is NO_SENDER, ``status`` -1, ``gradient`` INF_GRADIENT, everything else zero.
+    """
+    row = np.zeros((), dtype=dtype)
+    row["id"] = NO_SENDER
+    row["status"] = -1
+    row["gradient"] = INF_GRADIENT
+    return row[()]
+
+
+@dataclass(frozen=True, slots=True)
+class RobotSetup:
+    """What a robot is told when it is switched on.
+
+    Attributes:
+        robot_id: its unique id (also broadcast in every message).
+        leader: True if the robot is pre-programmed as a (group) leader.
+        group: its pre-assigned group (0 = none yet).
+        groups: number of groups K in this run.
+    """
+
+    robot_id: int
+    leader: bool = False
+    group: int = 0
+    groups: int = 1
+
+
+@dataclass(frozen=True, slots=True)
+class Perception:
+    """One robot's local view at the start of a tick.
+
+    Attributes:
+        tick: the current tick (every robot has a clock).
+        offsets: (k, 2) neighbours' positions relative to this robot, world-aligned frame,
+            sorted by distance (nearest first); units.
+        distances: (k,) their distances, units.
+        messages: (k,) structured array: what each neighbour broadcast last tick.
+        on_target: floor sensor: is the floor under this robot part of the target?
+        probe: floor probe: ``probe(offset)`` is True when the floor at this robot's position
+            plus ``offset`` (units, |offset| <= probe range) is part of the target.
+        beacon: unit vector toward the world's beacon, or None when the world has none.
+        moved: (2,) own displacement during the previous tick (odometry), units.
+    """
+
+    tick: int
+    offsets: np.ndarray
+    distances: np.ndarray
+    messages: np.ndarray
+    on_target: bool
+    probe: Callable[[np.ndarray], bool]
+    beacon: np.ndarray | None
+    moved: np.ndarray
+
+
+@dataclass(frozen=True, slots=True)
+class Action:
+    """What a robot does this tick.
+
+    Attributes:
+        velocity: desired velocity (vx, vy) in units per tick; the engine clamps it to v.
+        message: the broadcast for this tick, a tuple in the order of the controller's message
+            dtype (or None to repeat the last one). Neighbours receive it next tick.
+        sleep: True promises that, until its perception changes, this robot would keep
+            returning this same action; the engine then skips it until a neighbour within its
+            sensing range moves or changes its message, or the robot itself is moved.
+    """
+
+    velocity: tuple[float, float] = (0.0, 0.0)
+    message: tuple | None = None
+    sleep: bool = False
+
+
+@runtime_checkable
+class Controller(Protocol):
+    """One robot's controller: ``step(perception) -> action``."""
+
+    def step(self, p: Perception) -> Action: ...
+
+
+class ControllerClass(Protocol):
+    """What the engine needs from a controller class."""
+
+    name: ClassVar[str]
+    Params: ClassVar[type]
+    STATUSES: ClassVar[tuple[str, ...]]
+    MESSAGE_FIELDS: ClassVar[list[tuple[str, Any]]]
+
+    @classmethod
+    def sensing_range(cls, params: Any) -> float: ...
+
+    def __call__(self, setup: RobotSetup, params: Any, rng: np.random.Generator) -> Controller: ...
+
+
+_REGISTRY: dict[str, type] = {}
+_BUILTIN_MODULES = ("controllers.dispersion", "controllers.ggc", "controllers.kilobot",
+                    "controllers.cvt", "controllers.meanshift", "controllers.dash",
+                    "controllers.fcdfs")
+
+
+def register(cls: type) -> type:
+    """Class decorator: make a controller available by its ``name``."""
+    _REGISTRY[cls.name] = cls
+    return cls
+
+
+def _load_builtins() -> None:
+    for mod in _BUILTIN_MODULES:
+        try:
+            importlib.import_module(mod)
+        except ModuleNotFoundError as exc:
+            if exc.name != mod:
+                raise
+
+
+def available_controllers() -> list[str]:
+    """Names of the registered controllers."""
+    _load_builtins()
+    return sorted(_REGISTRY)
+
+
+def get_controller(name: str) -> type:
+    """A controller class by registered name or ``module:Class``."""
+    if ":" in name:
+        mod_name, _, cls_name = name.partition(":")
+        try:
+            mod = importlib.import_module(mod_name)
+        except ImportError as exc:
+            raise ConfigError(f"cannot import module {mod_name!r}: {exc}",
+                              key="controller") from None
+        cls = getattr(mod, cls_name, None)
+        if cls is None:
+            raise ConfigError(f"module {mod_name!r} has no {cls_name!r}", key="controller")
+        _check_controller_class(cls, name)
+        return cls
+    _load_builtins()
+    if name not in _REGISTRY:
+        raise ConfigError(f"unknown controller {name!r}; available: {', '.join(sorted(_REGISTRY))}"
+                          " (or module:Class)", key="controller")
+    return _REGISTRY[name]
+
+
+def _check_controller_class(cls: Any, name: str) -> None:
+    missing = [a for a in ("Params", "STATUSES", "sensing_range", "step") if not hasattr(cls, a)]
+    if missing:
+        raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
+                          key="controller")
+
+
+def make_params(params_cls: type, overrides: dict[str, Any], source: str = "--set") -> Any:
+    """Build a controller's frozen params dataclass, rejecting unknown keys and bad values."""
+    fields = {f.name: f for f in dataclasses.fields(params_cls)}
+    unknown = set(overrides) - set(fields)
+    if unknown:
+        key = sorted(unknown)[0]
+        raise ConfigError(f"unknown parameter (value {overrides[key]!r}); known: "
+                          f"{', '.join(sorted(fields))}", source=source, key=key)
+    try:
+        params = params_cls(**overrides)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(str(exc), source=source) from None
+    return params

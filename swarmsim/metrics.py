@@ -1,0 +1,172 @@
+"""Run metrics, exactly as the paper defines them (pure numpy; no physics).
+
+Coverage P(t): the target's bounding box is rasterised into a ``cols x rows`` pixel grid
+(100 x 100 by default); a pixel belongs to the target when its centre lies inside the target
+polygon, and it is covered when its centre lies within ``r`` (default 4) of some robot.
+P = covered target pixels / target pixels. Completion tick t_dpl = first tick with
+1 - P <= eps0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+from shapely.geometry import Polygon
+
+
+@dataclass(frozen=True)
+class CoverageGrid:
+    """The paper's coverage raster over the target's bounding box.
+
+    Attributes:
+        x0, y0: lower-left corner of the bounding box, units.
+        dx, dy: pixel size, units.
+        inside: (rows, cols) bool, pixel centre inside the target; row index grows with y.
+        centres: (M, 2) centres of the target pixels (the True cells of ``inside``, row-major).
+        radius: coverage radius r, units.
+    """
+
+    x0: float
+    y0: float
+    dx: float
+    dy: float
+    inside: np.ndarray
+    centres: np.ndarray
+    radius: float
+
+    @classmethod
+    def for_target(cls, target: Polygon, radius: float = 4.0, cols: int = 100,
+                   rows: int = 100) -> CoverageGrid:
+        if radius <= 0:
+            raise ValueError(f"coverage radius must be positive, got {radius!r}")
+        xmin, ymin, xmax, ymax = target.bounds
+        dx, dy = (xmax - xmin) / cols, (ymax - ymin) / rows
+        xs = xmin + (np.arange(cols) + 0.5) * dx
+        ys = ymin + (np.arange(rows) + 0.5) * dy
+        gx, gy = np.meshgrid(xs, ys)
+        inside = shapely.contains_xy(target, gx, gy)
+        centres = np.column_stack([gx[inside], gy[inside]])
+        return cls(xmin, ymin, dx, dy, inside, centres, float(radius))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.inside.shape
+
+    @property
+    def n_target_pixels(self) -> int:
+        return int(self.centres.shape[0])
+
+    def covered_pixels(self, positions: np.ndarray) -> np.ndarray:
+        """(M,) bool: which target pixels (in ``centres`` order) are within r of a robot."""
+        if len(positions) == 0:
+            return np.zeros(self.n_target_pixels, dtype=bool)
+        tree = cKDTree(positions)
+        dist, _ = tree.query(self.centres, k=1, distance_upper_bound=self.radius)
+        return dist <= self.radius
+
+    def coverage(self, positions: np.ndarray) -> float:
+        """Coverage fraction P in [0, 1] for robots at ``positions`` (N, 2)."""
+        return float(self.covered_pixels(positions).mean()) if self.n_target_pixels else 0.0
+
+    def covered_grid(self, positions: np.ndarray) -> np.ndarray:
+        """(rows, cols) bool image of covered target pixels, for drawing."""
+        grid = np.zeros(self.shape, dtype=bool)
+        grid[self.inside] = self.covered_pixels(positions)
+        return grid
+
+
+class RunMetrics:
+    """Accumulates a run's metrics tick by tick and keeps the time series.
+
+    Args:
+        grid: the coverage raster.
+        config: the run's SimConfig (eps0, record_every, plateau and stall settings).
+        physics: the Physics whose contact counters and arbiters are read.
+    """
+
+    def __init__(self, grid: CoverageGrid, config, physics):
+        self.grid = grid
+        self.config = config
+        self.physics = physics
+        self.coverage = 0.0
+        self.completion_tick: int | None = None
+        self.total_distance = 0.0
+        self.max_overlap = 0.0
+        self.total_impulse = 0.0
+        self.contact_robot_ticks = 0
+        self.plateau_tick = 0
+        self._plateau_ref = -1.0
+        self.last_change_tick = 0
+        self.rows: list[dict] = []
+        self._prev: np.ndarray | None = None
+        self._last_recorded = -1
+        self._state: dict = {}
+
+    def observe(self, tick: int, positions: np.ndarray, on_target: np.ndarray,
+                messages: np.ndarray, awake: int, changed: bool = False) -> None:
+        """Account for the state at the end of ``tick``."""
+        if self._prev is not None:
+            step = np.hypot(*(positions - self._prev).T)
+            self.total_distance += float(step.sum())
+            if changed or (step.size and step.max() > self.config.wake_eps):
+                self.last_change_tick = tick
+        self._prev = positions
+        self.coverage = self.grid.coverage(positions)
+        if self.completion_tick is None and 1.0 - self.coverage <= self.config.eps0 + 1e-12:
+            self.completion_tick = tick
+        if self.coverage > self._plateau_ref + self.config.plateau_delta:
+            self._plateau_ref = self.coverage
+            self.plateau_tick = tick
+        in_contact, overlap, impulse = self.physics.contact_state()
+        self.max_overlap = max(self.max_overlap, overlap)
+        self.total_impulse += impulse
+        self.contact_robot_ticks += int(in_contact.sum())
+        self._state = {"on_target": int(on_target.sum()),
+                       "moving": int(messages["moving"].sum()), "awake": awake,
+                       "in_contact": int(in_contact.sum()), "overlap": overlap}
+        self.record(tick)
+
+    def record(self, tick: int, force: bool = False) -> None:
+        """Append a time-series row every ``record_every`` ticks (or now, if forced)."""
+        if tick == self._last_recorded or not (force or tick % self.config.record_every == 0):
+            return
+        self._last_recorded = tick
+        c = self.physics.contacts
+        self.rows.append({"tick": tick, "coverage": round(self.coverage, 6),
+                          "total_distance": round(self.total_distance, 4),
+                          "robots_on_target": self._state.get("on_target", 0),
+                          "moving": self._state.get("moving", 0),
+                          "awake": self._state.get("awake", 0),
+                          "in_contact": self._state.get("in_contact", 0),
+                          "contacts_robot_robot": c.robot_robot,
+                          "contacts_robot_wall": c.robot_wall,
+                          "max_overlap": round(self.max_overlap, 6)})
+
+    def summary(self, positions: np.ndarray, on_target: np.ndarray) -> dict:
+        """Summary fields for summary.json."""
+        c = self.physics.contacts
+        spacing = nearest_neighbour_spacing(positions[on_target])
+        return {"coverage": round(self.coverage, 6), "completion_tick": self.completion_tick,
+                "total_distance": round(self.total_distance, 3),
+                "robots_on_target": int(on_target.sum()),
+                "collisions_robot_robot": c.robot_robot, "collisions_robot_wall": c.robot_wall,
+                "max_overlap": round(self.max_overlap, 6),
+                "total_contact_impulse": round(self.total_impulse, 3),
+                "contact_robot_ticks": self.contact_robot_ticks,
+                "spacing_mean": spacing[0], "spacing_std": spacing[1], "spacing_cv": spacing[2]}
+
+
+def nearest_neighbour_spacing(positions: np.ndarray) -> tuple[float | None, ...]:
+    """Mean, standard deviation and coefficient of variation of nearest-neighbour distances.
+
+    The spacing-uniformity measure of robots on the target (None when fewer than 2 robots).
+    """
+    if len(positions) < 2:
+        return (None, None, None)
+    d, _ = cKDTree(positions).query(positions, k=2)
+    nn = d[:, 1]
+    mean, std = float(nn.mean()), float(nn.std())
+    return (round(mean, 4), round(std, 4), round(std / mean, 4) if mean > 0 else None)

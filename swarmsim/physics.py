@@ -1,0 +1,218 @@
+"""The only module that owns the pymunk Space: robot bodies, walls, drive and contacts.
+
+Units: lengths in the paper's units, time in ticks (one tick = one unit of pymunk time),
+mass 1 per robot, velocities in units per tick.
+
+Each robot is a dynamic body with a Circle shape, pulled toward its commanded velocity by a
+force-limited PivotJoint (and a GearJoint against spinning) to its own kinematic control body:
+pymunk's tank-example pattern. Robots therefore push each other for real and the contact solver
+keeps overlap tiny, while an unobstructed robot tracks its command within a tick. Walls around
+the arena and obstacle outlines are static segments (concave shapes work: pymunk.Poly would take
+the convex hull). All body IO goes through pymunk.batch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import pymunk
+import pymunk.batch as pb
+
+from swarmsim.world import World
+
+ROBOT_TYPE = 1
+WALL_TYPE = 2
+ROBOT_CATEGORY = 0b01
+WALL_CATEGORY = 0b10
+GHOST_GROUP = 1
+WALL_THICKNESS = 0.5
+
+
+@dataclass(frozen=True)
+class PhysicsConfig:
+    """Physical parameters.
+
+    Attributes:
+        radius: robot body radius, units (0.4: robots d_safe = 1 apart do not touch).
+        traction: largest force the drive can apply, mass*units/tick^2 (ground friction).
+        spin_traction: largest torque against spinning.
+        friction: Coulomb friction between bodies.
+        substeps: pymunk steps per tick (dt = 1 / substeps).
+        iterations: contact solver iterations per step.
+        collision_slop: overlap pymunk tolerates before pushing apart, units.
+        mode: "rigid" (robots collide) or "ghost" (robots pass through each other; walls hold).
+    """
+
+    radius: float = 0.4
+    traction: float = 0.1
+    spin_traction: float = 0.5
+    friction: float = 0.3
+    substeps: int = 6
+    iterations: int = 5
+    collision_slop: float = 0.002
+    mode: Literal["rigid", "ghost"] = "rigid"
+
+    def __post_init__(self) -> None:
+        for name in ("radius", "traction", "spin_traction", "collision_slop"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        if self.friction < 0:
+            raise ValueError(f"friction must be >= 0, got {self.friction!r}")
+        if self.substeps < 1 or self.iterations < 1:
+            raise ValueError("substeps and iterations must be >= 1")
+        if self.mode not in ("rigid", "ghost"):
+            raise ValueError(f"mode must be 'rigid' or 'ghost', got {self.mode!r}")
+
+
+@dataclass
+class ContactStats:
+    """Collision accounting accumulated over a run (counts of contact begins)."""
+
+    robot_robot: int = 0
+    robot_wall: int = 0
+
+
+class Physics:
+    """A pymunk Space with N disc robots; read states and write commands in batches."""
+
+    def __init__(self, world: World, positions: np.ndarray, config: PhysicsConfig | None = None):
+        self.config = config or PhysicsConfig()
+        self.n = int(len(positions))
+        space = pymunk.Space()
+        space.gravity = (0.0, 0.0)
+        space.iterations = self.config.iterations
+        space.collision_slop = self.config.collision_slop
+        self.space = space
+        self.contacts = ContactStats()
+        self._robots: list[pymunk.Body] = []
+        self._controls: list[pymunk.Body] = []
+        self._add_walls(world)
+        self._add_robots(np.asarray(positions, dtype=float))
+        self._install_contact_counters()
+        self._index_rows()
+        self._buf = pb.Buffer()
+
+    def _add_walls(self, world: World) -> None:
+        static = self.space.static_body
+        xmin, ymin, xmax, ymax = world.arena
+        corners = [(xmin, ymin), (xmax, ymin), (xmax, ymax), (xmin, ymax)]
+        rings = [corners] + [list(ob.exterior.coords)[:-1] for ob in world.obstacles]
+        wall_filter = pymunk.ShapeFilter(categories=WALL_CATEGORY)
+        for ring in rings:
+            for a, b in zip(ring, ring[1:] + ring[:1], strict=True):
+                seg = pymunk.Segment(static, a, b, WALL_THICKNESS / 2)
+                seg.friction = self.config.friction
+                seg.collision_type = WALL_TYPE
+                seg.filter = wall_filter
+                self.space.add(seg)
+
+    def _add_robots(self, positions: np.ndarray) -> None:
+        cfg = self.config
+        moment = pymunk.moment_for_circle(1.0, 0, cfg.radius)
+        group = GHOST_GROUP if cfg.mode == "ghost" else 0
+        robot_filter = pymunk.ShapeFilter(group=group, categories=ROBOT_CATEGORY)
+        for x, y in positions:
+            body = pymunk.Body(1.0, moment)
+            body.position = (float(x), float(y))
+            shape = pymunk.Circle(body, cfg.radius)
+            shape.friction = cfg.friction
+            shape.collision_type = ROBOT_TYPE
+            shape.filter = robot_filter
+            ctrl = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            ctrl.position = body.position
+            pivot = pymunk.PivotJoint(ctrl, body, (0, 0), (0, 0))
+            pivot.max_bias = 0
+            pivot.max_force = cfg.traction
+            gear = pymunk.GearJoint(ctrl, body, 0.0, 1.0)
+            gear.max_bias = 0
+            gear.max_force = cfg.spin_traction
+            self.space.add(body, shape, ctrl, pivot, gear)
+            self._robots.append(body)
+            self._controls.append(ctrl)
+
+    def _install_contact_counters(self) -> None:
+        def robot_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict) -> None:
+            self.contacts.robot_robot += 1
+
+        def robot_wall(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict) -> None:
+            self.contacts.robot_wall += 1
+
+        self.space.on_collision(ROBOT_TYPE, ROBOT_TYPE, begin=robot_robot)
+        self.space.on_collision(ROBOT_TYPE, WALL_TYPE, begin=robot_wall)
+
+    def _index_rows(self) -> None:
+        """Map pymunk.batch rows to robots (rows follow the space's internal body order)."""
+        buf = pb.Buffer()
+        pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID, buf)
+        ids = np.frombuffer(buf.int_buf(), dtype=np.uintp)
+        row_of = {int(body_id): row for row, body_id in enumerate(ids)}
+        self.n_rows = len(ids)
+        self.robot_rows = np.array([row_of[b.id] for b in self._robots], dtype=np.intp)
+        self.control_rows = np.array([row_of[b.id] for b in self._controls], dtype=np.intp)
+        self._robot_of_body = {b.id: i for i, b in enumerate(self._robots)}
+        self._cmd = np.zeros((self.n_rows, 2))
+
+    def read(self) -> tuple[np.ndarray, np.ndarray]:
+        """Positions and velocities of all robots, (N, 2) each, as fresh arrays."""
+        self._buf.clear()
+        pb.get_space_bodies(self.space, pb.BodyFields.POSITION | pb.BodyFields.VELOCITY,
+                            self._buf)
+        rows = np.frombuffer(self._buf.float_buf(), dtype=np.float64).reshape(-1, 4)
+        if rows.shape[0] != self.n_rows:
+            raise RuntimeError("pymunk body rows changed; bodies must not be added or removed")
+        robots = rows[self.robot_rows]
+        self._velocity_rows = rows[:, 2:4].copy()
+        return robots[:, 0:2].copy(), robots[:, 2:4].copy()
+
+    def command(self, velocities: np.ndarray) -> None:
+        """Set every robot's commanded velocity (N, 2), units per tick. Call after read()."""
+        cmd = self._cmd
+        cmd[:] = self._velocity_rows  # leave every other body's velocity as it is
+        cmd[self.control_rows] = velocities
+        buf = pb.Buffer()
+        buf.set_float_buf(cmd.ravel())
+        pb.set_space_bodies(self.space, pb.BodyFields.VELOCITY, buf)
+
+    def step(self) -> None:
+        """Advance one tick."""
+        dt = 1.0 / self.config.substeps
+        for _ in range(self.config.substeps):
+            self.space.step(dt)
+
+    def contact_state(self) -> tuple[np.ndarray, float, float]:
+        """Robots touching anything now, the worst overlap (units) and total impulse this step.
+
+        Overlap is the penetration depth reported by the active contact arbiters.
+        """
+        buf = pb.Buffer()
+        fields = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
+                  | pb.ArbiterFields.DISTANCE_1 | pb.ArbiterFields.TOTAL_IMPULSE)
+        pb.get_space_arbiters(self.space, fields, buf)
+        ids = np.frombuffer(buf.int_buf(), dtype=np.uintp).reshape(-1, 2)
+        floats = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 3)
+        in_contact = np.zeros(self.n, dtype=bool)
+        if len(ids) == 0:
+            return in_contact, 0.0, 0.0
+        lookup = self._robot_of_body
+        touched = [lookup[b] for b in ids.ravel().tolist() if b in lookup]
+        in_contact[touched] = True
+        # pymunk.batch lays float fields out in flag order: TOTAL_IMPULSE (x, y), DISTANCE_1
+        overlap = float(max(0.0, -floats[:, 2].min()))
+        impulse = float(np.hypot(floats[:, 0], floats[:, 1]).sum())
+        return in_contact, overlap, impulse
+
+    def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
+        """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.
+
+        Uses a pymunk point query with a robots-only filter (slow: one query per robot; kept
+        to check the k-d tree backend). point_query measures to the shape surface, so the
+        centre radius is ``radius - body radius``. Sorted by index.
+        """
+        body = self._robots[i]
+        infos = self.space.point_query(body.position, radius - self.config.radius,
+                                       pymunk.ShapeFilter(mask=ROBOT_CATEGORY))
+        lookup = self._robot_of_body
+        found = [lookup[info.shape.body.id] for info in infos if info.shape.body is not body]
+        return np.array(sorted(found), dtype=np.intp)

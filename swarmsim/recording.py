@@ -1,0 +1,78 @@
+"""Observers of a run: video frames, the last-frame snapshot, and the output folder.
+
+Rendering only reads snapshots; turning it on never changes a run's results.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from swarmsim.output import write_run
+from swarmsim.sim import RunResult, Simulation
+
+
+class Recorder:
+    """Streams frames of ``sim`` to an MP4 every ``frame_every`` ticks and saves the last frame.
+
+    Use as a context manager around ``sim.run(on_tick=recorder.on_tick)``.
+    """
+
+    def __init__(self, sim: Simulation, video: Path | None = None, snapshot: Path | None = None,
+                 fps: int = 30, frame_every: int = 10, color_by: str = "gradient",
+                 width: int = 800, highlight_contacts: bool = False):
+        self.sim = sim
+        self.video_path = video
+        self.snapshot_path = snapshot
+        self.fps = fps
+        self.frame_every = max(1, int(frame_every))
+        self._renderer = None
+        self._writer = None
+        self._render_kw: dict[str, Any] = {"color_by": color_by, "width": width,
+                                           "highlight_contacts": highlight_contacts}
+
+    @property
+    def renderer(self):
+        if self._renderer is None:
+            from swarmsim.render import Renderer
+
+            self._renderer = Renderer(self.sim.world, self.sim.grid, **self._render_kw)
+        return self._renderer
+
+    def __enter__(self) -> Recorder:
+        if self.video_path is not None:
+            from swarmsim.render import VideoWriter
+
+            if self.video_path.suffix.lower() != ".mp4":
+                from swarmsim.errors import ConfigError
+
+                raise ConfigError(f"video file must end in .mp4, got {str(self.video_path)!r}",
+                                  key="--video")
+            self._writer = VideoWriter(self.video_path, fps=self.fps).__enter__()
+            self._writer.write(self.renderer.draw(self.sim.snapshot()))
+        return self
+
+    def on_tick(self, sim: Simulation) -> None:
+        if self._writer is not None and sim.tick % self.frame_every == 0:
+            self._writer.write(self.renderer.draw(sim.snapshot()))
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if self._writer is not None:
+            if exc_type is None and self.sim.tick % self.frame_every != 0:
+                self._writer.write(self.renderer.draw(self.sim.snapshot()))
+            self._writer.__exit__(exc_type, exc, tb)
+        if exc_type is None and self.snapshot_path is not None:
+            from swarmsim.render import save_png
+
+            save_png(self.renderer.draw(self.sim.snapshot()), self.snapshot_path)
+
+    def write_outputs(self, out_dir: Path, result: RunResult) -> Path:
+        """summary.json, timeseries.csv and coverage.png in ``out_dir``."""
+        out = write_run(out_dir, result.summary, result.timeseries)
+        from swarmsim.plots import plot_timeseries
+
+        title = (f"{result.summary['world']} / {result.summary['controller']} / "
+                 f"{result.summary['robots']} robots, {result.summary['groups']} groups")
+        plot_timeseries(result.timeseries, out / "coverage.png", title=title,
+                        completion_tick=result.summary.get("completion_tick"))
+        return out

@@ -1,0 +1,96 @@
+"""Local sensing: one whole-swarm neighbour search per tick, sliced into per-robot views.
+
+A robot senses the robots within its controller's sensing range: their positions relative to
+its own (world-aligned frame), distances, and what they broadcast last tick. It also has a floor
+sensor (is the floor under me part of the target?) and a short-range floor probe. Nothing here
+gives a controller a global position.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+from shapely.geometry import Polygon
+
+
+class FloorSensor:
+    """Floor sensing against the target polygon (the floor is painted; robots read it locally).
+
+    Args:
+        target: the target area.
+        probe_range: largest probe offset a robot may look at, units.
+    """
+
+    def __init__(self, target: Polygon, probe_range: float):
+        if probe_range <= 0:
+            raise ValueError(f"probe_range must be positive, got {probe_range!r}")
+        self.target = target
+        shapely.prepare(self.target)
+        self.probe_range = float(probe_range)
+
+    def on_target(self, positions: np.ndarray) -> np.ndarray:
+        """(N,) bool: is each robot's centre over the target?"""
+        return shapely.contains_xy(self.target, positions[:, 0], positions[:, 1])
+
+    def probe_at(self, x: float, y: float) -> Callable[[np.ndarray], bool]:
+        """A probe for a robot at (x, y): ``probe(offset)`` tells if floor at +offset is target."""
+        target, limit = self.target, self.probe_range
+
+        def probe(offset: np.ndarray) -> bool:
+            ox, oy = float(offset[0]), float(offset[1])
+            if ox * ox + oy * oy > limit * limit * (1 + 1e-9):
+                raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {limit}")
+            return bool(shapely.contains_xy(target, x + ox, y + oy))
+
+        return probe
+
+
+class NeighbourSearch:
+    """A k-d tree over all robot centres, built once per tick (scipy's cKDTree).
+
+    Args:
+        positions: (N, 2) robot centres at the start of the tick.
+    """
+
+    def __init__(self, positions: np.ndarray):
+        self.positions = positions
+        self.tree = cKDTree(positions)
+
+    def neighbours(self, robots: np.ndarray, radius: float) -> list[np.ndarray]:
+        """For each robot index in ``robots``: indices of the others within ``radius``.
+
+        Each array is sorted by distance (ties by index), the robot itself excluded.
+        """
+        if len(robots) == 0:
+            return []
+        pos = self.positions
+        lists = self.tree.query_ball_point(pos[robots], radius, return_sorted=True)
+        out = []
+        for i, lst in zip(robots.tolist(), lists, strict=True):
+            idx = np.asarray(lst, dtype=np.intp)
+            idx = idx[idx != i]
+            d2 = ((pos[idx] - pos[i]) ** 2).sum(axis=1)
+            out.append(idx[np.argsort(d2, kind="stable")])
+        return out
+
+    def near_any(self, points: np.ndarray, radius: float) -> np.ndarray:
+        """Sorted unique indices of robots within ``radius`` of any of ``points`` (M, 2)."""
+        if len(points) == 0:
+            return np.zeros(0, dtype=np.intp)
+        lists = self.tree.query_ball_point(points, radius)
+        if len(lists) == 0:
+            return np.zeros(0, dtype=np.intp)
+        return np.unique(np.concatenate([np.asarray(x, dtype=np.intp) for x in lists]))
+
+    def pairs(self, radius: float) -> np.ndarray:
+        """(P, 2) unique index pairs i < j closer than ``radius``."""
+        return self.tree.query_pairs(radius, output_type="ndarray")
+
+
+def relative_view(positions: np.ndarray, i: int, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Offsets (k, 2) of robots ``idx`` relative to robot ``i`` and their distances (k,)."""
+    offsets = positions[idx] - positions[i]
+    return offsets, np.hypot(offsets[:, 0], offsets[:, 1])

@@ -1,0 +1,316 @@
+"""The tick loop: sense (one snapshot) -> decide (every awake robot) -> act -> physics -> record.
+
+Every robot decides from the same snapshot and the messages broadcast on the previous tick,
+so the order in which controllers are called changes nothing. Robots whose controllers asked to
+sleep are skipped until something within their sensing range moves or changes its message.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from swarmsim import spawn
+from swarmsim.config import SimConfig, build_configs
+from swarmsim.controller import (
+    INF_GRADIENT,
+    Action,
+    Perception,
+    RobotSetup,
+    get_controller,
+    message_dtype,
+    silent_message,
+)
+from swarmsim.errors import ConfigError
+from swarmsim.metrics import CoverageGrid, RunMetrics
+from swarmsim.physics import Physics, PhysicsConfig
+from swarmsim.sensing import FloorSensor, NeighbourSearch, relative_view
+from swarmsim.snapshot import Snapshot
+from swarmsim.world import World, load_world
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a finished run returns: the summary and the time series rows."""
+
+    summary: dict[str, Any]
+    timeseries: list[dict[str, Any]] = field(default_factory=list)
+
+
+class Simulation:
+    """One run of a controller on a world.
+
+    Args:
+        world: a World or the name/path of a world file.
+        controller: registered controller name (e.g. "ggc", "dispersion") or "module:Class".
+        robots: number of robots (default: the world's ``defaults.robots``).
+        groups: number of groups K (default: the world's ``defaults.groups``, else 1).
+        seed: the one seed that decides the run.
+        d_cover: the controller's coverage distance, units (paper Table 2: 6).
+        max_ticks: hard tick limit.
+        settings: any other parameter by name (engine, physics or controller), e.g.
+            ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
+    """
+
+    def __init__(self, world: World | str, controller: str = "dispersion",
+                 robots: int | None = None, groups: int | None = None, seed: int = 0,
+                 d_cover: float | None = None, max_ticks: int | None = None,
+                 settings: Mapping[str, Any] | None = None):
+        self.world = world if isinstance(world, World) else load_world(world)
+        self.controller_cls = get_controller(controller)
+        self.controller_name = controller
+        merged = self._merge_settings(robots, groups, seed, d_cover, max_ticks, settings or {})
+        self.config, self.physics_config, self.params = build_configs(merged,
+                                                                      self.controller_cls.Params)
+        self._setup()
+
+    def _merge_settings(self, robots, groups, seed, d_cover, max_ticks,
+                        settings: Mapping[str, Any]) -> dict[str, Any]:
+        merged: dict[str, Any] = {}
+        defaults = self.world.defaults
+        for key in ("robots", "groups", "max_ticks"):
+            if key in defaults:
+                merged[key] = defaults[key]
+        if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):
+            merged["d_cover"] = defaults["d_cover"]
+        explicit = {"robots": robots, "groups": groups, "seed": seed, "d_cover": d_cover,
+                    "max_ticks": max_ticks}
+        for key, value in explicit.items():
+            if value is not None:
+                merged[key] = value
+        merged.update(settings)
+        if "d_cover" in merged and not _has_field(self.controller_cls.Params, "d_cover"):
+            raise ConfigError(f"controller {self.controller_name!r} has no d_cover parameter "
+                              f"(value {merged['d_cover']!r})", key="d_cover")
+        return merged
+
+    # ----------------------------------------------------------------------------- setup
+    def _setup(self) -> None:
+        cfg = self.config
+        seeds = np.random.SeedSequence(cfg.seed).spawn(4)
+        layout_rng, role_rng, order_rng = (np.random.default_rng(s) for s in seeds[:3])
+        robot_seeds = seeds[3].spawn(cfg.robots)
+        start = cfg.start or getattr(self.controller_cls, "default_start", "random")
+        self.start = start
+        positions, setups = self._initial_layout(start, layout_rng, role_rng)
+        self.n = len(positions)
+        self.physics = Physics(self.world, positions, self.physics_config)
+        self.floor = FloorSensor(self.world.target, cfg.probe_range)
+        self.sensing_range = float(self.controller_cls.sensing_range(self.params))
+        if not self.sensing_range > 0:
+            raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
+                              key="sensing_range")
+        self.controllers = [self.controller_cls(s, self.params, np.random.default_rng(rs))
+                            for s, rs in zip(setups, robot_seeds, strict=True)]
+        self.statuses = tuple(self.controller_cls.STATUSES)
+        self.dtype = message_dtype(getattr(self.controller_cls, "MESSAGE_FIELDS", []))
+        self.silent = silent_message(self.dtype)
+        self.messages = np.zeros(self.n, dtype=self.dtype)
+        self.messages[:] = self.silent
+        self._order_rng = order_rng
+        self.tick = 0
+        self.positions, _ = self.physics.read()
+        self._prev_positions = self.positions.copy()
+        self._ref_positions = self.positions.copy()
+        self.asleep = np.zeros(self.n, dtype=bool)
+        self.failed = np.zeros(self.n, dtype=bool)
+        self.velocities = np.zeros((self.n, 2))
+        self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
+                                            cfg.grid_size, cfg.grid_size)
+        self.metrics = RunMetrics(self.grid, cfg, self.physics)
+        self.metrics.observe(0, self.positions, self.floor.on_target(self.positions),
+                             self.messages, awake=self.n)
+        self.stop_reason: str | None = None
+        self.wall_seconds = 0.0
+        self.fault_hook: Callable[[Simulation], None] | None = None
+
+    def _initial_layout(self, start: str, layout_rng: np.random.Generator,
+                        role_rng: np.random.Generator) -> tuple[np.ndarray, list[RobotSetup]]:
+        cfg = self.config
+        if start == "formation":
+            positions, groups = spawn.formation_layout(self.world, cfg.robots, cfg.groups,
+                                                       cfg.formation_spacing, layout_rng)
+            first = {int(g): int(np.argmax(groups == g)) for g in np.unique(groups)}
+            setups = [RobotSetup(i, leader=(first[int(g)] == i), group=int(g), groups=cfg.groups)
+                      for i, g in enumerate(groups)]
+            return positions, setups
+        positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng)
+        leaders = role_rng.choice(cfg.robots, size=cfg.groups, replace=False)
+        group_of = {int(r): k + 1 for k, r in enumerate(leaders)}
+        setups = [RobotSetup(i, leader=i in group_of, group=group_of.get(i, 0), groups=cfg.groups)
+                  for i in range(cfg.robots)]
+        return positions, setups
+
+    # ----------------------------------------------------------------------------- loop
+    def step(self) -> None:
+        """Advance the run by one tick."""
+        cfg = self.config
+        pos = self.positions
+        moved = pos - self._prev_positions
+        search = NeighbourSearch(pos)
+        awake = self._awake_robots(search)
+        on_target = self.floor.on_target(pos)
+        new_messages = self.messages.copy()
+        velocities = np.zeros((self.n, 2))
+        self._decide(awake, search, on_target, moved, new_messages, velocities)
+        speed = np.hypot(velocities[:, 0], velocities[:, 1])
+        too_fast = speed > cfg.v_max
+        velocities[too_fast] *= (cfg.v_max / speed[too_fast])[:, None]
+        changed_msg = _rows_differ(new_messages, self.messages)
+        self.messages = new_messages
+        self._changed_msg = changed_msg
+        self.velocities = velocities
+        self.physics.command(velocities)
+        self.physics.step()
+        self.tick += 1
+        self._prev_positions = pos
+        self.positions, _ = self.physics.read()
+        if self.fault_hook is not None:
+            self.fault_hook(self)
+        self.metrics.observe(self.tick, self.positions, self.floor.on_target(self.positions),
+                             self.messages, awake=len(awake), changed=bool(changed_msg.any()))
+
+    def _awake_robots(self, search: NeighbourSearch) -> np.ndarray:
+        """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
+        sleeping = self.asleep & ~self.failed
+        if sleeping.any():
+            drift = np.hypot(*(self.positions - self._ref_positions).T) > self.config.wake_eps
+            changed = drift | getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
+            self._ref_positions[drift] = self.positions[drift]
+            if changed.any():
+                reach = self.sensing_range + 2 * self.config.v_max + self.config.wake_eps
+                woken = search.near_any(self.positions[changed], reach)
+                self.asleep[woken] = False
+                self.asleep[changed] = False
+        else:
+            self._ref_positions = self.positions.copy()
+        awake = np.flatnonzero(~self.asleep & ~self.failed)
+        if self.config.decide_order == "shuffled":
+            awake = self._order_rng.permutation(awake)
+        return awake
+
+    def _decide(self, awake: np.ndarray, search: NeighbourSearch, on_target: np.ndarray,
+                moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
+        pos, msgs, beacon = self.positions, self.messages, self.world.beacon
+        neighbour_lists = search.neighbours(awake, self.sensing_range)
+        silent_rows = self.failed
+        for i, idx in zip(awake.tolist(), neighbour_lists, strict=True):
+            offsets, dists = relative_view(pos, i, idx)
+            nb_msgs = msgs[idx]
+            if silent_rows.any():
+                nb_msgs[silent_rows[idx]] = self.silent
+            perception = Perception(
+                tick=self.tick, offsets=offsets, distances=dists, messages=nb_msgs,
+                on_target=bool(on_target[i]), probe=self.floor.probe_at(*pos[i]),
+                beacon=_bearing(beacon, pos[i]), moved=moved[i])
+            action: Action = self.controllers[i].step(perception)
+            vx, vy = action.velocity
+            velocities[i] = (vx, vy)
+            if action.message is not None:
+                new_messages[i] = action.message
+            if action.sleep and vx == 0 and vy == 0 and self.config.allow_sleep:
+                self.asleep[i] = True
+
+    def fail(self, robots: np.ndarray) -> None:
+        """Make robots fail now: they stop moving and communicating but stay physical bodies."""
+        self.failed[np.asarray(robots, dtype=np.intp)] = True
+        self.messages[self.failed] = self.silent
+
+    # ----------------------------------------------------------------------------- running
+    def _should_stop(self) -> str | None:
+        cfg, m = self.config, self.metrics
+        if cfg.stop_on_complete and m.completion_tick is not None:
+            return "complete"
+        if self.tick - m.last_change_tick >= cfg.stall_ticks:
+            return "stalled"
+        if self.tick - m.plateau_tick >= cfg.plateau_ticks:
+            return "plateau"
+        if self.tick >= cfg.max_ticks:
+            return "max_ticks"
+        return None
+
+    def run(self, progress: bool = False, on_tick: Callable[[Simulation], None] | None = None
+            ) -> RunResult:
+        """Run until completion, plateau, stall or max_ticks; return the summary and series."""
+        bar = _progress_bar(self.config.max_ticks, progress)
+        start = time.perf_counter()
+        try:
+            while self.stop_reason is None:
+                self.step()
+                if on_tick is not None:
+                    on_tick(self)
+                self.stop_reason = self._should_stop()
+                if bar is not None and (self.tick % 50 == 0 or self.stop_reason):
+                    bar.n = self.tick
+                    bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%")
+        finally:
+            self.wall_seconds += time.perf_counter() - start
+            if bar is not None:
+                bar.close()
+        self.metrics.record(self.tick, force=True)
+        return RunResult(self.summary(), list(self.metrics.rows))
+
+    def summary(self) -> dict[str, Any]:
+        """The run's summary (the fields of summary.json)."""
+        d_cover = getattr(self.params, "d_cover", None)
+        out = {
+            "world": self.world.name,
+            "controller": self.controller_name,
+            "robots": self.n,
+            "groups": self.config.groups,
+            "d_cover": d_cover,
+            "seed": self.config.seed,
+            "start": self.start,
+            "ticks": self.tick,
+            "stop_reason": self.stop_reason,
+            "wall_seconds": round(self.wall_seconds, 3),
+        }
+        out.update(self.metrics.summary(self.positions, self.floor.on_target(self.positions)))
+        out["failed_robots"] = int(self.failed.sum())
+        extra = getattr(self.controller_cls, "summarize", None)
+        if extra is not None:
+            out.update(extra(self.controllers))
+        return out
+
+    def snapshot(self, with_coverage: bool = True) -> Snapshot:
+        """A read-only copy of the current state, for observers (render, analysis)."""
+        covered = self.grid.covered_grid(self.positions) if with_coverage else None
+        in_contact, _, _ = self.physics.contact_state()
+        return Snapshot(tick=self.tick, positions=self.positions.copy(),
+                        messages=self.messages.copy(), statuses=self.statuses,
+                        radius=self.physics_config.radius, coverage=self.metrics.coverage,
+                        covered=covered, in_contact=in_contact, failed=self.failed.copy())
+
+
+def _has_field(cls: type, name: str) -> bool:
+    return name in getattr(cls, "__dataclass_fields__", {})
+
+
+def _bearing(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray | None:
+    if beacon is None:
+        return None
+    d = np.array(beacon) - at
+    n = float(np.hypot(d[0], d[1]))
+    return d / n if n > 1e-12 else np.zeros(2)
+
+
+def _rows_differ(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(N,) bool: which rows of two structured arrays differ (bytewise)."""
+    va = a.view(np.uint8).reshape(len(a), -1)
+    vb = b.view(np.uint8).reshape(len(b), -1)
+    return (va != vb).any(axis=1)
+
+
+def _progress_bar(total: int, enabled: bool):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False)
+
+
+__all__ = ["Simulation", "RunResult", "SimConfig", "PhysicsConfig", "INF_GRADIENT"]

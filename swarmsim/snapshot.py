@@ -1,0 +1,44 @@
+"""Snapshots: the read-only picture of a run at one tick, for observers.
+
+Metrics, renderers and users read snapshots; they never touch the physics. Everything in a
+snapshot is a copy, so keeping one does not pin the simulation's buffers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """State of the swarm at the end of a tick.
+
+    Attributes:
+        tick: tick number (0 = the start layout).
+        positions: (N, 2) robot centres, world units.
+        messages: (N,) structured array of the robots' last broadcasts; always has the fields
+            ``id, status, gradient, group, leader, moving`` (see swarmsim.controller).
+        statuses: names of the status codes (index = code) of the controller in use.
+        radius: robot body radius, units.
+        coverage: coverage fraction P(t) in [0, 1].
+        covered: (rows, cols) bool grid of covered target pixels (see metrics.CoverageGrid), or
+            None when not requested.
+        in_contact: (N,) bool, robots touching another robot or a wall this tick.
+        failed: (N,) bool, robots that have failed.
+    """
+
+    tick: int
+    positions: np.ndarray
+    messages: np.ndarray
+    statuses: tuple[str, ...]
+    radius: float
+    coverage: float
+    covered: np.ndarray | None
+    in_contact: np.ndarray
+    failed: np.ndarray
+
+    @property
+    def n_robots(self) -> int:
+        return int(self.positions.shape[0])

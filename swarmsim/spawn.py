@@ -1,0 +1,111 @@
+"""Start layouts: robots placed at random in the spawn areas, or as hexagonal formations.
+
+All placement is deterministic given the numpy Generator passed in.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+
+from swarmsim.errors import ConfigError
+from swarmsim.world import World
+
+MAX_TRIES_PER_ROBOT = 400
+
+
+def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator) -> np.ndarray:
+    """(n, 2) centres uniformly at random in the spawn areas, pairwise >= ``spacing`` apart."""
+    limit = world.max_random_robots(spacing)
+    if n > limit:
+        raise ConfigError(f"spawn areas (total area {world.spawn_area:.0f}) cannot hold {n} robots"
+                          f" at spacing {spacing} (at most {limit})", source=world.source,
+                          key="robots")
+    spawn = shapely.union_all(world.spawns)
+    shapely.prepare(spawn)
+    xmin, ymin, xmax, ymax = spawn.bounds
+    cell = spacing / math.sqrt(2)
+    grid: dict[tuple[int, int], int] = {}
+    out = np.empty((n, 2))
+    placed, tries = 0, 0
+    while placed < n:
+        tries += 1
+        if tries > MAX_TRIES_PER_ROBOT * n:
+            raise ConfigError(f"could not place {n} robots at random in the spawn areas "
+                              f"(placed {placed})", source=world.source, key="robots")
+        x, y = rng.uniform(xmin, xmax), rng.uniform(ymin, ymax)
+        if not shapely.contains_xy(spawn, x, y) or _crowded(grid, out, x, y, cell, spacing):
+            continue
+        out[placed] = (x, y)
+        grid[(int(x // cell), int(y // cell))] = placed
+        placed += 1
+    return out
+
+
+def _crowded(grid: dict, out: np.ndarray, x: float, y: float, cell: float, spacing: float) -> bool:
+    cx, cy = int(x // cell), int(y // cell)
+    for gx in range(cx - 2, cx + 3):
+        for gy in range(cy - 2, cy + 3):
+            j = grid.get((gx, gy))
+            if j is not None and (out[j, 0] - x) ** 2 + (out[j, 1] - y) ** 2 < spacing**2:
+                return True
+    return False
+
+
+def hex_offsets(n: int, spacing: float) -> np.ndarray:
+    """(n, 2) offsets of the n lattice sites nearest the origin on a hexagonal lattice.
+
+    Row 0 is the origin (the leader's place); ties are broken by angle, so the layout is fixed.
+    """
+    rings = int(math.ceil(math.sqrt(n / 3.0))) + 2
+    pts = []
+    for a in range(-rings * 2, rings * 2 + 1):
+        for b in range(-rings * 2, rings * 2 + 1):
+            pts.append((a + b / 2.0, b * math.sqrt(3) / 2.0))
+    pts = np.array(pts) * spacing
+    d = np.round(np.hypot(pts[:, 0], pts[:, 1]), 9)
+    ang = np.round(np.arctan2(pts[:, 1], pts[:, 0]), 9)
+    order = np.lexsort((ang, d))
+    return pts[order[:n]]
+
+
+def formation_centres(world: World, k: int, rng: np.random.Generator) -> np.ndarray:
+    """(k, 2) well-spread points in the spawn areas (farthest-point sampling)."""
+    spawn = shapely.union_all(world.spawns)
+    if k == 1:
+        c = spawn.centroid
+        if not spawn.contains(c):
+            c = spawn.representative_point()
+        return np.array([[c.x, c.y]])
+    cand = random_layout(world, min(400, world.max_random_robots(1.0)), 1.0, rng)
+    chosen = [int(np.argmin(((cand - cand.mean(axis=0)) ** 2).sum(axis=1)))]
+    dist = np.hypot(*(cand - cand[chosen[0]]).T)
+    for _ in range(k - 1):
+        nxt = int(np.argmax(dist))
+        chosen.append(nxt)
+        dist = np.minimum(dist, np.hypot(*(cand - cand[nxt]).T))
+    return cand[chosen]
+
+
+def formation_layout(world: World, n: int, k: int, spacing: float,
+                     rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
+    """k hexagonal formations of about n/k robots each, centred in the spawn areas.
+
+    Returns positions (n, 2) and group ids (n,) in 1..k; the first robot of each group (lowest
+    index) stands at its formation's centre and is its leader.
+    """
+    sizes = [n // k + (1 if g < n % k else 0) for g in range(k)]
+    centres = formation_centres(world, k, rng)
+    pos, groups = [], []
+    for g, (size, c) in enumerate(zip(sizes, centres, strict=True)):
+        pos.append(hex_offsets(size, spacing) + c)
+        groups.append(np.full(size, g + 1))
+    positions = np.vstack(pos)
+    for g in range(k):
+        others = np.vstack([p for j, p in enumerate(pos) if j != g]) if k > 1 else np.zeros((0, 2))
+        if len(others) and np.min(np.hypot(*(pos[g][:, None, :] - others[None]).T)) < spacing:
+            raise ConfigError(f"{k} formations of {sizes[g]} robots do not fit apart in the "
+                              "spawn areas", source=world.source, key="groups")
+    return positions, np.concatenate(groups)

@@ -1,0 +1,292 @@
+"""Worlds as data: TOML files -> validated, immutable :class:`World` objects.
+
+Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)::
+
+    name = "K"                          # required, a short identifier
+    description = "..."                 # optional
+    [target]                            # required: the area to cover (robots never see it whole)
+    outline = [[x, y], ...]             # >= 3 points, a simple polygon (concave is fine)
+    holes = [[[x, y], ...], ...]        # optional holes inside the outline
+    [[spawn]]                           # one or more areas where robots start
+    outline = [[x, y], ...]
+    [[obstacles]]                       # optional static polygons (robots collide with them)
+    outline = [[x, y], ...]
+    [beacon]                            # optional: the one global cue (a light) leaders head to
+    position = [x, y]
+    [arena]                             # optional: walls around everything
+    margin = 20.0                       # distance from the bounding box of all areas to the walls
+    [defaults]                          # optional run defaults
+    robots = 603
+    groups = 3
+
+Any other key is an error. Every error names the file, the key and the value.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import shapely
+from shapely.geometry import Polygon
+from shapely.validation import explain_validity
+
+from swarmsim.errors import ConfigError
+
+HEX_CELL_FACTOR = math.sqrt(3) / 2  # area per robot on a hexagonal lattice = 0.866 * spacing^2
+DEFAULT_ARENA_MARGIN = 20.0
+TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon", "arena",
+                  "defaults"}
+DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
+                "max_ticks": int, "start": str}
+REPO_WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
+
+
+@dataclass(frozen=True)
+class World:
+    """A validated world. Polygons are shapely geometries; never mutate them.
+
+    Attributes:
+        name: short identifier, e.g. ``"K"``.
+        source: the file it was loaded from (or ``"<dict>"``).
+        target: the area to cover (may have holes).
+        spawns: areas where robots start.
+        obstacles: static polygons robots collide with.
+        beacon: position of the optional global light, in world units.
+        arena: ``(xmin, ymin, xmax, ymax)`` of the walls enclosing everything.
+        defaults: run defaults from the file (robots, groups, ...).
+    """
+
+    name: str
+    source: str
+    target: Polygon
+    spawns: tuple[Polygon, ...]
+    obstacles: tuple[Polygon, ...] = ()
+    beacon: tuple[float, float] | None = None
+    arena: tuple[float, float, float, float] = (0.0, 0.0, 1.0, 1.0)
+    description: str = ""
+    defaults: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
+
+    @property
+    def target_area(self) -> float:
+        """Target area in square units."""
+        return float(self.target.area)
+
+    def lattice_capacity(self, d_cover: float) -> int:
+        """Robots a hexagonal lattice of spacing ``d_cover`` places in the target (area-based)."""
+        if not (math.isfinite(d_cover) and d_cover > 0):  # also rejects NaN
+            raise ConfigError(f"d_cover must be positive and finite, got {d_cover!r}",
+                              key="d_cover")
+        return int(self.target_area / (HEX_CELL_FACTOR * d_cover**2))
+
+    @property
+    def spawn_area(self) -> float:
+        return float(sum(p.area for p in self.spawns))
+
+    def max_random_robots(self, spacing: float) -> int:
+        """Robots that random sequential placement at ``spacing`` fits in the spawn areas, safely.
+
+        Random sequential adsorption of discs jams at ~54.7 % area fraction; we allow 75 % of
+        that so that placement always succeeds quickly.
+        """
+        if not (math.isfinite(spacing) and spacing > 0):
+            raise ConfigError(f"spacing must be positive and finite, got {spacing!r}",
+                              key="spacing")
+        disc = math.pi * spacing**2 / 4
+        return int(0.75 * 0.547 * self.spawn_area / disc)
+
+
+def _num(value: Any, source: str, key: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ConfigError(f"expected a finite number, got {value!r}", source=source, key=key)
+    return float(value)
+
+
+def _points(value: Any, source: str, key: str) -> list[tuple[float, float]]:
+    if not isinstance(value, list) or len(value) < 3:
+        raise ConfigError(f"expected a list of at least 3 [x, y] points, got {value!r}",
+                          source=source, key=key)
+    pts = []
+    for i, pt in enumerate(value):
+        if not isinstance(pt, list) or len(pt) != 2:
+            raise ConfigError(f"point {i} must be [x, y], got {pt!r}", source=source, key=key)
+        pts.append((_num(pt[0], source, f"{key}[{i}][0]"), _num(pt[1], source, f"{key}[{i}][1]")))
+    return pts
+
+
+def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Polygon:
+    if not isinstance(table, Mapping):
+        raise ConfigError(f"expected a table with 'outline', got {table!r}", source=source, key=key)
+    allowed = {"outline", "holes"} if allow_holes else {"outline"}
+    unknown = set(table) - allowed
+    if unknown:
+        bad = min(unknown)
+        raise ConfigError(f"unknown key with value {table[bad]!r}; allowed: {sorted(allowed)}",
+                          source=source, key=f"{key}.{bad}")
+    if "outline" not in table:
+        raise ConfigError("missing 'outline'", source=source, key=key)
+    shell = _points(table["outline"], source, f"{key}.outline")
+    holes_raw = table.get("holes", [])
+    if not isinstance(holes_raw, list):
+        raise ConfigError(f"expected a list of point lists, got {holes_raw!r}",
+                          source=source, key=f"{key}.holes")
+    holes = [_points(h, source, f"{key}.holes[{i}]") for i, h in enumerate(holes_raw)]
+    # Collinear or repeated points: say "zero area" (GEOS would call it a self-intersection).
+    # The hull test keeps a bow-tie, whose signed areas cancel, out of this branch.
+    if shapely.MultiPoint(shell).convex_hull.area <= 0:
+        raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
+                          key=f"{key}.outline")
+    poly = Polygon(shell, holes)
+    if not poly.is_valid:
+        raise ConfigError(f"invalid polygon ({explain_validity(poly)}): {table['outline']!r}",
+                          source=source, key=f"{key}.outline")
+    if poly.area <= 0:
+        raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
+                          key=f"{key}.outline")
+    return shapely.normalize(poly)
+
+
+def _polygon_list(value: Any, source: str, key: str) -> tuple[Polygon, ...]:
+    if not isinstance(value, list):
+        raise ConfigError(f"expected an array of tables ([[{key}]]), got {value!r}",
+                          source=source, key=key)
+    return tuple(_polygon(t, source, f"{key}[{i}]") for i, t in enumerate(value))
+
+
+def _defaults(value: Any, source: str) -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise ConfigError(f"expected a table, got {value!r}", source=source, key="defaults")
+    out = {}
+    for k, v in value.items():
+        if k not in DEFAULT_KEYS:
+            raise ConfigError(f"unknown default {v!r}; allowed: {sorted(DEFAULT_KEYS)}",
+                              source=source, key=f"defaults.{k}")
+        want = DEFAULT_KEYS[k]
+        ok = isinstance(v, want) or (want is float and isinstance(v, int))
+        if isinstance(v, bool) or not ok:
+            raise ConfigError(f"expected {want.__name__}, got {v!r}", source=source,
+                              key=f"defaults.{k}")
+        if want in (int, float) and v <= 0:
+            raise ConfigError(f"must be positive, got {v!r}", source=source, key=f"defaults.{k}")
+        out[k] = v
+    return MappingProxyType(out)
+
+
+def _beacon(value: Any, source: str) -> tuple[float, float]:
+    if not isinstance(value, Mapping) or set(value) != {"position"}:
+        raise ConfigError(f"expected a table with only 'position = [x, y]', got {value!r}",
+                          source=source, key="beacon")
+    pos = value["position"]
+    if not isinstance(pos, list) or len(pos) != 2:
+        raise ConfigError(f"expected [x, y], got {pos!r}", source=source, key="beacon.position")
+    return (_num(pos[0], source, "beacon.position[0]"), _num(pos[1], source, "beacon.position[1]"))
+
+
+def _arena(value: Any, source: str, geoms: list[Polygon]) -> tuple[float, float, float, float]:
+    if not isinstance(value, Mapping) or not set(value) <= {"margin"}:
+        raise ConfigError(f"expected a table with only 'margin', got {value!r}", source=source,
+                          key="arena")
+    margin = _num(value.get("margin", DEFAULT_ARENA_MARGIN), source, "arena.margin")
+    if margin <= 0:
+        raise ConfigError(f"must be positive, got {margin!r}", source=source, key="arena.margin")
+    xmin, ymin, xmax, ymax = shapely.union_all(geoms).bounds
+    return (xmin - margin, ymin - margin, xmax + margin, ymax + margin)
+
+
+def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
+    """Validate a parsed TOML mapping and build a :class:`World`."""
+    unknown = set(data) - TOP_LEVEL_KEYS
+    if unknown:
+        key = min(unknown)
+        raise ConfigError(f"unknown key with value {data[key]!r}; allowed top-level keys: "
+                          f"{sorted(TOP_LEVEL_KEYS)}", source=source, key=key)
+    name = data.get("name")
+    if not isinstance(name, str) or not name:
+        raise ConfigError(f"expected a non-empty string, got {name!r}", source=source, key="name")
+    if "target" not in data:
+        raise ConfigError("missing [target] table", source=source, key="target")
+    target = _polygon(data["target"], source, "target", allow_holes=True)
+    if "spawn" not in data:
+        raise ConfigError("missing [[spawn]] areas", source=source, key="spawn")
+    spawns = _polygon_list(data["spawn"], source, "spawn")
+    if not spawns:
+        raise ConfigError("at least one [[spawn]] area is needed", source=source, key="spawn")
+    obstacles = _polygon_list(data.get("obstacles", []), source, "obstacles")
+    _check_overlaps(spawns, obstacles, source)
+    beacon = _beacon(data["beacon"], source) if "beacon" in data else None
+    arena = _arena(data.get("arena", {}), source, [target, *spawns, *obstacles])
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise ConfigError(f"expected a string, got {description!r}", source=source,
+                          key="description")
+    return World(name=name, source=source, target=target, spawns=spawns, obstacles=obstacles,
+                 beacon=beacon, arena=arena, description=description,
+                 defaults=_defaults(data.get("defaults", {}), source))
+
+
+def _check_overlaps(spawns: tuple[Polygon, ...], obstacles: tuple[Polygon, ...],
+                    source: str) -> None:
+    for i, sp in enumerate(spawns):
+        for j, ob in enumerate(obstacles):
+            overlap = sp.intersection(ob).area
+            if overlap > 1e-9:
+                raise ConfigError(f"spawn area {_coords(sp)} overlaps obstacles[{j}] "
+                                  f"{_coords(ob)} (overlap area {overlap:g})", source=source,
+                                  key=f"spawn[{i}].outline")
+
+
+def _coords(poly: Polygon) -> list[list[float]]:
+    """Outline of ``poly`` as ``[[x, y], ...]`` (no closing point) for error messages."""
+    return [[round(x, 6), round(y, 6)] for x, y in list(poly.exterior.coords)[:-1]]
+
+
+def world_path(name_or_path: str | Path) -> Path:
+    """Resolve a world name (``"K"``) or a path to a ``.toml`` file."""
+    p = Path(name_or_path)
+    if p.suffix == ".toml" or p.exists():
+        if not p.is_file():
+            raise ConfigError(f"world file not found: {str(p)!r}", key="world")
+        return p
+    for candidate in _world_dirs():
+        f = candidate / f"{name_or_path}.toml"
+        if f.is_file():
+            return f
+    names = ", ".join(available_worlds()) or "none"
+    raise ConfigError(f"unknown world {str(name_or_path)!r}; shipped worlds: {names}",
+                      key="world")
+
+
+def _world_dirs() -> list[Path]:
+    dirs = []
+    try:
+        dirs.append(Path(str(resources.files("swarmsim.worlds"))))
+    except (ModuleNotFoundError, TypeError):
+        pass
+    if REPO_WORLDS_DIR.is_dir():
+        dirs.append(REPO_WORLDS_DIR)
+    return dirs
+
+
+def available_worlds() -> list[str]:
+    """Names of the shipped worlds."""
+    names: set[str] = set()
+    for d in _world_dirs():
+        names.update(f.stem for f in d.glob("*.toml"))
+    return sorted(names)
+
+
+def load_world(name_or_path: str | Path) -> World:
+    """Load and validate a world by shipped name (``"K"``, ``"house"``) or by file path."""
+    path = world_path(name_or_path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"not valid TOML: {exc}", source=str(path)) from None
+    return world_from_dict(data, source=str(path))

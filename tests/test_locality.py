@@ -1,0 +1,61 @@
+"""Local means local: controllers import neither pymunk nor pygame nor the engine's internals,
+and a Perception carries no global position."""
+
+import ast
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from swarmsim.controller import Perception, available_controllers, get_controller
+
+CONTROLLERS = Path(__file__).resolve().parent.parent / "controllers"
+FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics", "swarmsim.sim",
+             "swarmsim.sensing", "swarmsim.world", "swarmsim.render", "swarmsim.metrics",
+             "swarmsim.spawn")
+
+
+def imported_modules(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.add(node.module)
+    return names
+
+
+def test_controllers_import_nothing_global():
+    files = sorted(CONTROLLERS.rglob("*.py"))
+    assert len(files) >= 2
+    for f in files:
+        for mod in imported_modules(f):
+            assert not any(mod == bad or mod.startswith(bad + ".") for bad in FORBIDDEN), \
+                f"{f.name} imports {mod}"
+            if mod.startswith("swarmsim"):
+                assert mod == "swarmsim.controller", f"{f.name} imports {mod}"
+
+
+def test_no_controller_module_names_global_state():
+    for f in sorted(CONTROLLERS.rglob("*.py")):
+        text = f.read_text()
+        for word in ("space", "physics", "positions", "Simulation", "world."):
+            assert f".{word}" not in text.replace("p.offsets", ""), f"{f.name} uses .{word}"
+
+
+def test_perception_has_no_global_fields():
+    names = {f.name for f in dataclasses.fields(Perception)}
+    assert names == {"tick", "offsets", "distances", "messages", "on_target", "probe", "beacon",
+                     "moved"}
+
+
+def test_every_controller_is_declared_properly():
+    for name in available_controllers():
+        cls = get_controller(name)
+        params = cls.Params()
+        assert cls.sensing_range(params) > 0
+        assert len(cls.STATUSES) >= 1
+        assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
+        assert isinstance(cls.MESSAGE_FIELDS, list)
+        np.dtype(cls.MESSAGE_FIELDS) if cls.MESSAGE_FIELDS else None

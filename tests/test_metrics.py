@@ -1,0 +1,46 @@
+"""Coverage metric on known layouts (paper: 100x100 grid, r = 4)."""
+
+import math
+
+import numpy as np
+from shapely.geometry import box
+
+from swarmsim.metrics import CoverageGrid, nearest_neighbour_spacing
+
+
+def hex_lattice(spacing: float, extent: float) -> np.ndarray:
+    pts = []
+    rows = int(extent / (spacing * math.sqrt(3) / 2)) + 3
+    cols = int(extent / spacing) + 3
+    for r in range(-2, rows):
+        for c in range(-2, cols):
+            pts.append((c * spacing + (r % 2) * spacing / 2, r * spacing * math.sqrt(3) / 2))
+    return np.array(pts)
+
+
+def test_hex_lattice_spacing_6_covers_everything():
+    grid = CoverageGrid.for_target(box(0, 0, 200, 200), radius=4.0)
+    assert grid.coverage(hex_lattice(6.0, 200)) == 1.0
+
+
+def test_hex_lattice_spacing_8_covers_about_90_7_percent():
+    # analytic: 3 * (circle segment area) / hexagon cell area for s = 8, r = 4 -> pi/(2*sqrt3)
+    # the box and a shift keep the lattice incommensurate with the 100x100 pixel grid
+    grid = CoverageGrid.for_target(box(0, 0, 187.3, 191.1), radius=4.0)
+    cov = grid.coverage(hex_lattice(8.0, 200) + np.array([0.37, 0.61]))
+    assert abs(cov - math.pi / (2 * math.sqrt(3))) < 0.01
+
+
+def test_no_robots_no_coverage_and_grid_size():
+    grid = CoverageGrid.for_target(box(0, 0, 50, 30), radius=4.0)
+    assert grid.shape == (100, 100)
+    assert grid.n_target_pixels == 10000
+    assert grid.coverage(np.zeros((0, 2))) == 0.0
+    one = grid.coverage(np.array([[25.0, 15.0]]))
+    assert abs(one - math.pi * 16 / 1500) < 0.01
+
+
+def test_nearest_neighbour_spacing():
+    mean, std, cv = nearest_neighbour_spacing(hex_lattice(6.0, 60))
+    assert abs(mean - 6.0) < 1e-9 and std < 1e-9
+    assert nearest_neighbour_spacing(np.zeros((1, 2))) == (None, None, None)

@@ -1,0 +1,82 @@
+"""Disc robots collide for real, stay in the arena, and barely overlap when pushed."""
+
+import numpy as np
+import pytest
+
+from swarmsim.physics import Physics, PhysicsConfig
+from swarmsim.spawn import hex_offsets
+
+from .conftest import square_world
+
+
+def drive(physics: Physics, velocity_fn, ticks: int) -> float:
+    worst = 0.0
+    for _ in range(ticks):
+        pos, _ = physics.read()
+        physics.command(velocity_fn(pos))
+        physics.step()
+        worst = max(worst, physics.contact_state()[1])
+    return worst
+
+
+def test_unobstructed_robot_tracks_command():
+    physics = Physics(square_world(), np.array([[5.0, 5.0]]))
+    drive(physics, lambda p: np.array([[0.1, 0.0]]), 100)
+    pos, vel = physics.read()
+    assert abs(pos[0, 0] - 15.0) < 0.15  # one tick of drive lag and abs(vel[0, 0] - 0.1) < 1e-6
+
+
+def test_pushed_crowd_overlap_below_5_percent_of_radius():
+    cfg = PhysicsConfig()
+    pos = hex_offsets(200, 1.0) + np.array([20.0, 20.0])
+    physics = Physics(square_world(), pos, cfg)
+
+    def to_centre(p):
+        d = np.array([20.0, 20.0]) - p
+        n = np.maximum(np.hypot(*d.T), 1e-9)[:, None]
+        return d / n * 0.1
+
+    worst = drive(physics, to_centre, 300)
+    assert physics.contacts.robot_robot > 0
+    assert 0 < worst < 0.05 * cfg.radius
+
+
+def test_robots_never_leave_the_arena():
+    world = square_world()
+    pos = hex_offsets(50, 1.0) + np.array([20.0, 20.0])
+    physics = Physics(world, pos)
+    drive(physics, lambda p: np.tile([0.1, 0.07], (len(p), 1)), 1500)
+    p, _ = physics.read()
+    xmin, ymin, xmax, ymax = world.arena
+    assert (p[:, 0] > xmin).all() and (p[:, 0] < xmax).all()
+    assert (p[:, 1] > ymin).all() and (p[:, 1] < ymax).all()
+    assert physics.contacts.robot_wall > 0
+
+
+def test_obstacles_block_robots():
+    from swarmsim.world import world_from_dict
+
+    world = world_from_dict({
+        "name": "wall", "target": {"outline": [[0, 0], [40, 0], [40, 40], [0, 40]]},
+        "spawn": [{"outline": [[0, -20], [10, -20], [10, -10], [0, -10]]}],
+        "obstacles": [{"outline": [[20, 0], [22, 0], [22, 40], [20, 40]]}]})
+    physics = Physics(world, np.array([[10.0, 20.0]]))
+    drive(physics, lambda p: np.array([[0.1, 0.0]]), 300)
+    assert physics.read()[0][0, 0] < 20.0
+
+
+@pytest.mark.parametrize("mode,passes", [("ghost", True), ("rigid", False)])
+def test_ghost_robots_pass_through_rigid_do_not(mode, passes):
+    physics = Physics(square_world(), np.array([[10.0, 10.0], [14.0, 10.0]]),
+                      PhysicsConfig(mode=mode))
+    drive(physics, lambda p: np.array([[0.1, 0.0], [-0.1, 0.0]]), 60)
+    pos, _ = physics.read()
+    assert (pos[0, 0] > pos[1, 0]) == passes
+    assert (physics.contacts.robot_robot > 0) == (not passes)
+
+
+def test_bad_physics_config():
+    with pytest.raises(ValueError, match="radius"):
+        PhysicsConfig(radius=-1)
+    with pytest.raises(ValueError, match="mode"):
+        PhysicsConfig(mode="soft")

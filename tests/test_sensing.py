@@ -1,0 +1,44 @@
+"""The k-d tree neighbour search must agree with the pymunk point-query reference."""
+
+import numpy as np
+import pytest
+
+from swarmsim.physics import Physics
+from swarmsim.sensing import FloorSensor, NeighbourSearch
+from swarmsim.spawn import random_layout
+
+from .conftest import square_world
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("radius", [1.5, 4.0, 9.0])
+def test_kdtree_matches_pymunk_queries(seed, radius):
+    world = square_world(spawn=30)
+    pos = random_layout(world, 300, 1.0, np.random.default_rng(seed))
+    physics = Physics(world, pos)
+    search = NeighbourSearch(physics.read()[0])
+    robots = np.arange(len(pos))
+    fast = search.neighbours(robots, radius)
+    total = 0
+    for i in robots:
+        ref = physics.neighbours_by_query(int(i), radius)
+        assert sorted(fast[i].tolist()) == ref.tolist(), f"robot {i}"
+        total += len(ref)
+    assert total > 0
+
+
+def test_neighbours_sorted_by_distance_without_self():
+    pos = np.array([[0.0, 0.0], [3.0, 0.0], [1.0, 0.0], [0.0, 2.0], [50.0, 50.0]])
+    nb = NeighbourSearch(pos).neighbours(np.array([0]), 5.0)[0]
+    assert nb.tolist() == [2, 3, 1]
+
+
+def test_floor_probe_and_range():
+    world = square_world()
+    floor = FloorSensor(world.target, probe_range=2.0)
+    assert floor.on_target(np.array([[1.0, 1.0], [-1.0, 1.0]])).tolist() == [True, False]
+    probe = floor.probe_at(0.5, 5.0)
+    assert probe(np.array([0.4, 0.0]))
+    assert not probe(np.array([-1.0, 0.0]))
+    with pytest.raises(ValueError, match="probe range"):
+        probe(np.array([3.0, 0.0]))

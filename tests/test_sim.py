@@ -1,0 +1,137 @@
+"""The tick loop: determinism, order independence, stopping rules and bad input."""
+
+import json
+
+import numpy as np
+import pytest
+
+from swarmsim import ConfigError, Simulation
+from swarmsim.cli import main
+
+from .conftest import square_world
+
+
+def run(seed=3, **kw):
+    kw.setdefault("max_ticks", 250)
+    sim = Simulation(square_world(), controller="dispersion", robots=30, seed=seed,
+                     settings=kw.pop("settings", {}), **kw)
+    res = sim.run()
+    summary = {k: v for k, v in res.summary.items() if k != "wall_seconds"}
+    return summary, res.timeseries, sim
+
+
+def test_same_seed_same_run_bit_for_bit():
+    a, ta, sa = run()
+    b, tb, sb = run()
+    assert a == b and ta == tb
+    assert np.array_equal(sa.positions, sb.positions)
+    assert a["total_distance"] > 0
+
+
+def test_different_seed_different_run():
+    a, _, _ = run(seed=3)
+    b, _, _ = run(seed=4)
+    assert a != b
+
+
+def test_shuffled_decision_order_changes_nothing():
+    a, ta, sa = run()
+    b, tb, sb = run(settings={"decide_order": "shuffled"})
+    assert a == b and ta == tb
+    assert np.array_equal(sa.positions, sb.positions)
+
+
+def test_sleeping_changes_nothing_but_saves_work():
+    """Robots that sleep must act exactly as if they had been asked every tick."""
+    def settle(allow_sleep):
+        sim = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
+                         seed=2, max_ticks=1500, settings={"d_cover": 3.0, "allow_sleep":
+                                                           allow_sleep, "stop_on_complete": False})
+        res = sim.run()
+        return {k: v for k, v in res.summary.items() if k != "wall_seconds"}, res.timeseries
+
+    (a, ta), (b, tb) = settle(True), settle(False)
+    assert a == b
+    assert [r["coverage"] for r in ta] == [r["coverage"] for r in tb]
+    assert min(r["awake"] for r in ta[5:]) < 20  # robots really slept
+    assert min(r["awake"] for r in tb[5:]) == 40
+
+
+def test_stops_on_stall_and_reports_it():
+    sim = Simulation(square_world(beacon=False), controller="dispersion", robots=5, seed=1,
+                     settings={"stall_ticks": 30, "spawn_spacing": 4.0})
+    res = sim.run()
+    assert res.summary["stop_reason"] == "stalled"
+    assert res.summary["ticks"] < 200
+
+
+def test_completion_tick_when_target_covered():
+    sim = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
+                     seed=2, max_ticks=3000, settings={"d_cover": 3.0})
+    res = sim.run()
+    s = res.summary
+    assert s["stop_reason"] == "complete", s
+    assert s["completion_tick"] == s["ticks"] and s["coverage"] >= 0.99
+
+
+@pytest.mark.parametrize("kw,key", [
+    ({"settings": {"no_such": 1}}, "no_such"),
+    ({"settings": {"v_max": "fast"}}, "v_max"),
+    ({"settings": {"eps0": 2.0}}, "eps0"),
+    ({"groups": 50}, "groups"),
+    ({"robots": 100000}, "robots"),
+    ({"settings": {"d_cover": -1.0}}, "d_cover"),
+    ({"settings": {"start": "anywhere"}}, "start"),
+])
+def test_bad_parameters_are_named(kw, key):
+    kw.setdefault("robots", 30)
+    with pytest.raises(ConfigError, match=key):
+        Simulation(square_world(), controller="dispersion", **kw)
+
+
+def test_unknown_controller_is_named():
+    with pytest.raises(ConfigError, match="no_such_ctrl"):
+        Simulation(square_world(), controller="no_such_ctrl", robots=5)
+    with pytest.raises(ConfigError, match="no.module"):
+        Simulation(square_world(), controller="no.module:Thing", robots=5)
+
+
+def test_cli_run_writes_outputs(tmp_path, capsys):
+    out = tmp_path / "run"
+    code = main(["run", "tiny", "--controller", "dispersion", "--max-ticks", "120", "--seed",
+                 "2", "--out", str(out), "--quiet"])
+    assert code == 0
+    summary = json.loads((out / "summary.json").read_text())
+    for key in ("world", "controller", "robots", "groups", "d_cover", "seed", "ticks",
+                "coverage", "completion_tick", "total_distance", "robots_on_target",
+                "collisions_robot_robot", "collisions_robot_wall", "max_overlap",
+                "stop_reason", "wall_seconds"):
+        assert key in summary
+    assert summary["ticks"] == 120 and summary["world"] == "tiny"
+    lines = (out / "timeseries.csv").read_text().splitlines()
+    assert lines[0].startswith("tick,coverage,total_distance")
+    assert len(lines) == 1 + 13
+    assert (out / "coverage.png").stat().st_size > 1000
+    assert "coverage" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["run", "no-such-world"], "no-such-world"),
+    (["run", "tiny", "--controller", "dispersion", "--set", "bogus=3"], "bogus"),
+    (["run", "tiny", "--set", "novalue"], "KEY=VALUE"),
+    (["run", "/no/such/file.toml"], "/no/such/file.toml"),
+    (["run", "tiny", "--controller", "dispersion", "--robots", "-4"], "robots"),
+])
+def test_cli_bad_input_is_one_clear_line(argv, needle, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("swarmsim: error:") and needle in err
+    assert "Traceback" not in err
+
+
+def test_python_api_example_runs():
+    from swarmsim import load_world
+
+    sim = Simulation(load_world("tiny"), controller="dispersion", seed=1, max_ticks=50)
+    res = sim.run()
+    assert res.summary["ticks"] == 50 and res.timeseries[-1]["tick"] == 50

@@ -1,0 +1,177 @@
+"""World files: the shipped worlds and the validation of hand-written ones."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from shapely.geometry import Point
+
+from swarmsim.errors import ConfigError
+from swarmsim.world import available_worlds, load_world
+
+SHIPPED = ["K", "K-large", "corridor", "house", "tiny"]
+PAPER_DEFAULTS = {"K": (603, 3), "house": (942, 3), "K-large": (2000, 10), "tiny": (40, 1),
+                  "corridor": (60, 2)}
+
+# A minimal valid world; the error tests change one thing in it.
+TARGET = "[target]\noutline = [[0, 20], [30, 20], [30, 44], [0, 44]]\n"
+SPAWN = "[[spawn]]\noutline = [[0, 0], [30, 0], [30, 8], [0, 8]]\n"
+
+
+def write(tmp_path: Path, text: str, name: str = "w.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def world_text(*, top: str = 'name = "t"\n', target: str = TARGET, spawn: str = SPAWN,
+               extra: str = "") -> str:
+    return top + target + spawn + extra
+
+
+def load_error(path: Path) -> str:
+    with pytest.raises(ConfigError) as info:
+        load_world(path)
+    return str(info.value)
+
+
+def assert_names(msg: str, *parts: str) -> None:
+    for part in parts:
+        assert part in msg, f"{part!r} not in {msg!r}"
+
+
+# --- shipped worlds -------------------------------------------------------------------------
+
+def test_all_shipped_worlds_are_available():
+    assert set(SHIPPED) <= set(available_worlds())
+
+
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_world_loads_and_meets_its_sizing_rule(name):
+    w = load_world(name)
+    assert w.name == name
+    robots, groups = PAPER_DEFAULTS[name]
+    assert w.defaults["robots"] == robots
+    assert w.defaults["groups"] == groups
+    assert w.defaults["d_cover"] == 6
+    # a d_cover = 6 lattice in the target holds 65-75 % of the robots
+    ratio = w.lattice_capacity(6) / robots
+    assert 0.65 <= ratio <= 0.75, ratio
+    # the spawn areas take all robots at random with room to spare
+    assert w.max_random_robots(1.0) >= robots
+    # the beacon is inside the target; spawns are outside it, 10-20 units away
+    assert w.beacon is not None
+    assert w.target.contains(Point(w.beacon))
+    for sp in w.spawns:
+        assert 10 <= w.target.distance(sp) <= 20
+    # the arena walls enclose everything
+    xmin, ymin, xmax, ymax = w.arena
+    for poly in (w.target, *w.spawns):
+        bx0, by0, bx1, by1 = poly.bounds
+        assert xmin < bx0 and ymin < by0 and bx1 < xmax and by1 < ymax
+
+
+@pytest.mark.parametrize("name", ["K", "house", "K-large"])
+def test_letter_and_house_targets_are_concave(name):
+    target = load_world(name).target
+    assert target.area < 0.95 * target.convex_hull.area
+
+
+def test_corridor_has_spawns_on_both_sides_of_the_target():
+    w = load_world("corridor")
+    xmin, _, xmax, _ = w.target.bounds
+    assert any(sp.bounds[2] < xmin for sp in w.spawns)
+    assert any(sp.bounds[0] > xmax for sp in w.spawns)
+
+
+def test_load_world_by_path(tmp_path):
+    w = load_world(write(tmp_path, world_text()))
+    assert w.target_area == 30 * 24
+    assert w.spawn_area == 30 * 8
+    assert w.beacon is None
+
+
+def test_lattice_capacity_rejects_zero_spacing():
+    w = load_world("tiny")
+    with pytest.raises(ConfigError, match="d_cover"):
+        w.lattice_capacity(0)
+
+
+# --- validation errors: each names the file, the key and the value --------------------------
+
+def test_self_intersecting_outline(tmp_path):
+    path = write(tmp_path, world_text(target="[target]\noutline = [[0, 20], [30, 44], "
+                                             "[30, 20], [0, 44]]\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.outline", "[[0, 20], [30, 44], [30, 20], [0, 44]]",
+                 "Self-intersection")
+
+
+def test_zero_area_outline(tmp_path):
+    path = write(tmp_path, world_text(target="[target]\noutline = [[0, 20], [10, 30], "
+                                             "[20, 40]]\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.outline", "[[0, 20], [10, 30], [20, 40]]", "zero area")
+
+
+def test_too_few_points(tmp_path):
+    path = write(tmp_path, world_text(target="[target]\noutline = [[0, 20], [30, 20]]\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.outline", "[[0, 20], [30, 20]]", "at least 3")
+
+
+def test_point_not_a_number(tmp_path):
+    path = write(tmp_path, world_text(target='[target]\noutline = [[0, 20], ["a", 20], '
+                                             "[30, 44]]\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.outline[1][0]", "'a'")
+
+
+def test_unknown_top_level_key(tmp_path):
+    path = write(tmp_path, world_text(top='name = "t"\ncolour = "blue"\n'))
+    msg = load_error(path)
+    assert_names(msg, str(path), "'colour'", "'blue'")
+
+
+def test_unknown_key_in_target(tmp_path):
+    path = write(tmp_path, world_text(target=TARGET + "colour = 7\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.colour", "7")
+
+
+def test_unknown_default(tmp_path):
+    path = write(tmp_path, world_text(extra="[defaults]\nrobots = 40\nspeed = 3.5\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "defaults.speed", "3.5")
+
+
+def test_negative_default(tmp_path):
+    path = write(tmp_path, world_text(extra="[defaults]\nrobots = -5\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "defaults.robots", "-5")
+
+
+def test_missing_file(tmp_path):
+    path = tmp_path / "nowhere.toml"
+    msg = load_error(path)
+    assert_names(msg, "'world'", str(path), "not found")
+
+
+def test_unknown_world_name():
+    msg = load_error(Path("no-such-world"))
+    assert_names(msg, "'world'", "'no-such-world'", "K", "house")
+
+
+def test_spawn_overlapping_an_obstacle(tmp_path):
+    obstacle = "[[obstacles]]\noutline = [[10, 4], [20, 4], [20, 12], [10, 12]]\n"
+    path = write(tmp_path, world_text(extra=obstacle))
+    msg = load_error(path)
+    assert_names(msg, str(path), "spawn[0].outline", "obstacles[0]", "[30.0, 8.0]",
+                 "[20.0, 12.0]")
+
+
+def test_invalid_toml_syntax(tmp_path):
+    path = write(tmp_path, 'name = "t"\n[target\noutline = [[0, 0]]\n')
+    msg = load_error(path)
+    assert_names(msg, str(path), "not valid TOML", "line 2")

@@ -1,0 +1,1 @@
+"""Shipped world files (data only)."""
