@@ -1,0 +1,482 @@
+"""Headless frame rendering: a :class:`~swarmsim.snapshot.Snapshot` -> an (H, W, 3) uint8 image.
+
+Everything is drawn with pygame-ce on an off-screen ``Surface``: no window, no audio, no
+``pygame.init()``. The static part of the picture (arena walls, target with its holes, obstacles,
+spawn outlines, beacon) is drawn once into a cached background; each frame copies it, then draws
+the coverage tint, the robots, a heads-up line and a legend.
+
+World coordinates have y growing upward; image rows grow downward, so the camera flips y.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from typing import Any
+
+os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
+os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+
+import numpy as np
+import pygame
+import pygame.font
+import shapely
+
+from swarmsim.controller import INF_GRADIENT
+from swarmsim.metrics import CoverageGrid
+from swarmsim.snapshot import Snapshot
+from swarmsim.world import World
+
+COLOR_BY = ("gradient", "group", "status")
+MIN_WIDTH = 64
+
+# --- colours (RGB) ---------------------------------------------------------------------------
+OUTSIDE = (70, 70, 74)  # beyond the arena walls (padding / letterbox)
+FLOOR = (250, 250, 246)
+WALL = (30, 30, 34)
+TARGET_FILL = (224, 233, 247)
+TARGET_EDGE = (60, 100, 165)
+OBSTACLE_FILL = (120, 120, 126)
+OBSTACLE_EDGE = (60, 60, 66)
+SPAWN_EDGE = (185, 185, 185)
+BEACON_FILL = (255, 205, 0)
+BEACON_EDGE = (170, 100, 0)
+COVER_FILL = (182, 208, 242)  # covered target pixels: a deeper tint of TARGET_FILL
+COLORKEY = (255, 0, 255)
+FAILED = (20, 20, 20)
+FAILED_MARK = (210, 210, 210)
+LEADER_RING = (0, 0, 0)
+CONTACT_RING = (230, 0, 0)
+NONE_GREY = (150, 150, 150)
+TEXT = (20, 20, 20)
+PANEL = (255, 255, 255, 215)
+
+GRADIENT_PALETTE = np.array([
+    (228, 26, 28), (255, 127, 0), (225, 185, 0), (150, 200, 30), (50, 160, 45),
+    (0, 150, 120), (0, 185, 210), (30, 120, 220), (50, 60, 190), (120, 70, 200),
+    (170, 40, 170), (230, 60, 150), (150, 90, 50), (105, 105, 35),
+], dtype=np.uint8)
+"""The 14-colour cycle for hop gradients (colour = gradient % 14), as in the paper's figures."""
+
+GROUP_PALETTE = np.array([
+    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+    (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (0, 0, 128),
+], dtype=np.uint8)
+"""Categorical colours for groups 1, 2, ... (cycled); group 0 (none) is grey."""
+
+STATUS_PALETTE = np.array([
+    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
+    (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (0, 0, 128),
+    (0, 128, 128), (128, 128, 128),
+], dtype=np.uint8)
+"""Colours for status codes 0, 1, ... (cycled)."""
+
+
+def _even(x: float, multiple: int) -> int:
+    return max(multiple, round(x / multiple) * multiple)
+
+
+class Renderer:
+    """Draws snapshots of one world into RGB frames.
+
+    Args:
+        world: the world being simulated (arena, target, spawns, obstacles, beacon).
+        grid: the coverage raster whose ``covered`` grids snapshots carry; when None the raster
+            geometry is derived from the target's bounding box and the grid's shape (the same
+            rule as :meth:`CoverageGrid.for_target`).
+        width: frame width in pixels (even, >= 64). The height follows the arena's aspect
+            ratio, rounded to a multiple of 16 when ``width`` is one, else to an even number.
+        color_by: robot colouring, one of ``"gradient"``, ``"group"``, ``"status"``.
+        show_coverage: tint covered target pixels (when the snapshot has ``covered``).
+        highlight_contacts: draw a red ring around robots in contact.
+        legend: draw a legend for the colouring at the bottom.
+        hud: draw the heads-up line (tick, coverage, robots on target, groups) at the top.
+        on_target: ``f(snapshot) -> int`` counting robots on the target for the heads-up line;
+            default: robot centres inside ``world.target`` (shapely.contains_xy).
+        min_radius_px: smallest robot disc radius in pixels (robots are tiny at paper scale).
+    """
+
+    def __init__(self, world: World, grid: CoverageGrid | None = None, width: int = 800,
+                 color_by: str = "gradient", show_coverage: bool = True,
+                 highlight_contacts: bool = False, legend: bool = True, *, hud: bool = True,
+                 on_target: Callable[[Snapshot], int] | None = None,
+                 min_radius_px: float = 2.0):
+        if color_by not in COLOR_BY:
+            raise ValueError(f"color_by must be one of {', '.join(map(repr, COLOR_BY))}; "
+                             f"got {color_by!r}")
+        if (isinstance(width, bool) or not isinstance(width, (int, np.integer))
+                or width < MIN_WIDTH or width % 2):
+            raise ValueError(f"width must be an even integer >= {MIN_WIDTH}, got {width!r}")
+        if not min_radius_px > 0:
+            raise ValueError(f"min_radius_px must be positive, got {min_radius_px!r}")
+        self.world = world
+        self.grid = grid
+        self.color_by = color_by
+        self.show_coverage = bool(show_coverage)
+        self.highlight_contacts = bool(highlight_contacts)
+        self.legend = bool(legend)
+        self.hud = bool(hud)
+        self.min_radius_px = float(min_radius_px)
+        self._on_target = on_target
+        self._target = None  # prepared copy of world.target, made on first use
+
+        xmin, ymin, xmax, ymax = (float(v) for v in world.arena)
+        ww, wh = xmax - xmin, ymax - ymin
+        if not (ww > 0 and wh > 0):
+            raise ValueError(f"world arena has no area: {world.arena!r}")
+        width = int(width)
+        height = _even(width * wh / ww, 16 if width % 16 == 0 else 2)
+        self.width, self.height = width, height
+        self.wall_px = max(2, width // 400)
+        pad = self.wall_px + 1
+        self.scale = min((width - 2 * pad) / ww, (height - 2 * pad) / wh)
+        # centre the arena in the frame
+        self._ox = (width - ww * self.scale) / 2 - xmin * self.scale
+        self._oy = (height - wh * self.scale) / 2 + ymax * self.scale
+
+        self._font = self._small_font = None
+        try:
+            pygame.font.init()
+            self._font = pygame.font.Font(None, max(12, round(width / 38)))
+            self._small_font = pygame.font.Font(None, max(10, round(width / 42)))
+        except (ImportError, NotImplementedError, OSError, RuntimeError, pygame.error):
+            # no SDL_ttf or no default font: draw without text
+            self._font = self._small_font = None
+
+        self._frame = pygame.Surface((width, height))
+        self._background = self._draw_background()
+        self._legend_cache: dict[Any, pygame.Surface | None] = {}
+        # per covered-grid shape: (left, top, small 32-bit surface, scaled colour-keyed surface)
+        self._cover_cache: dict[tuple[int, int], tuple[int, int, pygame.Surface,
+                                                       pygame.Surface]] = {}
+
+    # --- geometry ------------------------------------------------------------------------------
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height) of the frames in pixels."""
+        return self.width, self.height
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """Shape of the arrays :meth:`draw` returns: (height, width, 3)."""
+        return self.height, self.width, 3
+
+    def world_to_pixel(self, xy: Any) -> np.ndarray:
+        """World coordinates (..., 2) -> image coordinates (..., 2) as floats (column, row)."""
+        xy = np.asarray(xy, dtype=float)
+        out = np.empty_like(xy)
+        out[..., 0] = self._ox + xy[..., 0] * self.scale
+        out[..., 1] = self._oy - xy[..., 1] * self.scale
+        return out
+
+    def _ring(self, coords: Any) -> list[tuple[float, float]]:
+        return [tuple(p) for p in self.world_to_pixel(np.asarray(coords)[:, :2]).tolist()]
+
+    # --- static background ---------------------------------------------------------------------
+    def _draw_background(self) -> pygame.Surface:
+        w = self.world
+        bg = pygame.Surface((self.width, self.height))
+        bg.fill(OUTSIDE)
+        (x0, y1), (x1, y0) = self.world_to_pixel([w.arena[:2], w.arena[2:]]).tolist()
+        floor = pygame.Rect(round(x0), round(y0), round(x1) - round(x0), round(y1) - round(y0))
+        bg.fill(FLOOR, floor)
+        pygame.draw.rect(bg, WALL, floor.inflate(2 * self.wall_px, 2 * self.wall_px),
+                         width=self.wall_px)
+        for poly in shapely.get_parts(w.target):
+            pygame.draw.polygon(bg, TARGET_FILL, self._ring(poly.exterior.coords))
+            for hole in poly.interiors:
+                pygame.draw.polygon(bg, FLOOR, self._ring(hole.coords))
+        self._draw_statics(bg)
+        return bg
+
+    def _draw_statics(self, bg: pygame.Surface) -> None:
+        """Obstacles, spawn outlines, target edges and beacon (redrawn over the coverage tint)."""
+        w = self.world
+        edge = max(1, self.width // 400)
+        for poly in w.obstacles:
+            for part in shapely.get_parts(poly):
+                pygame.draw.polygon(bg, OBSTACLE_FILL, self._ring(part.exterior.coords))
+                pygame.draw.polygon(bg, OBSTACLE_EDGE, self._ring(part.exterior.coords), edge)
+        for poly in w.spawns:
+            for part in shapely.get_parts(poly):
+                pygame.draw.polygon(bg, SPAWN_EDGE, self._ring(part.exterior.coords), 1)
+        for poly in shapely.get_parts(w.target):
+            pygame.draw.polygon(bg, TARGET_EDGE, self._ring(poly.exterior.coords), edge)
+            for hole in poly.interiors:
+                pygame.draw.polygon(bg, TARGET_EDGE, self._ring(hole.coords), edge)
+        if w.beacon is not None:
+            bx, by = self.world_to_pixel(w.beacon).tolist()
+            br = max(4, round(self.width / 110))
+            for k in range(8):
+                ang = k * np.pi / 4
+                pygame.draw.line(bg, BEACON_EDGE, (bx, by),
+                                 (bx + 1.8 * br * np.cos(ang), by + 1.8 * br * np.sin(ang)), 2)
+            pygame.draw.circle(bg, BEACON_FILL, (bx, by), br)
+            pygame.draw.circle(bg, BEACON_EDGE, (bx, by), br, 2)
+
+    # --- per-frame layers ----------------------------------------------------------------------
+    def _draw_coverage(self, surf: pygame.Surface, covered: np.ndarray) -> None:
+        """Paint covered raster cells opaque (colour-keyed blit: ~3x faster than alpha), then
+        redraw the static outlines on top so the tint never hides them."""
+        covered = np.asarray(covered, dtype=bool)
+        if covered.ndim != 2 or covered.size == 0 or not covered.any():
+            return
+        rows, cols = covered.shape
+        cache = self._cover_cache.get((rows, cols))
+        if cache is None:
+            if self.grid is not None and self.grid.shape == (rows, cols):
+                gx0, gy0, gdx, gdy = self.grid.x0, self.grid.y0, self.grid.dx, self.grid.dy
+            else:
+                bx0, by0, bx1, by1 = self.world.target.bounds
+                gx0, gy0, gdx, gdy = bx0, by0, (bx1 - bx0) / cols, (by1 - by0) / rows
+            (px0, py0), (px1, py1) = self.world_to_pixel(
+                [(gx0, gy0 + rows * gdy), (gx0 + cols * gdx, gy0)]).tolist()
+            pw, ph = max(1, round(px1 - px0)), max(1, round(py1 - py0))
+            # scaling between surfaces of the frame's own (32-bit) format is ~4x faster than
+            # scaling the 24-bit buffer directly
+            big = pygame.Surface((pw, ph), 0, surf)
+            big.set_colorkey(COLORKEY)
+            cache = (round(px0), round(py0), pygame.Surface((cols, rows), 0, surf), big)
+            self._cover_cache[(rows, cols)] = cache
+        left, top, small32, big = cache
+        img = np.where(covered[::-1, :, None], np.uint8(COVER_FILL), np.uint8(COLORKEY))
+        small32.blit(pygame.image.frombuffer(img.tobytes(), (cols, rows), "RGB"), (0, 0))
+        pygame.transform.scale(small32, big.get_size(), big)  # nearest: crisp raster cells
+        surf.blit(big, (left, top))
+        self._draw_statics(surf)
+
+    def robot_colors(self, snapshot: Snapshot) -> np.ndarray:
+        """(N, 3) uint8 colour of each robot under ``color_by`` (failed robots are drawn dark)."""
+        pal, idx = self._color_index(snapshot)
+        return pal[idx]
+
+    def _color_index(self, snapshot: Snapshot) -> tuple[np.ndarray, np.ndarray]:
+        """(palette (K, 3) uint8, (N,) index into it) for the current ``color_by``."""
+        msgs = snapshot.messages
+        if snapshot.n_robots == 0:
+            return GRADIENT_PALETTE, np.zeros(0, dtype=np.int64)
+        if self.color_by == "gradient":
+            g = msgs["gradient"].astype(np.int64)
+            pal = np.vstack([GRADIENT_PALETTE, np.uint8(NONE_GREY)])
+            idx = np.where((g == INF_GRADIENT) | (g < 0), len(GRADIENT_PALETTE),
+                           g % len(GRADIENT_PALETTE))
+        elif self.color_by == "group":
+            g = msgs["group"].astype(np.int64)
+            pal = np.vstack([np.uint8(NONE_GREY), GROUP_PALETTE])
+            idx = np.where(g <= 0, 0, (g - 1) % len(GROUP_PALETTE) + 1)
+        else:
+            s = msgs["status"].astype(np.int64)
+            pal = STATUS_PALETTE
+            idx = s % len(STATUS_PALETTE)
+        return pal, idx
+
+    def _draw_robots(self, surf: pygame.Surface, snap: Snapshot) -> None:
+        n = snap.n_robots
+        if n == 0:
+            return
+        pos = np.asarray(snap.positions, dtype=float).reshape(n, 2)
+        ok = np.isfinite(pos).all(axis=1)
+        pix = np.rint(self.world_to_pixel(pos))
+        lim = 4 * max(self.width, self.height)
+        pix = np.clip(np.nan_to_num(pix), -lim, lim).astype(np.int64)
+        r = max(self.min_radius_px, float(snap.radius) * self.scale)
+        ri = max(1, round(r))
+        pal, idx = self._color_index(snap)
+        failed = _mask(snap.failed, n)
+        leader = _mask(snap.messages["leader"], n)
+        contact = _mask(snap.in_contact, n) if self.highlight_contacts else None
+
+        circle = pygame.draw.circle
+        live = ok & ~failed
+        # one pass per colour: far fewer Python objects than a colour tuple per robot
+        idx = np.where(live, idx, -1)
+        for k in np.unique(idx).tolist():
+            if k >= 0:
+                c = tuple(pal[k].tolist())
+                for p in pix[idx == k].tolist():
+                    circle(surf, c, p, ri)
+        dead = ok & failed
+        if dead.any():
+            arm = max(1, round(ri * 0.6))
+            for x, y in pix[dead].tolist():
+                circle(surf, FAILED, (x, y), ri)
+                if ri >= 4:
+                    pygame.draw.line(surf, FAILED_MARK, (x - arm, y - arm), (x + arm, y + arm))
+                    pygame.draw.line(surf, FAILED_MARK, (x - arm, y + arm), (x + arm, y - arm))
+        ring_w = max(1, ri // 3)
+        if contact is not None and contact.any():
+            for p in pix[ok & contact].tolist():
+                circle(surf, CONTACT_RING, p, ri + 1 + ring_w, ring_w)
+        lead = ok & leader
+        if lead.any():
+            # outside the contact ring when contacts are highlighted
+            lr = ri + 1 + ring_w + (1 + ring_w if contact is not None else 0)
+            for p in pix[lead].tolist():
+                circle(surf, LEADER_RING, p, lr, ring_w)
+
+    def robots_on_target(self, snapshot: Snapshot) -> int:
+        """Robots whose centre lies inside the target (or the custom ``on_target`` count)."""
+        if self._on_target is not None:
+            return int(self._on_target(snapshot))
+        if snapshot.n_robots == 0:
+            return 0
+        if self._target is None:
+            self._target = shapely.from_wkb(shapely.to_wkb(self.world.target))
+            shapely.prepare(self._target)
+        pos = np.asarray(snapshot.positions, dtype=float)
+        return int(np.count_nonzero(shapely.contains_xy(self._target, pos[:, 0], pos[:, 1])))
+
+    def hud_text(self, snapshot: Snapshot) -> str:
+        """The heads-up line: ``tick T  coverage XX.X %  on target N  groups G``."""
+        groups = np.asarray(snapshot.messages["group"]) if snapshot.n_robots else np.zeros(0)
+        n_groups = len(np.unique(groups[groups != 0]))
+        return (f"tick {snapshot.tick}  coverage {100.0 * snapshot.coverage:.1f} %  "
+                f"on target {self.robots_on_target(snapshot)}  groups {n_groups}")
+
+    def _draw_hud(self, surf: pygame.Surface, snap: Snapshot) -> None:
+        if self._font is None:
+            return
+        text = self._font.render(self.hud_text(snap), True, TEXT)
+        m = max(3, self.width // 160)
+        panel = pygame.Surface((text.get_width() + 2 * m, text.get_height() + m), pygame.SRCALPHA)
+        panel.fill(PANEL)
+        panel.blit(text, (m, m // 2 + 1))
+        surf.blit(panel, (self.wall_px + 2, self.wall_px + 2))
+
+    # --- legend --------------------------------------------------------------------------------
+    def _legend_key(self, snap: Snapshot) -> Any:
+        if self.color_by == "status":
+            return ("status", tuple(snap.statuses))
+        if self.color_by == "group":
+            g = np.asarray(snap.messages["group"]) if snap.n_robots else np.zeros(0, int)
+            return ("group", tuple(int(v) for v in np.unique(g[g > 0])[:11]))
+        return ("gradient",)
+
+    def _legend_surface(self, snap: Snapshot) -> pygame.Surface | None:
+        if self._small_font is None:
+            return None
+        key = self._legend_key(snap)
+        if key in self._legend_cache:
+            return self._legend_cache[key]
+        font = self._small_font
+        fh = font.get_linesize()
+        sw = max(6, fh - 4)  # swatch size
+        gap = max(3, fh // 3)
+        items: list[pygame.Surface] = []
+
+        def label(text: str) -> pygame.Surface:
+            return font.render(text, True, TEXT)
+
+        def swatch_item(kind: str, color: Any, text: str) -> pygame.Surface:
+            lab = label(text)
+            s = pygame.Surface((sw + 3 + lab.get_width(), max(sw, lab.get_height())),
+                               pygame.SRCALPHA)
+            c = (sw // 2, s.get_height() // 2)
+            rad = sw // 2
+            if kind == "disc":
+                pygame.draw.circle(s, color, c, rad)
+            elif kind == "ring":
+                pygame.draw.circle(s, color, c, rad, max(1, sw // 6))
+            elif kind == "failed":
+                pygame.draw.circle(s, FAILED, c, rad)
+                a = max(1, rad // 2)
+                pygame.draw.line(s, FAILED_MARK, (c[0] - a, c[1] - a), (c[0] + a, c[1] + a))
+                pygame.draw.line(s, FAILED_MARK, (c[0] - a, c[1] + a), (c[0] + a, c[1] - a))
+            s.blit(lab, (sw + 3, (s.get_height() - lab.get_height()) // 2))
+            return s
+
+        items.append(label(f"{key[0]}:"))
+        if key[0] == "gradient":
+            cell = max(font.size("13")[0] + 4, sw)
+            strip = pygame.Surface((cell * (len(GRADIENT_PALETTE) + 1) + 1, fh), pygame.SRCALPHA)
+            colors = [*map(tuple, GRADIENT_PALETTE.tolist()), NONE_GREY]
+            for i, c in enumerate(colors):
+                rect = pygame.Rect(i * cell, 0, cell - 1, fh)
+                strip.fill(c, rect)
+                lum = 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]
+                t = font.render(str(i) if i < len(GRADIENT_PALETTE) else "inf", True,
+                                (0, 0, 0) if lum > 140 else (255, 255, 255))
+                strip.blit(t, t.get_rect(center=rect.center))
+            items.append(strip)
+        elif key[0] == "status":
+            for i, name in enumerate(key[1]):
+                items.append(swatch_item("disc", tuple(STATUS_PALETTE[i % len(STATUS_PALETTE)]),
+                                         str(name)))
+        else:
+            items.append(swatch_item("disc", NONE_GREY, "none"))
+            ids = key[1]
+            for g in ids[:10]:
+                items.append(swatch_item("disc", tuple(GROUP_PALETTE[(g - 1) % len(GROUP_PALETTE)]),
+                                         str(g)))
+            if len(ids) > 10:
+                items.append(label("..."))
+        items.append(swatch_item("ring", LEADER_RING, "leader"))
+        items.append(swatch_item("failed", FAILED, "failed"))
+        if self.highlight_contacts:
+            items.append(swatch_item("ring", CONTACT_RING, "contact"))
+
+        # flow layout, wrapping at the frame width
+        m = max(3, self.width // 160)
+        max_w = self.width - 2 * (self.wall_px + 2) - 2 * m
+        lines: list[list[pygame.Surface]] = [[]]
+        x = 0
+        for it in items:
+            if lines[-1] and x + it.get_width() > max_w:
+                lines.append([])
+                x = 0
+            lines[-1].append(it)
+            x += it.get_width() + 2 * gap
+        line_h = max(it.get_height() for it in items)
+        width = max(sum(it.get_width() for it in ln) + 2 * gap * (len(ln) - 1) for ln in lines)
+        panel = pygame.Surface((min(width, max_w) + 2 * m, line_h * len(lines) + m),
+                               pygame.SRCALPHA)
+        panel.fill(PANEL)
+        y = m // 2
+        for ln in lines:
+            x = m
+            for it in ln:
+                panel.blit(it, (x, y + (line_h - it.get_height()) // 2))
+                x += it.get_width() + 2 * gap
+            y += line_h
+        self._legend_cache[key] = panel
+        return panel
+
+    def _draw_legend(self, surf: pygame.Surface, snap: Snapshot) -> None:
+        panel = self._legend_surface(snap)
+        if panel is not None:
+            off = self.wall_px + 2
+            surf.blit(panel, (off, self.height - off - panel.get_height()))
+
+    # --- public --------------------------------------------------------------------------------
+    def draw_surface(self, snapshot: Snapshot) -> pygame.Surface:
+        """Draw ``snapshot`` and return the renderer's own frame Surface (reused next call)."""
+        surf = self._frame
+        surf.blit(self._background, (0, 0))
+        if self.show_coverage and snapshot.covered is not None:
+            self._draw_coverage(surf, snapshot.covered)
+        self._draw_robots(surf, snapshot)
+        if self.hud:
+            self._draw_hud(surf, snapshot)
+        if self.legend:
+            self._draw_legend(surf, snapshot)
+        return surf
+
+    def draw(self, snapshot: Snapshot) -> np.ndarray:
+        """Draw ``snapshot``; returns a new (H, W, 3) uint8 RGB array (rows top to bottom).
+
+        The array is read-only (a zero-copy view of the bytes pygame returns); ``.copy()`` it
+        to draw on it.
+        """
+        surf = self.draw_surface(snapshot)
+        data = pygame.image.tobytes(surf, "RGB")
+        return np.frombuffer(data, dtype=np.uint8).reshape(self.height, self.width, 3)
+
+
+def _mask(values: Any, n: int) -> np.ndarray:
+    if values is None:
+        return np.zeros(n, dtype=bool)
+    arr = np.asarray(values, dtype=bool).reshape(-1)
+    if arr.shape[0] != n:
+        raise ValueError(f"expected {n} flags, got {arr.shape[0]}")
+    return arr
