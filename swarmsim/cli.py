@@ -1,4 +1,4 @@
-"""Command line: ``swarmsim run | worlds | controllers | params``.
+"""Command line: ``swarmsim run | sweep | reproduce | worlds | controllers | params``.
 
 Every input error prints one line naming the file, key and value, and exits with status 2.
 """
@@ -56,12 +56,47 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
+def _add_executor_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--workers", type=int, help="local worker processes (default: all CPUs; "
+                   "1 = in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on a Dask cluster, e.g. tcp://host:8786 (pip install 'swarmsim[dask]')")
+    p.add_argument("--retry-failed", action="store_true", dest="retry_failed",
+                   help="run again the runs that failed before")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("sweep", help="run a sweep spec (params x grid x seeds), resumably",
+                       description="Run every run of a TOML sweep spec once; run again with the "
+                       "same --out to resume.")
+    p.add_argument("spec", type=Path, help="sweep spec (.toml)")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    _add_executor_args(p)
+    r = sub.add_parser("reproduce", help="run the paper's Section 6 figures (fig17..fig24, all)",
+                       description="Run (or resume) the runs of the paper's figures and write "
+                       "tables, plots and REPORT.md.")
+    r.add_argument("fig", help="fig17 .. fig24, or all")
+    r.add_argument("--reps", type=int, default=3, help="seeds per condition (default 3)")
+    r.add_argument("--out", type=Path, default=Path("results/reproduce"),
+                   help="output folder (default results/reproduce)")
+    r.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit of every run")
+    r.add_argument("--world", help="world instead of the paper's 'K'")
+    r.add_argument("--robots", type=int, help="robot count (default: the world's; K: 603)")
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="another setting for every run")
+    r.add_argument("--dry-run", action="store_true", dest="dry_run",
+                   help="list the runs each figure needs and exit")
+    _add_executor_args(r)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="swarmsim",
         description="Physics-based 2-D swarm-robotics simulator (GGC area coverage).")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_run_parser(sub)
+    _add_sweep_parsers(sub)
     sub.add_parser("worlds", help="list shipped worlds with target area and lattice capacity")
     sub.add_parser("controllers", help="list registered controllers")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning")
@@ -154,6 +189,44 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from swarmsim.experiments import load_spec, run_sweep
+
+    runs = load_spec(args.spec).runs()
+    report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
+                       retry_failed=args.retry_failed, progress=not args.quiet)
+    print(report.line())
+    return 1 if report.failed else 0
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    from swarmsim.experiments import reproduce as rp
+
+    setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set))
+    if args.dry_run:
+        print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out))
+        return 0
+    result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
+                          args.scheduler, args.retry_failed, progress=not args.quiet)
+    print(f"{result.sweep_line}\nreport: {result.report}")
+    return 0
+
+
+def _dispatch(args: argparse.Namespace) -> int:
+    from swarmsim.experiments.runner import SweepError
+
+    commands = {"sweep": cmd_sweep, "reproduce": cmd_reproduce}
+    try:
+        return commands[args.command](args)
+    except SweepError as exc:
+        print(f"swarmsim: error: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print(f"swarmsim: interrupted; finished runs are saved in {args.out}: run the same "
+              "command again to resume", file=sys.stderr)
+        return 130
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -164,6 +237,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_controllers()
         if args.command == "params":
             return cmd_params(args.controller)
+        if args.command in ("sweep", "reproduce"):
+            return _dispatch(args)
         return cmd_run(args)
     except ConfigError as exc:
         print(f"swarmsim: error: {exc}", file=sys.stderr)

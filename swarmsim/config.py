@@ -48,6 +48,13 @@ class SimConfig:
         wake_eps: displacement (units) that counts as "moved" for waking sleeping robots.
         decide_order: "index" or "shuffled" (a check: results must not depend on it).
         allow_sleep: honour controllers' sleep requests (a check: results must not depend on it).
+        failures: number of robots that fail during the run (paper Section 6.6; 0 = none). They
+            stop moving and communicating but stay in the way. See swarmsim/faults.py for the
+            rule that picks them (random working non-leader robots that have not arrived).
+        failure_phase: when they fail: "gradient" (when the first robot leaves its Initial
+            status; tick 1 for controllers without one), "coverage" (when the first robot
+            starts moving to cover) or "tick" (at failure_tick).
+        failure_tick: the tick at which robots fail with failure_phase = "tick" (>= 1).
     """
 
     robots: int = 100
@@ -70,6 +77,9 @@ class SimConfig:
     wake_eps: float = 1e-3
     decide_order: str = "index"
     allow_sleep: bool = True
+    failures: int = 0
+    failure_phase: str = "coverage"
+    failure_tick: int = 0
 
     def __post_init__(self) -> None:
         positive = ("robots", "groups", "max_ticks", "spawn_spacing", "formation_spacing",
@@ -89,6 +99,19 @@ class SimConfig:
         if self.decide_order not in ("index", "shuffled"):
             raise ConfigError(f"must be 'index' or 'shuffled', got {self.decide_order!r}",
                               key="decide_order")
+        self._check_failures()
+
+    def _check_failures(self) -> None:
+        if not 0 <= self.failures <= self.robots:
+            raise ConfigError(f"must be in [0, robots = {self.robots}], got {self.failures!r}",
+                              key="failures")
+        if self.failure_phase not in ("gradient", "coverage", "tick"):
+            raise ConfigError("must be 'gradient', 'coverage' or 'tick', got "
+                              f"{self.failure_phase!r}", key="failure_phase")
+        if self.failure_tick < 0 or (self.failure_phase == "tick" and self.failures
+                                     and self.failure_tick < 1):
+            raise ConfigError(f"must be >= 1 with failure_phase 'tick', got {self.failure_tick!r}",
+                              key="failure_tick")
 
 
 def parse_value(text: str) -> Any:

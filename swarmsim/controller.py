@@ -128,11 +128,21 @@ class Action:
         sleep: True promises that, until its perception changes, this robot would keep
             returning this same action; the engine then skips it until a neighbour within its
             sensing range moves or changes its message, or the robot itself is moved.
+        wake_range: with ``sleep``, a promise that only changes within this distance (units)
+            matter, so that changes farther away need not wake it (None = sensing range).
+        listen: how far (units) to sense on the next tick; a robot may listen less than its
+            sensing range when it needs less (cheaper). None = the full sensing range.
+        wake_on_motion: with ``sleep``, False promises that neighbours merely moving within the
+            wake range cannot change this robot's action: only a changed broadcast (or being
+            moved itself) wakes it.
     """
 
     velocity: tuple[float, float] = (0.0, 0.0)
     message: tuple | None = None
     sleep: bool = False
+    wake_range: float | None = None
+    listen: float | None = None
+    wake_on_motion: bool = True
 
 
 @runtime_checkable

@@ -78,6 +78,56 @@ class CoverageGrid:
         return grid
 
 
+class IncrementalCoverage:
+    """Coverage kept up to date by re-stamping only the robots that moved.
+
+    Each robot stamps the pixels whose centres lie within r of it into a per-pixel count; a
+    target pixel is covered while its count is positive. Exactly the same rule as
+    :meth:`CoverageGrid.coverage`, at a cost that follows the moving robots, not all robots.
+    """
+
+    def __init__(self, grid: CoverageGrid, positions: np.ndarray):
+        self.grid = grid
+        rows, cols = grid.shape
+        self.rows, self.cols = rows, cols
+        half_i = int(np.ceil(grid.radius / grid.dy)) + 1
+        half_j = int(np.ceil(grid.radius / grid.dx)) + 1
+        di, dj = np.meshgrid(np.arange(-half_i, half_i + 1), np.arange(-half_j, half_j + 1),
+                             indexing="ij")
+        self._di, self._dj = di.ravel(), dj.ravel()
+        self._inside = grid.inside.ravel()
+        self._count = np.zeros(rows * cols, dtype=np.int32)
+        self._stamps = [np.zeros(0, dtype=np.intp) for _ in range(len(positions))]
+        self._positions = np.full_like(positions, np.nan)
+        self.update(positions)
+
+    def _stamp(self, x: float, y: float) -> np.ndarray:
+        g = self.grid
+        i = int(np.floor((y - g.y0) / g.dy)) + self._di
+        j = int(np.floor((x - g.x0) / g.dx)) + self._dj
+        ok = (i >= 0) & (i < self.rows) & (j >= 0) & (j < self.cols)
+        i, j = i[ok], j[ok]
+        cx = g.x0 + (j + 0.5) * g.dx
+        cy = g.y0 + (i + 0.5) * g.dy
+        near = (cx - x) ** 2 + (cy - y) ** 2 <= g.radius**2
+        return i[near] * self.cols + j[near]
+
+    def update(self, positions: np.ndarray) -> float:
+        """Re-stamp robots whose position changed; return the coverage fraction P."""
+        moved = np.flatnonzero((positions != self._positions).any(axis=1))
+        if len(moved):
+            old = [self._stamps[k] for k in moved]
+            new = [self._stamp(*positions[k]) for k in moved]
+            for k, stamp in zip(moved.tolist(), new, strict=True):
+                self._stamps[k] = stamp
+            size = self.rows * self.cols
+            self._count += np.bincount(np.concatenate(new), minlength=size).astype(np.int32)
+            self._count -= np.bincount(np.concatenate(old), minlength=size).astype(np.int32)
+            self._positions = positions.copy()
+        covered = np.count_nonzero((self._count > 0) & self._inside)
+        return float(covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0
+
+
 class RunMetrics:
     """Accumulates a run's metrics tick by tick and keeps the time series.
 
@@ -104,6 +154,7 @@ class RunMetrics:
         self._prev: np.ndarray | None = None
         self._last_recorded = -1
         self._state: dict = {}
+        self._coverage: IncrementalCoverage | None = None
 
     def observe(self, tick: int, positions: np.ndarray, on_target: np.ndarray,
                 messages: np.ndarray, awake: int, changed: bool = False) -> None:
@@ -114,7 +165,9 @@ class RunMetrics:
             if changed or (step.size and step.max() > self.config.wake_eps):
                 self.last_change_tick = tick
         self._prev = positions
-        self.coverage = self.grid.coverage(positions)
+        if self._coverage is None:
+            self._coverage = IncrementalCoverage(self.grid, positions)
+        self.coverage = self._coverage.update(positions)
         if self.completion_tick is None and 1.0 - self.coverage <= self.config.eps0 + 1e-12:
             self.completion_tick = tick
         if self.coverage > self._plateau_ref + self.config.plateau_delta:

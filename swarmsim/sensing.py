@@ -59,10 +59,11 @@ class NeighbourSearch:
         self.positions = positions
         self.tree = cKDTree(positions)
 
-    def neighbours(self, robots: np.ndarray, radius: float) -> list[np.ndarray]:
+    def neighbours(self, robots: np.ndarray, radius: float | np.ndarray) -> list[np.ndarray]:
         """For each robot index in ``robots``: indices of the others within ``radius``.
 
-        Each array is sorted by distance (ties by index), the robot itself excluded.
+        ``radius`` is one value or one per robot. Each array is sorted by distance (ties by
+        index), the robot itself excluded.
         """
         if len(robots) == 0:
             return []

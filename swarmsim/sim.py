@@ -63,6 +63,9 @@ class Simulation:
         self.world = world if isinstance(world, World) else load_world(world)
         self.controller_cls = get_controller(controller)
         self.controller_name = controller
+        if getattr(self.controller_cls, "requires_beacon", False) and self.world.beacon is None:
+            raise ConfigError(f"controller {controller!r} needs a [beacon] in the world file",
+                              source=self.world.source, key="beacon")
         merged = self._merge_settings(robots, groups, seed, d_cover, max_ticks, settings or {})
         self.config, self.physics_config, self.params = build_configs(merged,
                                                                       self.controller_cls.Params)
@@ -99,7 +102,8 @@ class Simulation:
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
         self.physics = Physics(self.world, positions, self.physics_config)
-        self.floor = FloorSensor(self.world.target, cfg.probe_range)
+        probe_range = max(cfg.probe_range, getattr(self.controller_cls, "min_probe_range", 0.0))
+        self.floor = FloorSensor(self.world.target, probe_range)
         self.sensing_range = float(self.controller_cls.sensing_range(self.params))
         if not self.sensing_range > 0:
             raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
@@ -117,6 +121,9 @@ class Simulation:
         self._prev_positions = self.positions.copy()
         self._ref_positions = self.positions.copy()
         self.asleep = np.zeros(self.n, dtype=bool)
+        self.wake_range = np.full(self.n, self.sensing_range)
+        self.listen = np.full(self.n, self.sensing_range)
+        self.wake_on_motion = np.ones(self.n, dtype=bool)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
@@ -127,6 +134,9 @@ class Simulation:
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.fault_hook: Callable[[Simulation], None] | None = None
+        if cfg.failures:
+            from swarmsim.faults import FaultPlan, fault_rng, install_faults
+            install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
 
     def _initial_layout(self, start: str, layout_rng: np.random.Generator,
                         role_rng: np.random.Generator) -> tuple[np.ndarray, list[RobotSetup]]:
@@ -179,13 +189,12 @@ class Simulation:
         sleeping = self.asleep & ~self.failed
         if sleeping.any():
             drift = np.hypot(*(self.positions - self._ref_positions).T) > self.config.wake_eps
-            changed = drift | getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
+            by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
+            changed = drift | by_message
             self._ref_positions[drift] = self.positions[drift]
             if changed.any():
-                reach = self.sensing_range + 2 * self.config.v_max + self.config.wake_eps
-                woken = search.near_any(self.positions[changed], reach)
-                self.asleep[woken] = False
-                self.asleep[changed] = False
+                self._wake_near(search, np.flatnonzero(changed), by_message)
+                self.asleep[drift] = False
         else:
             self._ref_positions = self.positions.copy()
         awake = np.flatnonzero(~self.asleep & ~self.failed)
@@ -193,12 +202,32 @@ class Simulation:
             awake = self._order_rng.permutation(awake)
         return awake
 
+    def _wake_near(self, search: NeighbourSearch, changed: np.ndarray,
+                   by_message: np.ndarray) -> None:
+        """Wake sleepers that have a changed robot within their wake range.
+
+        Sleepers that asked not to be woken by motion only wake for changed broadcasts.
+        """
+        margin = 2 * self.config.v_max + self.config.wake_eps
+        reach = float(self.wake_range.max()) + margin
+        lists = search.tree.query_ball_point(self.positions[changed], reach)
+        counts = np.fromiter((len(x) for x in lists), dtype=np.intp, count=len(lists))
+        if counts.sum() == 0:
+            return
+        near = np.concatenate([np.asarray(x, dtype=np.intp) for x in lists])
+        src = np.repeat(changed, counts)
+        d = np.hypot(*(self.positions[near] - self.positions[src]).T)
+        hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
+        hit &= self.wake_on_motion[near] | by_message[src]
+        self.asleep[near[hit]] = False
+
     def _decide(self, awake: np.ndarray, search: NeighbourSearch, on_target: np.ndarray,
                 moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
-        pos, msgs, beacon = self.positions, self.messages, self.world.beacon
-        neighbour_lists = search.neighbours(awake, self.sensing_range)
+        pos, msgs = self.positions, self.messages
+        neighbour_lists = search.neighbours(awake, self.listen[awake])
         silent_rows = self.failed
-        for i, idx in zip(awake.tolist(), neighbour_lists, strict=True):
+        bearings = _bearings(self.world.beacon, pos[awake])
+        for k, (i, idx) in enumerate(zip(awake.tolist(), neighbour_lists, strict=True)):
             offsets, dists = relative_view(pos, i, idx)
             nb_msgs = msgs[idx]
             if silent_rows.any():
@@ -206,14 +235,21 @@ class Simulation:
             perception = Perception(
                 tick=self.tick, offsets=offsets, distances=dists, messages=nb_msgs,
                 on_target=bool(on_target[i]), probe=self.floor.probe_at(*pos[i]),
-                beacon=_bearing(beacon, pos[i]), moved=moved[i])
+                beacon=None if bearings is None else bearings[k], moved=moved[i])
             action: Action = self.controllers[i].step(perception)
             vx, vy = action.velocity
             velocities[i] = (vx, vy)
             if action.message is not None:
                 new_messages[i] = action.message
+            listen = action.listen
+            self.listen[i] = self.sensing_range if listen is None else min(float(listen),
+                                                                           self.sensing_range)
             if action.sleep and vx == 0 and vy == 0 and self.config.allow_sleep:
                 self.asleep[i] = True
+                self.wake_on_motion[i] = action.wake_on_motion
+                wake = action.wake_range
+                self.wake_range[i] = self.sensing_range if wake is None else min(
+                    float(wake), self.sensing_range)
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""
@@ -290,12 +326,13 @@ def _has_field(cls: type, name: str) -> bool:
     return name in getattr(cls, "__dataclass_fields__", {})
 
 
-def _bearing(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray | None:
+def _bearings(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray | None:
+    """(k, 2) unit vectors from each point toward the beacon (zero on top of it)."""
     if beacon is None:
         return None
-    d = np.array(beacon) - at
-    n = float(np.hypot(d[0], d[1]))
-    return d / n if n > 1e-12 else np.zeros(2)
+    d = np.asarray(beacon, dtype=float) - at
+    n = np.hypot(d[:, 0], d[:, 1])[:, None]
+    return np.divide(d, n, out=np.zeros_like(d), where=n > 1e-12)
 
 
 def _rows_differ(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -71,17 +71,26 @@ def hex_offsets(n: int, spacing: float) -> np.ndarray:
     return pts[order[:n]]
 
 
-def formation_centres(world: World, k: int, rng: np.random.Generator) -> np.ndarray:
-    """(k, 2) well-spread points in the spawn areas (farthest-point sampling)."""
+def formation_centres(world: World, k: int, radius: float,
+                      rng: np.random.Generator) -> np.ndarray:
+    """(k, 2) random, well-spread centres in the spawn areas for formations of ``radius``.
+
+    Centres are drawn where a whole formation fits inside the spawn areas when possible, then
+    spread by farthest-point sampling, so the seed decides where each group starts.
+    """
     spawn = shapely.union_all(world.spawns)
-    if k == 1:
-        c = spawn.centroid
-        if not spawn.contains(c):
-            c = spawn.representative_point()
-        return np.array([[c.x, c.y]])
-    cand = random_layout(world, min(400, world.max_random_robots(1.0)), 1.0, rng)
-    chosen = [int(np.argmin(((cand - cand.mean(axis=0)) ** 2).sum(axis=1)))]
-    dist = np.hypot(*(cand - cand[chosen[0]]).T)
+    room = spawn.buffer(-radius)
+    region = room if room.area > 0 else spawn
+    shapely.prepare(region)
+    xmin, ymin, xmax, ymax = region.bounds
+    cand = []
+    while len(cand) < 200 * k:
+        x, y = rng.uniform(xmin, xmax), rng.uniform(ymin, ymax)
+        if shapely.contains_xy(region, x, y):
+            cand.append((x, y))
+    cand = np.array(cand)
+    chosen = [0]
+    dist = np.hypot(*(cand - cand[0]).T)
     for _ in range(k - 1):
         nxt = int(np.argmax(dist))
         chosen.append(nxt)
@@ -97,7 +106,8 @@ def formation_layout(world: World, n: int, k: int, spacing: float,
     index) stands at its formation's centre and is its leader.
     """
     sizes = [n // k + (1 if g < n % k else 0) for g in range(k)]
-    centres = formation_centres(world, k, rng)
+    radius = spacing * math.sqrt(max(sizes) * 0.866 / math.pi) + spacing
+    centres = formation_centres(world, k, radius, rng)
     pos, groups = [], []
     for g, (size, c) in enumerate(zip(sizes, centres, strict=True)):
         pos.append(hex_offsets(size, spacing) + c)

@@ -44,3 +44,17 @@ def test_nearest_neighbour_spacing():
     mean, std, cv = nearest_neighbour_spacing(hex_lattice(6.0, 60))
     assert abs(mean - 6.0) < 1e-9 and std < 1e-9
     assert nearest_neighbour_spacing(np.zeros((1, 2))) == (None, None, None)
+
+
+def test_incremental_coverage_equals_direct_computation():
+    from swarmsim.metrics import IncrementalCoverage
+
+    rng = np.random.default_rng(5)
+    grid = CoverageGrid.for_target(box(0, 0, 37.3, 23.9), radius=4.0)
+    pos = rng.uniform([-5, -5], [42, 29], size=(30, 2))
+    inc = IncrementalCoverage(grid, pos)
+    for _ in range(40):
+        pos = pos.copy()
+        movers = rng.random(30) < 0.3
+        pos[movers] += rng.normal(0, 1.5, size=(movers.sum(), 2))
+        assert inc.update(pos) == grid.coverage(pos)

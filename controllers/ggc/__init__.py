@@ -1,0 +1,41 @@
+"""GGC: gradient-and-grouping self-organising coverage (the paper's controller).
+
+``--controller ggc``. See robot.py for the state machine and params.py for every parameter.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Sequence
+
+from swarmsim.controller import register
+
+from .params import GGCParams
+from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot
+
+
+@register
+class GGC(GGCRobot):
+    """Gradient-and-grouping coverage (paper Sections 3-4)."""
+
+    name = "ggc"
+    Params = GGCParams
+    STATUSES = STATUSES
+    MESSAGE_FIELDS = MESSAGE_FIELDS
+    default_start = "formation"
+    requires_beacon = True
+
+    @classmethod
+    def sensing_range(cls, params: GGCParams) -> float:
+        """Robots hear broadcasts within R_c (and at least far enough to edge-follow)."""
+        return max(params.R_c, params.gradient_reach * params.d_cover, params.d_cover + 2)
+
+    @classmethod
+    def summarize(cls, robots: Sequence[GGCRobot]) -> dict:
+        """Per-run GGC figures for the summary: final statuses and deadlocks."""
+        counts = Counter(STATUSES[r.status] for r in robots)
+        return {"status_counts": dict(sorted(counts.items())),
+                "deadlocks_detected": sum(r.deadlocks for r in robots)}
+
+
+__all__ = ["GGC", "GGCParams"]

@@ -1,0 +1,74 @@
+"""GGC parameters: the paper's Table 2 plus the constants its algorithms leave open."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class GGCParams:
+    """Parameters of the GGC controller (lengths in units, times in ticks).
+
+    Attributes:
+        d_safe: safe distance between robots (paper Table 2: 1).
+        d_cover: coverage distance, the spacing robots keep when they stop (Table 2: 1, 2, 4,
+            6, 8, 10; default 6).
+        d_min: spacing of a formation; gradients form among neighbours within d_min * 1.5
+            (Algorithm 1; default d_safe = 1).
+        R_c: communication range: robots hear broadcasts within it (Table 2: 15).
+        v: speed (Table 2: 0.1 per tick).
+        gradient_reach: a moving robot takes its gradient from stationary neighbours within
+            gradient_reach * d_cover (Kilobot's gradient distance / edge distance, ~1.3).
+        radial_gain: edge following: radial correction per unit of distance error.
+        arrive_tolerance: a robot beside an arrived robot of its gradient stops once it is at
+            least d_cover - arrive_tolerance from it.
+        probe_distance: the floor probe looks this far ahead (Algorithm 2: one unit).
+        yield_distance: a moving robot waits while another moving robot is this close ahead.
+        orbit: +1 follows edges counter-clockwise around the nearest robot, -1 clockwise.
+        T_r: progress is sampled every T_r ticks (Section 4.4, Equation 3).
+        theta: moving less than theta in T_r ticks is a deadlock (Equation 3).
+        T_s: a robot stopped by a deadlock waits T_s ticks before it resumes (Algorithm 6).
+        init_timeout: a robot that has heard no gradient after this many ticks starts with an
+            infinite gradient (it may be isolated or its neighbours may have failed).
+        h_max: leader hand-over hop budget (Algorithm 3).
+        boundary_fill: an edge-follower just outside the target that senses target floor
+            within boundary_probe toward an arrived robot steps in and stops on the boundary
+            (our addition: fills the strip the paper's rules leave between the last row of
+            robots and the boundary).
+        boundary_probe: see boundary_fill, units (<= the engine's probe range, 2).
+    """
+
+    d_safe: float = 1.0
+    d_cover: float = 6.0
+    d_min: float = 1.0
+    R_c: float = 15.0
+    v: float = 0.1
+    gradient_reach: float = 1.3
+    radial_gain: float = 1.0
+    arrive_tolerance: float = 0.3
+    probe_distance: float = 1.0
+    yield_distance: float = 2.0
+    orbit: int = 1
+    T_r: int = 100
+    theta: float = 1.0
+    T_s: int = 100
+    init_timeout: int = 400
+    h_max: int = 5
+    boundary_fill: bool = True
+    boundary_probe: float = 2.0
+
+    def __post_init__(self) -> None:
+        positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
+                    "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout")
+        for name in positive:
+            if not getattr(self, name) > 0:
+                raise ValueError(f"GGC parameter {name} must be positive, got "
+                                 f"{getattr(self, name)!r}")
+        if self.d_cover < self.d_safe:
+            raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
+        if self.orbit not in (1, -1):
+            raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
+        if self.theta < 0 or self.arrive_tolerance < 0 or self.h_max < 0:
+            raise ValueError("theta, arrive_tolerance and h_max must be >= 0")
+        if self.theta > 2 * self.d_cover:
+            raise ValueError(f"theta ({self.theta}) must not exceed 2 * d_cover (Section 4.4)")

@@ -1,0 +1,308 @@
+"""One GGC robot: the paper's Section 3 state machine (Algorithms 1, 2 and 7's Detection).
+
+Statuses (Figure 3): Initial -> Detection -> Coverage -> Arrive.
+
+* Initial: the group stands as a hexagonal formation around its leader. The leader heads for
+  the beacon and broadcasts a travel command with its velocity; every robot copies the command
+  of its gradient parent one tick later, so a robot g hops from the leader starts g ticks late
+  and stops g ticks late: the formation moves rigidly. When the leader's floor sensor reaches
+  the target it halts, and the halt spreads the same way (Figure 4a).
+* Detection: gradient = 1 + min gradient of stationary neighbours within 1.5 d_min
+  (Algorithm 1); a robot starts when no neighbour within d_cover has a larger (gradient, id)
+  and no moving robot is within d_cover + d_safe (Algorithm 7).
+* Coverage: follow the edge of the stationary robots at d_cover from the nearest one (move
+  away if closer, approach if farther, rotate around it; Algorithm 2), orbiting in one fixed
+  sense; gradient = 1 + min gradient of stationary neighbours within gradient_reach * d_cover.
+  Stop (Arrive) on the target when the probe ahead leaves it, or beside an arrived robot whose
+  gradient is >= ours, at d_cover from it. A robot outside the target never stops.
+* Robust edges: a robot that circles one robot all the way round, or moves less than theta in
+  T_r ticks, arrives if it is on the target and otherwise carries on (toward the beacon when it
+  is circling a lone robot outside).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
+
+from .params import GGCParams
+
+INITIAL, DETECTION, COVERAGE, ARRIVE, STOP, APPROACH, PEND, JOIN = range(8)
+STATUSES = ("Initial", "Detection", "Coverage", "Arrive", "Stop", "Approach", "Pend", "Join")
+MOVING_STATUSES = (COVERAGE,)
+CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
+NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    n = math.hypot(float(v[0]), float(v[1]))
+    return v / n if n > 1e-12 else np.zeros(2)
+
+
+class GGCRobot:
+    """One robot's GGC controller (single group; groups extend it in grouping.py)."""
+
+    def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.p = params
+        self.rng = rng
+        self.leader = setup.leader
+        self.group = setup.group
+        self.status = INITIAL
+        self.history = [INITIAL]
+        self.grad = 0 if self.leader else INF_GRADIENT
+        self.cmd = CMD_NONE
+        self.travel = np.zeros(2)
+        self.odometer = np.zeros(2)
+        self.progress_tick = 0
+        self.heading = np.zeros(2)
+        self.circling_id = NO_SENDER
+        self.circled = 0.0
+        self.last_bearing: float | None = None
+        self.deadlocks = 0
+
+    # ------------------------------------------------------------------ messages and status
+    def message(self) -> tuple:
+        return (self.id, self.status, self.grad, self.group, self.leader,
+                self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
+                float(self.travel[1]))
+
+    def set_status(self, status: int) -> None:
+        if status != self.status:
+            self.status = status
+            self.history.append(status)
+
+    def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
+            wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
+        return Action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
+                      wake_range, self.listen_range(), wake_on_motion)
+
+    def listen_range(self) -> float | None:
+        """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
+        if self.status == INITIAL:
+            return 1.5 * self.p.d_min
+        if self.status == DETECTION:
+            return max(self.p.d_cover, 1.5 * self.p.d_min)
+        if self.status == ARRIVE:
+            return self.p.d_safe
+        return min(2 * self.p.d_cover, self.p.R_c)
+
+    def step(self, p: Perception) -> Action:
+        self.odometer += p.moved
+        handler = {INITIAL: self.initial, DETECTION: self.detection, COVERAGE: self.coverage,
+                   ARRIVE: self.arrive}[self.status]
+        return handler(p)
+
+    # ------------------------------------------------------------------ neighbour views
+    def own_group(self, p: Perception) -> np.ndarray:
+        return p.messages["group"] == self.group
+
+    @staticmethod
+    def stationary(p: Perception) -> np.ndarray:
+        """Neighbours that are not moving on purpose (formation, arrived, failed robots)."""
+        return ~p.messages["moving"]
+
+    def gradient_from(self, p: Perception, reach: float) -> int | None:
+        """1 + the smallest known gradient of own-group stationary neighbours within reach."""
+        m = p.messages
+        ok = (p.distances <= reach) & self.stationary(p) & self.own_group(p)
+        ok &= (m["id"] != NO_SENDER) & (m["gradient"] < INF_GRADIENT)
+        ok &= m["status"] != COVERAGE
+        if not ok.any():
+            return None
+        return int(m["gradient"][ok].min()) + 1
+
+    # ------------------------------------------------------------------ Initial: travel
+    def initial(self, p: Perception) -> Action:
+        if self.leader:
+            return self.lead(p)
+        grad = self.gradient_from(p, 1.5 * self.p.d_min)
+        if grad is None:
+            if p.tick >= self.p.init_timeout:
+                self.set_status(DETECTION)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+        self.grad = grad
+        parent = self.parent(p)
+        self.cmd = int(parent["cmd"])
+        self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
+        if self.cmd == CMD_HALT:
+            self.travel[:] = 0.0
+            self.set_status(DETECTION)
+            return self.act()
+        return self.act(self.travel if self.cmd == CMD_TRAVEL else (0.0, 0.0))
+
+    def parent(self, p: Perception) -> np.void:
+        """The nearest own-group stationary neighbour holding the smallest gradient."""
+        m = p.messages
+        ok = (p.distances <= 1.5 * self.p.d_min) & self.own_group(p) & (m["id"] != NO_SENDER)
+        ok &= (m["gradient"] == self.grad - 1) & self.stationary(p)
+        return m[np.flatnonzero(ok)[0]]
+
+    def lead(self, p: Perception) -> Action:
+        """The leader heads for the beacon until its floor sensor finds the target."""
+        if p.on_target or p.beacon is None:
+            self.cmd = CMD_HALT
+            self.travel = np.zeros(2)
+            self.set_status(ARRIVE)
+            return self.act()
+        self.cmd = CMD_TRAVEL
+        self.travel = p.beacon * self.p.v
+        return self.act(self.travel)
+
+    # ------------------------------------------------------------------ Detection
+    def detection(self, p: Perception) -> Action:
+        grad = self.gradient_from(p, 1.5 * self.p.d_min)
+        if grad is not None:
+            self.grad = grad
+        blocker = self.blocked(p)
+        if blocker:
+            # Blocked by a waiting robot: only a changed broadcast can lift that.
+            return self.act(sleep=True, wake_range=self.p.d_cover,
+                            wake_on_motion=blocker == BLOCKED_BY_MOVER)
+        self.start_coverage(p)
+        return self.coverage(p)
+
+    def blocked(self, p: Perception) -> int:
+        """Algorithm 7: wait while a neighbour within d_cover has a larger (gradient, id).
+
+        Moving robots count too: their gradient is their nearest neighbour's plus one.
+        Returns NOT_BLOCKED, BLOCKED_BY_WAITING (a non-moving robot outranks me) or
+        BLOCKED_BY_MOVER (only moving robots do).
+        """
+        m = p.messages
+        near = (p.distances <= self.p.d_cover) & self.own_group(p) & (m["id"] != NO_SENDER)
+        near &= m["status"] != ARRIVE
+        outranks = near & ((m["gradient"] > self.grad)
+                           | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
+        if not outranks.any():
+            return NOT_BLOCKED
+        return BLOCKED_BY_MOVER if m["moving"][outranks].all() else BLOCKED_BY_WAITING
+
+    def start_coverage(self, p: Perception) -> None:
+        self.set_status(COVERAGE)
+        self.odometer[:] = 0.0
+        self.progress_tick = p.tick
+
+    # ------------------------------------------------------------------ Coverage
+    def coverage(self, p: Perception) -> Action:
+        structure = np.flatnonzero(self.stationary(p))
+        if len(structure) == 0:
+            return self.wander(p)
+        nearest = structure[0]
+        velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
+        self.heading = unit(velocity)
+        if self.should_arrive(p, nearest):
+            self.set_status(ARRIVE)
+            return self.act()
+        self.follow_gradient(p, nearest)
+        if self.p.boundary_fill and self.target_inward(p, nearest):
+            return self.step_in(p, nearest)
+        if self.circling(p, nearest) or self.stuck(p):
+            if p.on_target:
+                self.set_status(ARRIVE)
+                return self.act()
+            if self.circled and p.beacon is not None:
+                velocity = p.beacon * self.p.v
+        if self.must_yield(p, velocity):
+            return self.act()
+        return self.act(velocity)
+
+    def target_inward(self, p: Perception, nearest: int) -> bool:
+        """Outside the target, beside an arrived robot, with target floor toward it.
+
+        Then the strip between the structure and the boundary is wider than coverage reaches
+        (our addition to Algorithm 2: the paper leaves it uncovered).
+        """
+        if p.on_target or p.messages["status"][nearest] != ARRIVE:
+            return False
+        toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
+        return bool(p.probe(toward * self.p.boundary_probe))
+
+    def step_in(self, p: Perception, nearest: int) -> Action:
+        """Move straight toward the structure until the floor sensor finds the target."""
+        toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
+        if p.distances[nearest] <= 2 * self.p.d_safe:
+            self.set_status(ARRIVE)
+            return self.act()
+        return self.act(toward * self.p.v)
+
+    def follow_gradient(self, p: Perception, nearest: int) -> None:
+        """Algorithm 2, line 8: my gradient is my nearest stationary neighbour's plus one."""
+        g = int(p.messages["gradient"][nearest])
+        if p.messages["id"][nearest] != NO_SENDER and g < INF_GRADIENT:
+            self.grad = g + 1
+
+    def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
+        """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
+        radial = offset / max(dist, 1e-9)
+        tangent = np.array([radial[1], -radial[0]]) * self.p.orbit
+        error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
+        return unit(tangent + error * radial) * self.p.v
+
+    def should_arrive(self, p: Perception, nearest: int) -> bool:
+        """Algorithm 2's stop rules, on the target and at covering distance from the nearest.
+
+        (a) the probe ahead would leave the target; (b) the nearest stationary neighbour has
+        arrived with a gradient >= mine (compared before this tick's gradient update). A robot
+        still closer than d_cover - arrive_tolerance to its nearest keeps moving away first.
+        """
+        if not p.on_target or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
+            return False
+        if self.heading.any() and not p.probe(self.heading * self.p.probe_distance):
+            return True
+        m = p.messages[nearest]
+        return bool(m["id"] != NO_SENDER and m["status"] == ARRIVE and m["gradient"] >= self.grad
+                    and m["group"] == self.group)
+
+    def circling(self, p: Perception, nearest: int) -> bool:
+        """True once the robot has gone all the way round the same neighbour."""
+        sender = int(p.messages["id"][nearest])
+        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
+        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
+            self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
+            return False
+        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
+        self.circled += turn
+        self.last_bearing = bearing
+        return abs(self.circled) > 2 * math.pi
+
+    def stuck(self, p: Perception) -> bool:
+        """Equation 3: displacement <= theta over T_r ticks."""
+        if p.tick - self.progress_tick < self.p.T_r:
+            return False
+        moved = math.hypot(*self.odometer)
+        self.odometer[:] = 0.0
+        self.progress_tick = p.tick
+        if moved <= self.p.theta:
+            self.deadlocks += 1
+            return True
+        return False
+
+    def must_yield(self, p: Perception, velocity: np.ndarray) -> bool:
+        """Wait while a moving robot with a larger id is close ahead (ids break symmetry)."""
+        close = ((p.distances <= self.p.yield_distance) & p.messages["moving"]
+                 & (p.messages["id"] > self.id))
+        if not close.any():
+            return False
+        ahead = p.offsets[close] @ velocity > 0
+        return bool(ahead.any())
+
+    def wander(self, p: Perception) -> Action:
+        """No stationary robot in range: head for the beacon (or keep going)."""
+        if p.beacon is not None and not p.on_target:
+            self.heading = p.beacon
+        if not self.heading.any():
+            angle = self.rng.uniform(0, 2 * math.pi)
+            self.heading = np.array([math.cos(angle), math.sin(angle)])
+        if p.on_target and not p.probe(self.heading * self.p.probe_distance):
+            self.set_status(ARRIVE)
+            return self.act()
+        return self.act(self.heading * self.p.v)
+
+    # ------------------------------------------------------------------ Arrive
+    def arrive(self, p: Perception) -> Action:
+        return self.act(sleep=True, wake_range=0.0)
