@@ -209,7 +209,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
                           args.scheduler, args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")
-    return 0
+    return 1 if result.failed else 0
 
 
 def _dispatch(args: argparse.Namespace) -> int:

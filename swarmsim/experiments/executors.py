@@ -1,0 +1,162 @@
+"""Where runs execute: in this process, in local worker processes, or on a Dask cluster.
+
+All three are ``concurrent.futures`` executors (``submit`` returns a Future; results are
+collected with :func:`concurrent.futures.as_completed`), so the sweep runner has one code path:
+
+* ``workers == 1``: :class:`InProcessExecutor`, runs each task when its result is collected,
+  in submission order (easy to debug, no pickling).
+* ``workers > 1`` (default ``os.cpu_count()``): ``ProcessPoolExecutor`` with fresh interpreter
+  processes ("forkserver", else "spawn"): no state leaks from the parent into the runs.
+* ``scheduler = "tcp://host:8786"`` (or a ``dask.distributed`` Client / cluster object): the
+  Client's own ``concurrent.futures`` executor (``Client.get_executor``). Needs the optional
+  extra: ``pip install 'swarmsim[dask]'``; the workers need swarmsim installed too.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from swarmsim.errors import ConfigError
+
+
+class InProcessExecutor(cf.Executor):
+    """Runs tasks in this process, lazily: a task runs when :meth:`as_completed` reaches it.
+
+    Lazy so that a sweep writes each run's result before the next run starts (resume works
+    the same as with worker processes).
+    """
+
+    def __init__(self) -> None:
+        self._pending: list[tuple[cf.Future, Callable, tuple, dict]] = []
+        self._shutdown = False
+
+    def submit(self, fn, /, *args, **kwargs) -> cf.Future:
+        if self._shutdown:
+            raise RuntimeError("cannot schedule new futures after shutdown")
+        future: cf.Future = cf.Future()
+        self._pending.append((future, fn, args, kwargs))
+        return future
+
+    def run_pending(self, future: cf.Future) -> None:
+        """Run the task of ``future`` now (if not already done or cancelled)."""
+        for i, (f, fn, args, kwargs) in enumerate(self._pending):
+            if f is future:
+                del self._pending[i]
+                if f.set_running_or_notify_cancel():
+                    try:
+                        f.set_result(fn(*args, **kwargs))
+                    except BaseException as exc:
+                        f.set_exception(exc)
+                        if not isinstance(exc, Exception):
+                            raise
+                return
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        self._shutdown = True
+        if cancel_futures:
+            for f, *_ in self._pending:
+                f.cancel()
+            self._pending.clear()
+
+
+class Pool:
+    """A concurrent.futures executor plus the matching ``as_completed``."""
+
+    def __init__(self, executor: cf.Executor, kind: str, workers: int | None,
+                 close: Callable[[], None] | None = None):
+        self.executor = executor
+        self.kind = kind
+        self.workers = workers
+        self._close = close
+
+    def submit(self, fn: Callable, *args: Any) -> cf.Future:
+        return self.executor.submit(fn, *args)
+
+    def as_completed(self, futures: Iterable[cf.Future]) -> Iterator[cf.Future]:
+        futures = list(futures)
+        if isinstance(self.executor, InProcessExecutor):
+            for f in futures:
+                self.executor.run_pending(f)
+                yield f
+            return
+        yield from cf.as_completed(futures)
+
+    def shutdown(self, cancel: bool) -> None:
+        """Wait for running tasks, or (``cancel``) drop pending ones and stop workers now."""
+        if self.kind == "dask":
+            self.executor.shutdown(wait=not cancel)
+        else:
+            # Runs in flight are lost either way: stop the workers rather than let them finish
+            # the tasks already queued to them (Python < 3.14 has no terminate_workers()).
+            procs = list((getattr(self.executor, "_processes", None) or {}).values())
+            self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+            for proc in procs if cancel else ():
+                proc.terminate()
+        if self._close is not None:
+            self._close()
+
+    def describe(self) -> str:
+        if self.kind == "dask":
+            return "dask cluster"
+        return "in-process" if self.kind == "inprocess" else f"{self.workers} worker processes"
+
+
+def _mp_context():
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+def dask_client(scheduler: Any):
+    """A dask.distributed Client for an address, a Client or a cluster object."""
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        raise ConfigError("running on a Dask cluster needs dask.distributed: "
+                          "pip install 'swarmsim[dask]' (or 'dask[distributed]')",
+                          key="--scheduler") from None
+    if isinstance(scheduler, Client):
+        return scheduler, False
+    try:
+        return Client(scheduler, timeout="20s"), True
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ConfigError(f"cannot connect to the Dask scheduler {scheduler!r}: {exc}",
+                          key="--scheduler") from None
+
+
+@contextmanager
+def open_pool(workers: int | None = None, scheduler: Any = None, tasks: int | None = None):
+    """Open an executor: Dask when ``scheduler`` is given, else ``workers`` local processes.
+
+    Args:
+        workers: local worker processes (None = os.cpu_count(); 1 = in this process).
+        scheduler: Dask scheduler address (str), Client or cluster; overrides ``workers``.
+        tasks: number of tasks to come (no more processes than tasks are started).
+
+    Yields a :class:`Pool`; on an exception (e.g. KeyboardInterrupt) pending tasks are
+    cancelled.
+    """
+    if workers is not None and workers < 1:
+        raise ConfigError(f"must be >= 1, got {workers!r}", key="--workers")
+    if scheduler is not None:
+        client, owned = dask_client(scheduler)
+        pool = Pool(client.get_executor(pure=False), "dask", None,
+                    close=client.close if owned else None)
+    else:
+        n = workers or os.cpu_count() or 1
+        if tasks is not None:
+            n = max(1, min(n, tasks))
+        if n == 1:
+            pool = Pool(InProcessExecutor(), "inprocess", 1)
+        else:
+            pool = Pool(cf.ProcessPoolExecutor(n, mp_context=_mp_context()), "processes", n)
+    try:
+        yield pool
+    except BaseException:
+        pool.shutdown(cancel=True)
+        raise
+    pool.shutdown(cancel=False)

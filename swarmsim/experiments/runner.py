@@ -1,0 +1,263 @@
+"""Run a list of runs once each, resumably, on any executor; write results as they finish.
+
+Layout of an output folder::
+
+    DIR/runs/<run_id>/run.json         the run's world, controller, settings and seed
+    DIR/runs/<run_id>/timeseries.csv   its time series
+    DIR/runs/<run_id>/summary.json     its summary: written last, it marks the run as done
+    DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
+    DIR/results.csv                    one row per run (rewritten after each completion)
+
+Every file is written atomically. Running the same sweep again skips runs that are done (and,
+unless ``retry_failed``, runs that failed), so an interrupted sweep resumes where it stopped
+without redoing or losing a finished run.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import json
+import shutil
+import sys
+import traceback
+from collections.abc import Callable, Sequence
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from swarmsim.experiments.executors import open_pool
+from swarmsim.experiments.spec import RunSpec, unique_runs
+from swarmsim.experiments.table import read_table, run_row, write_table
+from swarmsim.output import write_csv, write_json
+
+DONE, FAILED = "done", "failed"
+
+
+class SweepError(RuntimeError):
+    """The sweep itself broke (e.g. a worker process died); finished runs are saved."""
+
+
+def execute_run(run: RunSpec) -> dict[str, Any]:
+    """Run one simulation (in a worker). Never raises for a bad run: returns its error."""
+    try:
+        from swarmsim.sim import Simulation
+
+        sim = Simulation(run.world_ref or run.world, controller=run.controller, seed=run.seed,
+                         settings=dict(run.settings))
+        result = sim.run(progress=False)
+        summary = {"run_id": run.run_id, **result.summary}
+        fired = getattr(sim.fault_hook, "fired_tick", None)
+        if sim.config.failures:
+            summary["fault_tick"] = fired
+        return {"summary": summary, "timeseries": result.timeseries}
+    except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
+        return {"error": one_line(exc), "traceback": traceback.format_exc()}
+
+
+def one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+class RunStore:
+    """The per-run folders of an output directory."""
+
+    def __init__(self, runs_dir: str | Path):
+        self.dir = Path(runs_dir)
+
+    def path(self, run_id: str) -> Path:
+        return self.dir / run_id
+
+    def status(self, run_id: str) -> str | None:
+        p = self.path(run_id)
+        if (p / "summary.json").is_file():
+            return DONE
+        if (p / "error.txt").is_file():
+            return FAILED
+        return None
+
+    def summary(self, run_id: str) -> dict[str, Any]:
+        return json.loads((self.path(run_id) / "summary.json").read_text())
+
+    def error(self, run_id: str) -> str:
+        text = (self.path(run_id) / "error.txt").read_text()
+        return text.splitlines()[0] if text else "error"
+
+    def timeseries(self, run_id: str) -> list[dict[str, str]]:
+        return read_table(self.path(run_id) / "timeseries.csv")
+
+    def write_result(self, run: RunSpec, summary: dict, timeseries: Sequence[dict]) -> None:
+        p = self.path(run.run_id)
+        write_json(p / "run.json", run.to_json())
+        write_csv(p / "timeseries.csv", timeseries)
+        write_json(p / "summary.json", summary)  # last: marks the run done
+        (p / "error.txt").unlink(missing_ok=True)
+
+    def write_error(self, run: RunSpec, message: str, details: str = "") -> None:
+        from swarmsim.output import atomic_write_text
+
+        p = self.path(run.run_id)
+        write_json(p / "run.json", run.to_json())
+        atomic_write_text(p / "error.txt", message + "\n\n" + details)
+
+    def clear(self, run_id: str) -> None:
+        shutil.rmtree(self.path(run_id), ignore_errors=True)
+
+
+@dataclass
+class SweepReport:
+    """What a sweep did.
+
+    Attributes:
+        total: runs in the sweep.
+        skipped: runs already done (or failed, without retry) before this call.
+        ran: runs executed now.
+        failed: runs whose latest attempt failed (now or before).
+        table: path of the results table.
+    """
+
+    total: int
+    skipped: int
+    ran: int
+    failed: int
+    table: Path
+
+    def line(self) -> str:
+        done = self.total - self.failed
+        return (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
+                f"there), {self.failed} failed -> {self.table}")
+
+
+class Sweep:
+    """A list of runs bound to an output folder.
+
+    Args:
+        runs: the runs (repeats of the same run id are run once).
+        out_dir: output folder (``runs/`` and ``results.csv`` inside unless given).
+        runs_dir: where run folders live (share one among sweeps to share runs).
+        table_path: where the results table goes.
+    """
+
+    def __init__(self, runs: Sequence[RunSpec], out_dir: str | Path,
+                 runs_dir: str | Path | None = None, table_path: str | Path | None = None):
+        self.runs = unique_runs(runs)
+        self.out = Path(out_dir)
+        self.store = RunStore(runs_dir or self.out / "runs")
+        self.table_path = Path(table_path or self.out / "results.csv")
+        self._rows: dict[str, dict[str, Any]] = {}
+
+    def pending(self, retry_failed: bool = False) -> list[RunSpec]:
+        """Runs still to do: not done, and not failed unless ``retry_failed``."""
+        todo = []
+        for run in self.runs:
+            status = self.store.status(run.run_id)
+            if status is None or (status == FAILED and retry_failed):
+                todo.append(run)
+        return todo
+
+    def row(self, run: RunSpec) -> dict[str, Any] | None:
+        """The table row of a finished (or failed) run, None if it has not run yet."""
+        rid = run.run_id
+        if rid not in self._rows:
+            status = self.store.status(rid)
+            if status == DONE:
+                self._rows[rid] = run_row(run, self.store.summary(rid))
+            elif status == FAILED:
+                self._rows[rid] = run_row(run, error=self.store.error(rid))
+            else:
+                return None
+        return self._rows[rid]
+
+    def write_table(self) -> None:
+        rows = [r for r in (self.row(run) for run in self.runs) if r is not None]
+        write_table(self.table_path, rows)
+
+    def failed_count(self) -> int:
+        return sum(self.store.status(r.run_id) == FAILED for r in self.runs)
+
+    def record(self, run: RunSpec, outcome: dict[str, Any]) -> str:
+        """Write a run's outcome; returns DONE or FAILED."""
+        self._rows.pop(run.run_id, None)
+        if "summary" in outcome:
+            self.store.write_result(run, outcome["summary"], outcome["timeseries"])
+            status = DONE
+        else:
+            self.store.write_error(run, outcome["error"], outcome.get("traceback", ""))
+            status = FAILED
+        self.write_table()
+        return status
+
+    def run(self, workers: int | None = None, scheduler: Any = None,
+            retry_failed: bool = False, progress: bool = True,
+            on_result: Callable[[RunSpec, str], None] | None = None) -> SweepReport:
+        """Run every pending run once; see :func:`run_sweep`."""
+        todo = self.pending(retry_failed)
+        self.out.mkdir(parents=True, exist_ok=True)
+        self.write_table()
+        if todo:
+            self._execute(todo, workers, scheduler, progress, on_result)
+        return SweepReport(len(self.runs), len(self.runs) - len(todo), len(todo),
+                           self.failed_count(), self.table_path)
+
+    def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
+                 on_result) -> None:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(todo), unit="run", desc="sweep", file=sys.stderr,
+                   disable=not progress, dynamic_ncols=True)
+        failed = 0
+        try:
+            with open_pool(workers, scheduler, tasks=len(todo)) as pool:
+                futures = {pool.submit(execute_run, run): run for run in todo}
+                for future in pool.as_completed(futures):
+                    run = futures[future]
+                    status = self.record(run, _outcome(future))
+                    failed += status == FAILED
+                    bar.update(1)
+                    if failed:
+                        bar.set_postfix_str(f"{failed} failed")
+                    if on_result is not None:
+                        on_result(run, status)
+        finally:
+            bar.close()
+
+
+def _outcome(future: cf.Future) -> dict[str, Any]:
+    """The worker's result, or an error outcome when the executor itself failed."""
+    if future.cancelled():
+        raise KeyboardInterrupt
+    exc = future.exception()
+    if exc is None:
+        return future.result()
+    if not isinstance(exc, Exception):  # KeyboardInterrupt / SystemExit in a worker
+        raise KeyboardInterrupt
+    if isinstance(exc, BrokenProcessPool):  # the pool broke, not this run
+        raise SweepError(f"a worker process died ({one_line(exc)}); finished runs are saved, "
+                           "run again to resume") from exc
+    details = "".join(traceback.format_exception(exc))
+    return {"error": one_line(exc), "traceback": details}
+
+
+def run_sweep(runs: Sequence[RunSpec], out_dir: str | Path, *, workers: int | None = None,
+              scheduler: Any = None, retry_failed: bool = False, progress: bool = True,
+              on_result: Callable[[RunSpec, str], None] | None = None,
+              runs_dir: str | Path | None = None,
+              table_path: str | Path | None = None) -> SweepReport:
+    """Run every run not yet done, writing each one as it finishes, and the table.
+
+    Args:
+        runs: the runs (e.g. ``load_spec(path).runs()``).
+        out_dir: output folder.
+        workers: local worker processes (default os.cpu_count(); 1 = in this process).
+        scheduler: a Dask scheduler address (or Client/cluster): run there instead.
+        retry_failed: run again the runs that failed before.
+        progress: tqdm progress bar on stderr.
+        on_result: called as ``on_result(run, "done" | "failed")`` after each run is written.
+        runs_dir, table_path: see :class:`Sweep`.
+
+    A KeyboardInterrupt (also raised from ``on_result``) cancels what has not finished; what
+    has finished is on disk and the next call resumes.
+    """
+    sweep = Sweep(runs, out_dir, runs_dir, table_path)
+    return sweep.run(workers, scheduler, retry_failed, progress, on_result)

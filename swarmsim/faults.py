@@ -1,0 +1,163 @@
+"""Robot failures injected at a phase of the run (paper Sections 5 and 6.6, Figure 23).
+
+A failed robot stops moving and communicating but stays a physical body that others must go
+around (:meth:`swarmsim.sim.Simulation.fail`). A :class:`FaultPlan` says how many robots fail
+and when:
+
+* ``"gradient"``: during gradient formation: at the end of the first tick on which some robot
+  has left its ``Initial`` status (GGC: the formation has reached the target and the gradient
+  is being (re)built). Controllers without an ``Initial`` status fail robots at tick 1.
+* ``"coverage"``: at the end of the first tick on which some robot broadcasts ``moving = True``
+  or a ``Coverage`` status (the first robot sets off to cover).
+* ``"tick"``: at the end of the given tick.
+
+Which robots fail (the rule): ``count`` robots drawn uniformly at random, without replacement,
+from the robots that are still working, are not a (group) leader and have not already arrived
+(status ``Arrive``/``Arrived``): those are the robots whose failure the paper studies (a robot
+that cannot get its gradient, or that stops on its way). Failing a leader would remove its whole
+group, and failing an arrived robot only silences a robot that is done. If fewer eligible robots
+are left than ``count``, the rest are drawn from the arrived robots, and leaders only last.
+
+The draw uses its own numpy Generator derived from the run seed (:func:`fault_rng`), so the run
+stays reproducible and its other random streams are unchanged by failures.
+
+Run settings ``failures``, ``failure_phase`` and ``failure_tick`` (see
+:class:`swarmsim.config.SimConfig`) build the plan, e.g.
+``swarmsim run K --set failures=10 --set failure_phase=gradient``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from swarmsim.errors import ConfigError
+
+if TYPE_CHECKING:
+    from swarmsim.sim import Simulation
+
+PHASES = ("gradient", "coverage", "tick")
+INITIAL_STATUS = "Initial"
+COVERAGE_STATUSES = ("Coverage",)
+ARRIVED_STATUSES = ("Arrive", "Arrived")
+FAULT_STREAM = 0xFA17
+"""Spawn key of the fault Generator's SeedSequence (distinct from the run's other streams)."""
+
+
+@dataclass(frozen=True)
+class FaultPlan:
+    """How many robots fail, and when.
+
+    Attributes:
+        count: number of robots that fail (0 = none).
+        phase: "gradient", "coverage" or "tick" (see the module docstring).
+        tick: the tick at which they fail, for phase "tick" (>= 1).
+    """
+
+    count: int = 0
+    phase: str = "coverage"
+    tick: int | None = None
+
+    def __post_init__(self) -> None:
+        if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 0:
+            raise ConfigError(f"must be an integer >= 0, got {self.count!r}", key="failures")
+        if self.phase not in PHASES:
+            raise ConfigError(f"must be one of {', '.join(PHASES)}, got {self.phase!r}",
+                              key="failure_phase")
+        if self.phase == "tick" and self.count and (self.tick is None or self.tick < 1):
+            raise ConfigError(f"failure_phase 'tick' needs failure_tick >= 1, got {self.tick!r}",
+                              key="failure_tick")
+
+    @classmethod
+    def from_config(cls, config: Any) -> FaultPlan:
+        """The plan of a SimConfig's ``failures``, ``failure_phase`` and ``failure_tick``."""
+        tick = int(getattr(config, "failure_tick", 0)) or None
+        return cls(int(getattr(config, "failures", 0)),
+                   str(getattr(config, "failure_phase", "coverage")), tick)
+
+
+def fault_rng(seed: int) -> np.random.Generator:
+    """The Generator that picks failing robots, derived from the run seed."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(FAULT_STREAM,)))
+
+
+class FaultInjector:
+    """A ``Simulation.fault_hook``: fails the plan's robots once, when its phase starts.
+
+    After firing, ``fired_tick`` is the tick and ``robots`` the indices of the failed robots.
+    """
+
+    def __init__(self, plan: FaultPlan, rng: np.random.Generator, chained=None):
+        self.plan = plan
+        self.rng = rng
+        self.chained = chained
+        self.fired_tick: int | None = None
+        self.robots: np.ndarray = np.zeros(0, dtype=np.intp)
+
+    def __call__(self, sim: Simulation) -> None:
+        if self.chained is not None:
+            self.chained(sim)
+        if self.fired_tick is None and self.plan.count > 0 and self.due(sim):
+            self.robots = self.choose(sim)
+            sim.fail(self.robots)
+            self.fired_tick = sim.tick
+
+    def due(self, sim: Simulation) -> bool:
+        """Has the plan's phase begun (at the end of the current tick)?"""
+        if self.plan.phase == "tick":
+            return sim.tick >= (self.plan.tick or 1)
+        statuses = tuple(sim.statuses)
+        msgs = sim.messages[~sim.failed]
+        heard = msgs["status"] >= 0  # silent rows (nothing broadcast yet) have status -1
+        if self.plan.phase == "gradient":
+            if INITIAL_STATUS not in statuses:
+                return True
+            return bool((heard & (msgs["status"] != statuses.index(INITIAL_STATUS))).any())
+        moving = msgs["moving"] & heard
+        codes = [statuses.index(s) for s in COVERAGE_STATUSES if s in statuses]
+        return bool(moving.any() or np.isin(msgs["status"][heard], codes).any())
+
+    def choose(self, sim: Simulation) -> np.ndarray:
+        """Indices of the robots that fail (the rule of the module docstring), sorted."""
+        statuses = tuple(sim.statuses)
+        msgs = sim.messages
+        working = ~sim.failed
+        leader = msgs["leader"].astype(bool)
+        arrived_codes = [statuses.index(s) for s in ARRIVED_STATUSES if s in statuses]
+        arrived = np.isin(msgs["status"], arrived_codes)
+        tiers = (working & ~leader & ~arrived, working & ~leader & arrived, working & leader)
+        chosen: list[np.ndarray] = []
+        need = self.plan.count
+        for tier in tiers:
+            pool = np.flatnonzero(tier)
+            take = min(need, len(pool))
+            if take:
+                chosen.append(self.rng.choice(pool, size=take, replace=False))
+                need -= take
+            if need == 0:
+                break
+        if not chosen:
+            return np.zeros(0, dtype=np.intp)
+        return np.sort(np.concatenate(chosen)).astype(np.intp)
+
+
+def install_faults(sim: Simulation, plan: FaultPlan, rng: np.random.Generator
+                   ) -> FaultInjector | None:
+    """Make ``plan.count`` robots of ``sim`` fail when the plan's phase begins.
+
+    Sets ``sim.fault_hook`` (keeping any hook already there, which still runs first) and returns
+    the injector, or None when the plan fails no robot.
+    """
+    if plan.count <= 0:
+        return None
+    if plan.count > sim.n:
+        raise ConfigError(f"{plan.count} failures need at least as many robots "
+                          f"(robots = {sim.n})", key="failures")
+    injector = FaultInjector(plan, rng, chained=sim.fault_hook)
+    sim.fault_hook = injector
+    return injector
+
+
+__all__ = ["PHASES", "FaultInjector", "FaultPlan", "fault_rng", "install_faults"]

@@ -1,0 +1,389 @@
+"""Sweeps (specs, resume, failures, executors), robot failures and the paper's figure registry."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmsim import ConfigError
+from swarmsim.cli import main
+from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup
+from swarmsim.experiments import load_spec, run_id, run_sweep, spec_from_dict
+from swarmsim.experiments import reproduce as rp
+from swarmsim.experiments.table import read_table
+from swarmsim.faults import FaultPlan
+from swarmsim.sim import Simulation
+
+TINY = {"world": "tiny", "controller": "dispersion", "params": {"max_ticks": 30}}
+
+
+def write_spec(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "spec.toml"
+    path.write_text(text)
+    return path
+
+
+def no_wall(summary: dict) -> dict:
+    return {k: v for k, v in summary.items() if k != "wall_seconds"}
+
+
+# ----------------------------------------------------------------------------- specs
+def test_grid_is_the_cartesian_product_times_seeds():
+    spec = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [4, 6], "robots": [20, 30]}})
+    runs = spec.runs()
+    assert len(runs) == 2 * 2 * 2
+    assert [(r.settings["d_cover"], r.settings["robots"], r.seed) for r in runs[:4]] == [
+        (4, 20, 0), (4, 20, 1), (4, 30, 0), (4, 30, 1)]
+    assert all(r.settings["max_ticks"] == 30 for r in runs)
+    assert len({r.run_id for r in runs}) == len(runs)
+    again = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [4, 6], "robots": [20, 30]}})
+    assert [r.run_id for r in again.runs()] == [r.run_id for r in runs]
+
+
+def test_seeds_list_and_seed_base():
+    assert [r.seed for r in spec_from_dict({**TINY, "seeds": [5, 9]}).runs()] == [5, 9]
+    assert [r.seed for r in spec_from_dict({**TINY, "reps": 3, "seed_base": 10}).runs()] == [
+        10, 11, 12]
+    assert [r.seed for r in spec_from_dict(TINY).runs()] == [0]
+
+
+def test_run_id_is_stable_and_ignores_inert_settings():
+    a = run_id("K", "ggc", {"d_cover": 6, "groups": 3}, 0)
+    assert a == run_id("K", "ggc", {"groups": 3, "d_cover": 6.0}, 0)
+    assert a == run_id("K", "ggc", {"groups": 3, "d_cover": 6, "failures": 0,
+                                    "failure_phase": "gradient"}, 0)
+    assert a != run_id("K", "ggc", {"d_cover": 6, "groups": 3}, 1)
+    assert a != run_id("K", "ggc", {"d_cover": 6, "groups": 3, "failures": 1}, 0)
+
+
+@pytest.mark.parametrize("text, key, value", [
+    ('world = "tiny"\nbogus = 3\n', "bogus", "3"),
+    ('world = "tiny"\ncontroller = "dispersion"\nreps = 0\n', "reps", "0"),
+    ('world = "tiny"\ncontroller = "dispersion"\nreps = "two"\n', "reps", "'two'"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[grid]\nd_cover = []\n', "grid.d_cover", "list"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[grid]\nd_cover = 5\n', "grid.d_cover", "5"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[grid]\n', "grid", "empty"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[grid]\nd_cover = [4, 4.0]\n', "grid.d_cover",
+     "4"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[params]\nwarp = 9\n', "params.warp", "9"),
+    ('world = "tiny"\ncontroller = "dispersion"\n[grid]\nd_cover = [1, "far"]\n',
+     "grid.d_cover", "'far'"),
+    ('world = "tiny"\ncontroller = "dispersion"\nseeds = [1, 1]\n', "seeds", "[1, 1]"),
+    ('world = "tiny"\ncontroller = "dispersion"\nseeds = [1]\nreps = 2\n', "reps", "2"),
+    ('world = "atlantis"\ncontroller = "dispersion"\n', "world", "atlantis"),
+    ('world = "tiny"\ncontroller = "warpdrive"\n', "controller", "warpdrive"),
+    ('controller = "dispersion"\n', "world", "missing"),
+])
+def test_spec_errors_name_file_key_and_value(tmp_path, text, key, value):
+    path = write_spec(tmp_path, text)
+    with pytest.raises(ConfigError) as err:
+        load_spec(path)
+    msg = str(err.value)
+    assert str(path) in msg and f"key '{key}'" in msg and value in msg
+
+
+def test_world_path_is_relative_to_the_spec(tmp_path, monkeypatch):
+    from swarmsim.world import world_path
+
+    (tmp_path / "worlds").mkdir()
+    (tmp_path / "worlds" / "mine.toml").write_text(world_path("tiny").read_text())
+    path = write_spec(tmp_path, 'world = "worlds/mine.toml"\ncontroller = "dispersion"\n'
+                                "[params]\nmax_ticks = 5\n")
+    monkeypatch.chdir(tmp_path.parent)
+    runs = load_spec(path).runs()
+    assert runs[0].world == "worlds/mine.toml" and Path(runs[0].world_ref).is_file()
+    assert run_sweep(runs, tmp_path / "out", workers=1, progress=False).failed == 0
+
+
+def test_cli_sweep_bad_spec_is_one_line_exit_2(tmp_path, capsys):
+    path = write_spec(tmp_path, 'world = "tiny"\ncontroller = "dispersion"\nreps = -1\n')
+    assert main(["sweep", str(path), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "reps" in err and "-1" in err
+
+
+# ----------------------------------------------------------------------------- sweeps
+def test_interrupted_sweep_resumes_without_redoing_runs(tmp_path):
+    runs = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [4, 5, 6]}}).runs()
+    out = tmp_path / "out"
+    finished = []
+
+    def stop_after_two(run, status):
+        finished.append(run.run_id)
+        if len(finished) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(runs, out, workers=1, progress=False, on_result=stop_after_two)
+    assert sorted(p.parent.name for p in out.glob("runs/*/summary.json")) == sorted(finished)
+    assert len(read_table(out / "results.csv")) == 2
+
+    second = []
+    report = run_sweep(runs, out, workers=1, progress=False,
+                       on_result=lambda run, status: second.append(run.run_id))
+    assert report.ran == 4 and report.skipped == 2 and report.failed == 0
+    assert set(second).isdisjoint(finished) and len(second) == 4
+    table = read_table(out / "results.csv")
+    assert [r["run_id"] for r in table] == [r.run_id for r in runs]
+    assert all(r["error"] == "" and float(r["coverage"]) >= 0 for r in table)
+    assert {r["d_cover"] for r in table} == {"4", "5", "6"}
+    third = run_sweep(runs, out, workers=1, progress=False)
+    assert third.ran == 0 and third.skipped == 6
+
+
+def test_failing_run_is_recorded_and_others_finish(tmp_path):
+    # tiny's spawn band holds at most ~150 robots: 500 makes that run fail
+    runs = spec_from_dict({**TINY, "grid": {"robots": [20, 500, 25]}}).runs()
+    out = tmp_path / "out"
+    report = run_sweep(runs, out, workers=1, progress=False)
+    assert report.ran == 3 and report.failed == 1
+    table = {r["robots"]: r for r in read_table(out / "results.csv")}
+    assert table["500"]["error"].startswith("ConfigError") and "500" in table["500"]["error"]
+    assert table["20"]["error"] == "" and table["25"]["error"] == ""
+    bad = out / "runs" / runs[1].run_id
+    assert (bad / "error.txt").is_file() and not (bad / "summary.json").exists()
+    assert "Traceback" in (bad / "error.txt").read_text()
+    assert run_sweep(runs, out, workers=1, progress=False).ran == 0
+    retry = run_sweep(runs, out, workers=1, progress=False, retry_failed=True)
+    assert retry.ran == 1 and retry.failed == 1
+
+
+def test_cli_sweep_writes_runs_and_table(tmp_path, capsys):
+    path = write_spec(tmp_path, 'world = "tiny"\ncontroller = "dispersion"\nreps = 2\n'
+                                "[params]\nmax_ticks = 20\n[grid]\nd_cover = [5, 6]\n")
+    out = tmp_path / "out"
+    assert main(["sweep", str(path), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    assert "4 runs: 4 done" in capsys.readouterr().out
+    rows = read_table(out / "results.csv")
+    assert len(rows) == 4
+    for row in rows:
+        run_dir = out / "runs" / row["run_id"]
+        summary = json.loads((run_dir / "summary.json").read_text())
+        assert summary["ticks"] == 20 and (run_dir / "timeseries.csv").is_file()
+
+
+def _local_results(runs, out, **kw):
+    run_sweep(runs, out, progress=False, **kw)
+    return {r.run_id: no_wall(json.loads((out / "runs" / r.run_id / "summary.json").read_text()))
+            for r in runs}
+
+
+def test_process_pool_gives_the_same_results_as_in_process(tmp_path):
+    runs = spec_from_dict({**TINY, "reps": 2}).runs()
+    assert (_local_results(runs, tmp_path / "a", workers=2)
+            == _local_results(runs, tmp_path / "b", workers=1))
+
+
+def test_dask_cluster_runs_the_same_sweep(tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    runs = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [5, 6]}}).runs()
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        on_dask = _local_results(runs, tmp_path / "dask", scheduler=client)
+        again = run_sweep(runs, tmp_path / "dask", scheduler=cluster.scheduler_address,
+                          progress=False)
+    assert again.ran == 0
+    assert on_dask == _local_results(runs, tmp_path / "local", workers=1)
+
+
+def test_dask_missing_is_a_clear_error(monkeypatch, tmp_path):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_dask(name, *args, **kwargs):
+        if name.startswith("dask"):
+            raise ImportError(f"No module named {name!r}")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_dask)
+    runs = spec_from_dict(TINY).runs()
+    with pytest.raises(ConfigError, match=r"swarmsim\[dask\]"):
+        run_sweep(runs, tmp_path / "out", scheduler="tcp://127.0.0.1:1", progress=False)
+
+
+# ----------------------------------------------------------------------------- failures
+@dataclass(frozen=True)
+class ScriptParams:
+    leave_initial: int = 5
+    start_moving: int = 15
+    arrive: int = 30
+
+
+class Scripted:
+    """Test controller: every robot leaves Initial at tick 5, moves from 15, even ids arrive
+    at 30 (ticks as perceived; they show in the broadcast one tick later)."""
+
+    name = "scripted"
+    Params = ScriptParams
+    STATUSES = ("Initial", "Detection", "Coverage", "Arrive")
+    MESSAGE_FIELDS = ()
+
+    @classmethod
+    def sensing_range(cls, params):
+        return 3.0
+
+    def __init__(self, setup: RobotSetup, params: ScriptParams, rng):
+        self.setup, self.p = setup, params
+
+    def step(self, p: Perception) -> Action:
+        t, s = p.tick, self.setup
+        arrived = t >= self.p.arrive and s.robot_id % 2 == 0
+        status = 0 if t < self.p.leave_initial else 1 if t < self.p.start_moving else (
+            3 if arrived else 2)
+        moving = status == 2
+        msg = (s.robot_id, status, 0 if s.leader else INF_GRADIENT, s.group, s.leader, moving)
+        return Action((0.05, 0.0) if moving else (0.0, 0.0), msg)
+
+
+SCRIPTED = f"{__name__}:Scripted"
+
+
+@pytest.mark.parametrize("phase, tick, fired", [("gradient", 0, 6), ("coverage", 0, 16),
+                                                ("tick", 40, 40)])
+def test_failures_fire_when_their_phase_starts(phase, tick, fired):
+    sim = Simulation("tiny", SCRIPTED, robots=30, groups=3, seed=4, max_ticks=60,
+                     settings={"failures": 5, "failure_phase": phase, "failure_tick": tick,
+                               "mode": "ghost", "stall_ticks": 100})
+    hook = sim.fault_hook
+    res = sim.run()
+    assert hook.fired_tick == fired and len(hook.robots) == 5
+    assert res.summary["failed_robots"] == 5
+    leaders = {i for i, c in enumerate(sim.controllers) if c.setup.leader}
+    assert leaders.isdisjoint(hook.robots.tolist())
+    if phase == "tick":  # after tick 31 the even robots have arrived: only odd ones may fail
+        assert all(i % 2 == 1 for i in hook.robots)
+
+
+def test_failed_robots_never_move_after_failing():
+    sim = Simulation("tiny", "dispersion", seed=0, max_ticks=150,
+                     settings={"failures": 6, "failure_phase": "tick", "failure_tick": 20,
+                               "mode": "ghost"})
+    positions = {0: sim.positions.copy()}
+    sim.run(on_tick=lambda s: positions.__setitem__(s.tick, s.positions.copy()))
+    hook = sim.fault_hook
+    failed, t0 = hook.robots, hook.fired_tick
+    assert t0 == 20 and len(failed) == 6 and sim.failed.sum() == 6
+    assert np.hypot(*(positions[t0][failed] - positions[t0 - 5][failed]).T).min() > 0.05
+    # the drive brakes within the tick after the failure; from then on they are frozen
+    frozen = positions[t0 + 1][failed]
+    for t in range(t0 + 1, sim.tick + 1):
+        assert np.array_equal(positions[t][failed], frozen), t
+    others = np.setdiff1d(np.arange(sim.n), failed)
+    assert np.hypot(*(positions[sim.tick][others] - positions[t0 + 1][others]).T).max() > 0.5
+    assert (sim.messages["id"][failed] == -1).all()  # silent
+
+
+def test_same_seed_same_failures():
+    def failed(seed):
+        sim = Simulation("tiny", "dispersion", seed=seed, max_ticks=15,
+                         settings={"failures": 4, "failure_phase": "coverage"})
+        sim.run()
+        return sim.fault_hook.robots.tolist()
+
+    assert failed(1) == failed(1)
+    assert failed(1) != failed(2)
+
+
+@pytest.mark.parametrize("settings, key", [
+    ({"failures": 41}, "failures"), ({"failures": -1}, "failures"),
+    ({"failures": 2, "failure_phase": "lunch"}, "failure_phase"),
+    ({"failures": 2, "failure_phase": "tick"}, "failure_tick"),
+])
+def test_bad_failure_settings_are_config_errors(settings, key):
+    with pytest.raises(ConfigError, match=f"key '{key}'"):
+        Simulation("tiny", "dispersion", settings=settings)
+    with pytest.raises(ConfigError):
+        FaultPlan(2, "lunch")
+
+
+def test_cli_run_with_failures(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["run", "tiny", "--controller", "dispersion", "--max-ticks", "20", "--quiet",
+                 "--set", "failures=3", "--set", "failure_phase=gradient",
+                 "--out", str(out)]) == 0
+    assert json.loads((out / "summary.json").read_text())["failed_robots"] == 3
+
+
+# ----------------------------------------------------------------------------- reproduce
+def _ids(runs):
+    return [r.run_id for r in runs]
+
+
+def _by(runs, key, value):
+    return [r for r in runs if r.settings.get(key) == value]
+
+
+def test_registry_expands_to_the_papers_runs():
+    plan = rp.plan("all", rp.PAPER, reps=3)
+    assert list(plan) == [f"fig{n}" for n in range(17, 25)]
+    fig17, fig18, fig21, fig23 = plan["fig17"], plan["fig18"], plan["fig21"], plan["fig23"]
+    assert len(fig17) == 18 and {r.settings["d_cover"] for r in fig17} == {1, 2, 4, 6, 8, 10}
+    assert {r.settings["groups"] for r in fig17} == {1} and {r.world for r in fig17} == {"K"}
+    assert {r.seed for r in fig17} == {0, 1, 2}
+    assert "robots" not in fig17[0].settings  # the world's default: 603 on K
+    assert {r.settings["groups"] for r in fig18} == {3}
+    assert len(fig21) == 18 and {r.settings["groups"] for r in fig21} == {1, 3, 4, 6, 8, 10}
+    assert {r.settings["d_cover"] for r in fig21} == {6}
+    # figures of total distance reuse the coverage figures' runs
+    assert _ids(plan["fig19"]) == _ids(fig17) and _ids(plan["fig20"]) == _ids(fig18)
+    assert _ids(plan["fig22"]) == _ids(fig21)
+    # d_cover 6 / 3 groups is one set of runs across Figures 18, 21 and 23 (no failures)
+    shared = _ids(_by(fig18, "d_cover", 6))
+    assert shared == _ids(_by(fig21, "groups", 3)) == _ids([r for r in fig23
+                                                            if not r.settings.get("failures")])
+    assert len(fig23) == 3 * (1 + 2 * 4)
+    phases = {(r.settings.get("failures", 0), r.settings.get("failure_phase")) for r in fig23}
+    assert phases == {(0, None)} | {(n, p) for n in (1, 5, 10, 20)
+                                    for p in ("gradient", "coverage")}
+    fig24 = plan["fig24"]
+    from swarmsim.controller import available_controllers
+
+    expected = [c for c in rp.PAPER.comparison if c in available_controllers()]
+    assert sorted({r.controller for r in fig24}) == sorted(expected)
+    assert _ids([r for r in fig24 if r.controller == "ggc"]) == shared
+
+
+def test_registry_setup_is_easy_to_change():
+    setup = rp.setup_with(rp.PAPER, world="house", robots=942, extra={"eps0": 0.02})
+    runs = rp.figure_runs("fig21", setup, reps=2, max_ticks=500)
+    assert len(runs) == 12
+    assert all(r.world == "house" and r.settings["robots"] == 942 and
+               r.settings["eps0"] == 0.02 and r.settings["max_ticks"] == 500 for r in runs)
+    with pytest.raises(ConfigError, match="fig99"):
+        rp.plan("fig99")
+    with pytest.raises(ConfigError, match="--reps"):
+        rp.plan("fig17", reps=0)
+
+
+def test_reproduce_dry_run_lists_runs(capsys):
+    assert main(["reproduce", "all", "--dry-run", "--reps", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "fig17: 12 runs" in out and "total:" in out
+
+
+def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
+    setup = rp.PaperSetup(world="tiny", controller="dispersion", d_cover_values=(4, 6),
+                          failure_counts=(0, 3), comparison=("dispersion", "no-such-ctrl"))
+    out = tmp_path / "repro"
+    done = []
+    result = rp.reproduce(["fig17", "fig19", "fig23", "fig24"], out, setup, reps=1,
+                          max_ticks=25, workers=1, progress=False,
+                          on_result=lambda run, status: done.append(status))
+    # fig19 shares fig17's 2 runs; fig23: 1 without failures + 2 phases x 1; fig24: 1 (shared)
+    assert result.runs == 2 + 3 and done == ["done"] * 5
+    for fig in ("fig17", "fig19", "fig23", "fig24"):
+        for name in ("results.csv", "conditions.csv", f"{fig}.png", "REPORT.md"):
+            assert (out / fig / name).is_file(), (fig, name)
+    assert len(read_table(out / "fig17" / "results.csv")) == 2
+    assert read_table(out / "fig23" / "conditions.csv")[0]["panel"].startswith("(a)")
+    report = (out / "REPORT.md").read_text()
+    assert "Figure 17" in report and "Figure 23" in report and "paper's claim" in report
+    assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
+    again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
+    assert again.sweep_line.startswith("2 runs: 2 done (0 run now")
