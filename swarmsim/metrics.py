@@ -96,33 +96,39 @@ class IncrementalCoverage:
                              indexing="ij")
         self._di, self._dj = di.ravel(), dj.ravel()
         self._inside = grid.inside.ravel()
-        self._count = np.zeros(rows * cols, dtype=np.int32)
-        self._stamps = [np.zeros(0, dtype=np.intp) for _ in range(len(positions))]
+        self._count = np.zeros(rows * cols, dtype=np.int64)
+        n = len(positions)
+        self._origin = np.zeros((n, 2), dtype=np.intp)
+        self._mask = np.zeros((n, len(self._di)), dtype=bool)
         self._positions = np.full_like(positions, np.nan)
         self.update(positions)
 
-    def _stamp(self, x: float, y: float) -> np.ndarray:
-        g = self.grid
-        i = int(np.floor((y - g.y0) / g.dy)) + self._di
-        j = int(np.floor((x - g.x0) / g.dx)) + self._dj
-        ok = (i >= 0) & (i < self.rows) & (j >= 0) & (j < self.cols)
-        i, j = i[ok], j[ok]
-        cx = g.x0 + (j + 0.5) * g.dx
-        cy = g.y0 + (i + 0.5) * g.dy
-        near = (cx - x) ** 2 + (cy - y) ** 2 <= g.radius**2
-        return i[near] * self.cols + j[near]
+    def _cells(self, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Row and column indices (M, S) of the stencil around each origin (M, 2)."""
+        return origin[:, :1] + self._di[None, :], origin[:, 1:] + self._dj[None, :]
+
+    def _flat(self, origin: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        i, j = self._cells(origin)
+        return (i * self.cols + j)[mask]
 
     def update(self, positions: np.ndarray) -> float:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
         moved = np.flatnonzero((positions != self._positions).any(axis=1))
         if len(moved):
-            old = [self._stamps[k] for k in moved]
-            new = [self._stamp(*positions[k]) for k in moved]
-            for k, stamp in zip(moved.tolist(), new, strict=True):
-                self._stamps[k] = stamp
+            g = self.grid
             size = self.rows * self.cols
-            self._count += np.bincount(np.concatenate(new), minlength=size).astype(np.int32)
-            self._count -= np.bincount(np.concatenate(old), minlength=size).astype(np.int32)
+            old = self._flat(self._origin[moved], self._mask[moved])
+            x, y = positions[moved, 0], positions[moved, 1]
+            origin = np.column_stack([np.floor((y - g.y0) / g.dy), np.floor((x - g.x0) / g.dx)])
+            origin = origin.astype(np.intp)
+            i, j = self._cells(origin)
+            mask = (i >= 0) & (i < self.rows) & (j >= 0) & (j < self.cols)
+            cx = g.x0 + (j + 0.5) * g.dx
+            cy = g.y0 + (i + 0.5) * g.dy
+            mask &= (cx - x[:, None]) ** 2 + (cy - y[:, None]) ** 2 <= g.radius**2
+            self._origin[moved], self._mask[moved] = origin, mask
+            self._count += np.bincount(self._flat(origin, mask), minlength=size)
+            self._count -= np.bincount(old, minlength=size)
             self._positions = positions.copy()
         covered = np.count_nonzero((self._count > 0) & self._inside)
         return float(covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0

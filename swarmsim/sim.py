@@ -142,10 +142,10 @@ class Simulation:
                         role_rng: np.random.Generator) -> tuple[np.ndarray, list[RobotSetup]]:
         cfg = self.config
         if start == "formation":
-            positions, groups = spawn.formation_layout(self.world, cfg.robots, cfg.groups,
-                                                       cfg.formation_spacing, layout_rng)
-            first = {int(g): int(np.argmax(groups == g)) for g in np.unique(groups)}
-            setups = [RobotSetup(i, leader=(first[int(g)] == i), group=int(g), groups=cfg.groups)
+            positions, groups, leaders = spawn.formation_layout(
+                self.world, cfg.robots, cfg.groups, cfg.formation_spacing, layout_rng)
+            lead = set(leaders.tolist())
+            setups = [RobotSetup(i, leader=i in lead, group=int(g), groups=cfg.groups)
                       for i, g in enumerate(groups)]
             return positions, setups
         positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng)
@@ -320,6 +320,22 @@ class Simulation:
                         messages=self.messages.copy(), statuses=self.statuses,
                         radius=self.physics_config.radius, coverage=self.metrics.coverage,
                         covered=covered, in_contact=in_contact, failed=self.failed.copy())
+
+
+    def render(self, color_by: str = "gradient", width: int = 800, **options: Any) -> np.ndarray:
+        """The current state drawn off-screen: an (H, W, 3) uint8 frame (no window needed).
+
+        ``color_by`` is "gradient", "group" or "status"; other options go to
+        swarmsim.render.Renderer. Drawing never changes the run.
+        """
+        key = (color_by, width, tuple(sorted(options.items())))
+        if getattr(self, "_renderer_key", None) != key:
+            from swarmsim.render import Renderer
+
+            self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
+                                      **options)
+            self._renderer_key = key
+        return self._renderer.draw(self.snapshot())
 
 
 def _has_field(cls: type, name: str) -> bool:

@@ -98,24 +98,29 @@ def formation_centres(world: World, k: int, radius: float,
     return cand[chosen]
 
 
-def formation_layout(world: World, n: int, k: int, spacing: float,
-                     rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """k hexagonal formations of about n/k robots each, centred in the spawn areas.
+def formation_layout(world: World, n: int, k: int, spacing: float, rng: np.random.Generator
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """k hexagonal formations of about n/k robots each, placed at random in the spawn areas.
 
-    Returns positions (n, 2) and group ids (n,) in 1..k; the first robot of each group (lowest
-    index) stands at its formation's centre and is its leader.
+    Robots are assigned to lattice places at random, so ids carry no information about
+    position (as with robots that pick their ids at random).
+
+    Returns positions (n, 2), group ids (n,) in 1..k and the indices (k,) of the robots at the
+    formations' centres: the leaders of groups 1..k.
     """
     sizes = [n // k + (1 if g < n % k else 0) for g in range(k)]
     radius = spacing * math.sqrt(max(sizes) * 0.866 / math.pi) + spacing
     centres = formation_centres(world, k, radius, rng)
-    pos, groups = [], []
-    for g, (size, c) in enumerate(zip(sizes, centres, strict=True)):
-        pos.append(hex_offsets(size, spacing) + c)
-        groups.append(np.full(size, g + 1))
-    positions = np.vstack(pos)
+    pos = [hex_offsets(size, spacing) + c for size, c in zip(sizes, centres, strict=True)]
     for g in range(k):
         others = np.vstack([p for j, p in enumerate(pos) if j != g]) if k > 1 else np.zeros((0, 2))
         if len(others) and np.min(np.hypot(*(pos[g][:, None, :] - others[None]).T)) < spacing:
             raise ConfigError(f"{k} formations of {sizes[g]} robots do not fit apart in the "
                               "spawn areas", source=world.source, key="groups")
-    return positions, np.concatenate(groups)
+    slots = np.vstack(pos)
+    slot_group = np.concatenate([np.full(size, g + 1) for g, size in enumerate(sizes)])
+    centre_slots = np.cumsum([0] + sizes[:-1])
+    order = rng.permutation(n)  # robot i stands at slot order[i]
+    robot_at = np.empty(n, dtype=np.intp)
+    robot_at[order] = np.arange(n)
+    return slots[order], slot_group[order], robot_at[centre_slots]

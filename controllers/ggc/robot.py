@@ -35,7 +35,7 @@ STATUSES = ("Initial", "Detection", "Coverage", "Arrive", "Stop", "Approach", "P
 MOVING_STATUSES = (COVERAGE,)
 CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?")]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -57,6 +57,7 @@ class GGCRobot:
         self.grad = 0 if self.leader else INF_GRADIENT
         self.cmd = CMD_NONE
         self.travel = np.zeros(2)
+        self.touch = False
         self.odometer = np.zeros(2)
         self.progress_tick = 0
         self.heading = np.zeros(2)
@@ -64,12 +65,15 @@ class GGCRobot:
         self.circled = 0.0
         self.last_bearing: float | None = None
         self.deadlocks = 0
+        self.sense = params.orbit
+        self.no_way_in: set[int] = set()
+        self.stepping_in = False
 
     # ------------------------------------------------------------------ messages and status
     def message(self) -> tuple:
         return (self.id, self.status, self.grad, self.group, self.leader,
                 self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
-                float(self.travel[1]))
+                float(self.travel[1]), self.touch)
 
     def set_status(self, status: int) -> None:
         if status != self.status:
@@ -126,6 +130,7 @@ class GGCRobot:
                 self.set_status(DETECTION)
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         self.grad = grad
+        self.touch = self.touching(p)
         parent = self.parent(p)
         self.cmd = int(parent["cmd"])
         self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
@@ -142,9 +147,20 @@ class GGCRobot:
         ok &= (m["gradient"] == self.grad - 1) & self.stationary(p)
         return m[np.flatnonzero(ok)[0]]
 
+    def touching(self, p: Perception) -> bool:
+        """Has the formation's front touched the target? (own floor sensor or a neighbour's)"""
+        if p.on_target:
+            return True
+        near = (p.distances <= 1.5 * self.p.d_min) & self.own_group(p)
+        return bool((near & p.messages["touch"]).any())
+
     def lead(self, p: Perception) -> Action:
-        """The leader heads for the beacon until its floor sensor finds the target."""
-        if p.on_target or p.beacon is None:
+        """The leader heads for the beacon until the formation's front touches the target.
+
+        The touch travels hop by hop to the leader, which then halts; the halt travels back
+        through gradient parents, so every robot stops as many ticks late as it started.
+        """
+        if self.touching(p) or p.beacon is None:
             self.cmd = CMD_HALT
             self.travel = np.zeros(2)
             self.set_status(ARRIVE)
@@ -193,7 +209,7 @@ class GGCRobot:
         if len(structure) == 0:
             return self.wander(p)
         nearest = structure[0]
-        velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
+        velocity = self.edge_velocity(p, structure)
         self.heading = unit(velocity)
         if self.should_arrive(p, nearest):
             self.set_status(ARRIVE)
@@ -201,15 +217,49 @@ class GGCRobot:
         self.follow_gradient(p, nearest)
         if self.p.boundary_fill and self.target_inward(p, nearest):
             return self.step_in(p, nearest)
-        if self.circling(p, nearest) or self.stuck(p):
+        self.stepping_in = False
+        if self.circling(p, nearest) | self.stuck(p):
             if p.on_target:
                 self.set_status(ARRIVE)
                 return self.act()
-            if self.circled and p.beacon is not None:
-                velocity = p.beacon * self.p.v
+            self.sense = -self.sense  # a dead end outside the target: try the other way round
+            self.circled = 0.0
         if self.must_yield(p, velocity):
             return self.act()
         return self.act(velocity)
+
+    def edge_velocity(self, p: Perception, structure: np.ndarray) -> np.ndarray:
+        """Follow the edge of the stationary robots (Algorithm 2), or a valley between two."""
+        nearest = structure[0]
+        if len(structure) > 1 and p.distances[structure[1]] < self.p.d_cover:
+            valley = self.valley_follow(p, nearest, structure[1])
+            if valley is not None:
+                return valley
+        return self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
+
+    def valley_follow(self, p: Perception, a: int, b: int) -> np.ndarray | None:
+        """Between two robots on opposite sides, both closer than d_cover: go along the valley.
+
+        Orbiting whichever is nearest would flip direction each time the nearest changes
+        side; instead keep going the way we were heading, centred between them.
+        """
+        ra, rb = p.offsets[a] / p.distances[a], p.offsets[b] / p.distances[b]
+        if ra @ rb >= 0:
+            return None
+        axis = unit(ra - rb)
+        along = np.array([axis[1], -axis[0]])
+        reference = self.heading if self.heading.any() else np.array([ra[1], -ra[0]]) * self.sense
+        if along @ reference < 0:
+            along = -along
+        centring = max(-1.0, min(1.0, (p.distances[a] - p.distances[b]) * self.p.radial_gain))
+        return unit(along + 0.5 * centring * axis) * self.p.v
+
+    def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
+        """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
+        radial = offset / max(dist, 1e-9)
+        tangent = np.array([radial[1], -radial[0]]) * self.sense
+        error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
+        return unit(tangent + error * radial) * self.p.v
 
     def target_inward(self, p: Perception, nearest: int) -> bool:
         """Outside the target, beside an arrived robot, with target floor toward it.
@@ -217,17 +267,24 @@ class GGCRobot:
         Then the strip between the structure and the boundary is wider than coverage reaches
         (our addition to Algorithm 2: the paper leaves it uncovered).
         """
-        if p.on_target or p.messages["status"][nearest] != ARRIVE:
+        m = p.messages[nearest]
+        if p.on_target or m["status"] != ARRIVE or int(m["id"]) in self.no_way_in:
             return False
         toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
         return bool(p.probe(toward * self.p.boundary_probe))
 
     def step_in(self, p: Perception, nearest: int) -> Action:
-        """Move straight toward the structure until the floor sensor finds the target."""
-        toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
+        """Move straight toward the structure until the floor sensor finds the target.
+
+        Arrival itself happens through the usual stop rules once on the target; if the robot
+        gets within 2 d_safe of that robot without finding the target, it gives up on it.
+        """
         if p.distances[nearest] <= 2 * self.p.d_safe:
-            self.set_status(ARRIVE)
+            self.no_way_in.add(int(p.messages["id"][nearest]))
+            self.stepping_in = False
             return self.act()
+        self.stepping_in = True
+        toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
         return self.act(toward * self.p.v)
 
     def follow_gradient(self, p: Perception, nearest: int) -> None:
@@ -236,13 +293,6 @@ class GGCRobot:
         if p.messages["id"][nearest] != NO_SENDER and g < INF_GRADIENT:
             self.grad = g + 1
 
-    def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
-        """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
-        radial = offset / max(dist, 1e-9)
-        tangent = np.array([radial[1], -radial[0]]) * self.p.orbit
-        error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
-        return unit(tangent + error * radial) * self.p.v
-
     def should_arrive(self, p: Perception, nearest: int) -> bool:
         """Algorithm 2's stop rules, on the target and at covering distance from the nearest.
 
@@ -250,7 +300,11 @@ class GGCRobot:
         arrived with a gradient >= mine (compared before this tick's gradient update). A robot
         still closer than d_cover - arrive_tolerance to its nearest keeps moving away first.
         """
-        if not p.on_target or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
+        if not p.on_target:
+            return False
+        if self.stepping_in:
+            return True  # stepped in across the boundary: stop right there
+        if p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
             return False
         if self.heading.any() and not p.probe(self.heading * self.p.probe_distance):
             return True

@@ -1,0 +1,107 @@
+"""GGC (one group): statuses, gradients, coverage of a small world, determinism, parameters."""
+
+import numpy as np
+import pytest
+
+from controllers.ggc import GGCParams
+from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, INITIAL
+from swarmsim import ConfigError, Simulation
+from swarmsim.controller import INF_GRADIENT
+from swarmsim.world import world_from_dict
+
+
+def small_world(width=30.0, height=24.0):
+    """A small rectangular target with a spawn band below it and a beacon inside."""
+    return world_from_dict({
+        "name": "small",
+        "target": {"outline": [[0, 0], [width, 0], [width, height], [0, height]]},
+        "spawn": [{"outline": [[-5, -30], [width + 5, -30], [width + 5, -12], [-5, -12]]}],
+        "beacon": {"position": [width / 2, height / 2]},
+        "arena": {"margin": 15.0},
+    })
+
+
+def run_small(seed=1, robots=60, max_ticks=12000, **settings):
+    sim = Simulation(small_world(), controller="ggc", robots=robots, groups=1, seed=seed,
+                     max_ticks=max_ticks, settings=settings)
+    return sim, sim.run()
+
+
+@pytest.fixture(scope="module")
+def small_run():
+    return run_small()
+
+
+def test_small_world_is_covered_fully(small_run):
+    sim, res = small_run
+    s = res.summary
+    assert s["stop_reason"] == "complete", s
+    assert s["coverage"] >= 0.99 and s["completion_tick"] == s["ticks"]
+    assert s["max_overlap"] < 0.05 * 0.4
+
+
+def test_status_sequences_follow_figure_3(small_run):
+    sim, _ = small_run
+    full = [INITIAL, DETECTION, COVERAGE, ARRIVE]
+    leaders = [c for c in sim.controllers if c.leader]
+    assert len(leaders) == 1 and leaders[0].history == [INITIAL, ARRIVE]
+    arrived = 0
+    for c in sim.controllers:
+        if c.leader:
+            continue
+        assert c.history == full[:len(c.history)], c.history
+        arrived += c.history == full
+    assert arrived >= 20
+
+
+def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
+    sim, _ = small_run
+    arrived = np.array([c.status == ARRIVE and not c.leader for c in sim.controllers])
+    on = sim.floor.on_target(sim.positions)
+    assert on[arrived].mean() > 0.95
+    moved_far = [c for c in sim.controllers if c.status == ARRIVE and c.grad == INF_GRADIENT]
+    assert not moved_far
+
+
+def test_gradient_grows_outward_from_the_leader():
+    sim = Simulation(small_world(), controller="ggc", robots=60, groups=1, seed=2,
+                     max_ticks=40)
+    sim.run()
+    leader = next(i for i, c in enumerate(sim.controllers) if c.leader)
+    d = np.hypot(*(sim.positions - sim.positions[leader]).T)
+    grads = np.array([c.grad for c in sim.controllers])
+    assert grads[leader] == 0
+    assert (grads < INF_GRADIENT).all()
+    assert np.corrcoef(d, grads)[0, 1] > 0.9  # hop count follows distance
+
+
+def test_same_seed_same_run_and_sleep_changes_nothing():
+    a = run_small(seed=3, max_ticks=1500)[1]
+    b = run_small(seed=3, max_ticks=1500, allow_sleep=False)[1]
+    c = run_small(seed=3, max_ticks=1500, decide_order="shuffled")[1]
+    strip = lambda r: {k: v for k, v in r.summary.items() if k != "wall_seconds"}  # noqa: E731
+    assert strip(a) == strip(b) == strip(c)
+    cols = lambda r: [(x["tick"], x["coverage"], x["total_distance"]) for x in r.timeseries]  # noqa: E731
+    assert cols(a) == cols(b) == cols(c)
+    assert a.summary["coverage"] > 0.2
+
+
+@pytest.mark.parametrize("bad", [{"d_cover": 0.5}, {"v": -1.0}, {"orbit": 2}, {"theta": 20.0},
+                                 {"T_r": 0}])
+def test_bad_ggc_parameters_are_named(bad):
+    key = next(iter(bad))
+    with pytest.raises(ConfigError, match=key):
+        Simulation(small_world(), controller="ggc", robots=20, settings=bad)
+
+
+def test_ggc_needs_a_beacon():
+    world = world_from_dict({
+        "name": "dark", "target": {"outline": [[0, 0], [10, 0], [10, 10], [0, 10]]},
+        "spawn": [{"outline": [[0, -20], [10, -20], [10, -12], [0, -12]]}]})
+    with pytest.raises(ConfigError, match="beacon"):
+        Simulation(world, controller="ggc", robots=10)
+
+
+def test_params_defaults_follow_table_2():
+    p = GGCParams()
+    assert (p.d_safe, p.d_cover, p.v, p.R_c) == (1.0, 6.0, 0.1, 15.0)
