@@ -33,6 +33,10 @@ from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
 
+PHASES = ("sense", "decide", "physics", "metrics")
+"""Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
+
+
 @dataclass(frozen=True)
 class RunResult:
     """What a finished run returns: the summary and the time series rows."""
@@ -129,8 +133,9 @@ class Simulation:
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size)
         self.metrics = RunMetrics(self.grid, cfg, self.physics)
-        self.metrics.observe(0, self.positions, self.floor.on_target(self.positions),
-                             self.messages, awake=self.n)
+        self.on_target = self.floor.on_target(self.positions)
+        self.phase_seconds = dict.fromkeys(PHASES, 0.0)
+        self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.fault_hook: Callable[[Simulation], None] | None = None
@@ -157,32 +162,36 @@ class Simulation:
 
     # ----------------------------------------------------------------------------- loop
     def step(self) -> None:
-        """Advance the run by one tick."""
-        cfg = self.config
+        """Advance the run by one tick (sense -> decide -> act -> physics -> record)."""
+        clock = time.perf_counter
+        t0 = clock()
         pos = self.positions
         moved = pos - self._prev_positions
         search = NeighbourSearch(pos)
         awake = self._awake_robots(search)
-        on_target = self.floor.on_target(pos)
+        neighbour_lists = search.neighbours(awake, self.listen[awake])
+        t1 = clock()
         new_messages = self.messages.copy()
         velocities = np.zeros((self.n, 2))
-        self._decide(awake, search, on_target, moved, new_messages, velocities)
-        speed = np.hypot(velocities[:, 0], velocities[:, 1])
-        too_fast = speed > cfg.v_max
-        velocities[too_fast] *= (cfg.v_max / speed[too_fast])[:, None]
-        changed_msg = _rows_differ(new_messages, self.messages)
+        self._decide(awake, neighbour_lists, moved, new_messages, velocities)
+        self._changed_msg = _rows_differ(new_messages, self.messages)
         self.messages = new_messages
-        self._changed_msg = changed_msg
-        self.velocities = velocities
-        self.physics.command(velocities)
+        self.velocities = _clamp(velocities, self.config.v_max)
+        t2 = clock()
+        self.physics.command(self.velocities)
         self.physics.step()
         self.tick += 1
         self._prev_positions = pos
         self.positions, _ = self.physics.read()
+        self.on_target = self.floor.on_target(self.positions)
+        t3 = clock()
         if self.fault_hook is not None:
             self.fault_hook(self)
-        self.metrics.observe(self.tick, self.positions, self.floor.on_target(self.positions),
-                             self.messages, awake=len(awake), changed=bool(changed_msg.any()))
+        self.metrics.observe(self.tick, self.positions, self.on_target, self.messages,
+                             awake=len(awake), changed=bool(self._changed_msg.any()))
+        t4 = clock()
+        for phase, dt in zip(PHASES, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
+            self.phase_seconds[phase] += dt
 
     def _awake_robots(self, search: NeighbourSearch) -> np.ndarray:
         """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
@@ -221,10 +230,9 @@ class Simulation:
         hit &= self.wake_on_motion[near] | by_message[src]
         self.asleep[near[hit]] = False
 
-    def _decide(self, awake: np.ndarray, search: NeighbourSearch, on_target: np.ndarray,
-                moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
-        pos, msgs = self.positions, self.messages
-        neighbour_lists = search.neighbours(awake, self.listen[awake])
+    def _decide(self, awake: np.ndarray, neighbour_lists: list[np.ndarray], moved: np.ndarray,
+                new_messages: np.ndarray, velocities: np.ndarray) -> None:
+        pos, msgs, on_target = self.positions, self.messages, self.on_target
         silent_rows = self.failed
         bearings = _bearings(self.world.beacon, pos[awake])
         for k, (i, idx) in enumerate(zip(awake.tolist(), neighbour_lists, strict=True)):
@@ -305,7 +313,7 @@ class Simulation:
             "stop_reason": self.stop_reason,
             "wall_seconds": round(self.wall_seconds, 3),
         }
-        out.update(self.metrics.summary(self.positions, self.floor.on_target(self.positions)))
+        out.update(self.metrics.summary(self.positions, self.on_target))
         out["failed_robots"] = int(self.failed.sum())
         extra = getattr(self.controller_cls, "summarize", None)
         if extra is not None:
@@ -336,6 +344,14 @@ class Simulation:
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
+
+
+def _clamp(velocities: np.ndarray, v_max: float) -> np.ndarray:
+    """Scale velocities (N, 2) down to at most v_max, keeping their directions."""
+    speed = np.hypot(velocities[:, 0], velocities[:, 1])
+    too_fast = speed > v_max
+    velocities[too_fast] *= (v_max / speed[too_fast])[:, None]
+    return velocities
 
 
 def _has_field(cls: type, name: str) -> bool:

@@ -224,8 +224,9 @@ class GGCRobot:
                 return self.act()
             self.sense = -self.sense  # a dead end outside the target: try the other way round
             self.circled = 0.0
-        if self.must_yield(p, velocity):
-            return self.act()
+        give_way = self.give_way(p, velocity)
+        if give_way is not None:
+            return self.act(give_way)
         return self.act(velocity)
 
     def edge_velocity(self, p: Perception, structure: np.ndarray) -> np.ndarray:
@@ -336,14 +337,22 @@ class GGCRobot:
             return True
         return False
 
-    def must_yield(self, p: Perception, velocity: np.ndarray) -> bool:
-        """Wait while a moving robot with a larger id is close ahead (ids break symmetry)."""
-        close = ((p.distances <= self.p.yield_distance) & p.messages["moving"]
-                 & (p.messages["id"] > self.id))
-        if not close.any():
-            return False
-        ahead = p.offsets[close] @ velocity > 0
-        return bool(ahead.any())
+    def give_way(self, p: Perception, velocity: np.ndarray) -> np.ndarray | None:
+        """Give way to a moving robot with a larger id close ahead (ids break symmetry).
+
+        If it is coming toward us, back away from it so that it can pass; if it goes our
+        way, wait. Returns the velocity to use instead, or None to carry on.
+        """
+        m = p.messages
+        close = (p.distances <= self.p.yield_distance) & m["moving"] & (m["id"] > self.id)
+        ahead = np.flatnonzero(close)
+        ahead = ahead[p.offsets[ahead] @ velocity > 0]
+        if len(ahead) == 0:
+            return None
+        other = ahead[0]
+        if p.distances[other] < self.p.yield_distance * 0.75:
+            return -unit(p.offsets[other]) * self.p.v * 0.5
+        return np.zeros(2)
 
     def wander(self, p: Perception) -> Action:
         """No stationary robot in range: head for the beacon (or keep going)."""

@@ -1,0 +1,84 @@
+"""Where a tick's time goes: sensing, deciding, physics and metrics, against a bare pymunk step.
+
+For each swarm size it builds a square world sized like the paper's (hexagonal capacity at
+d_cover = 6 is ~70 % of the robots), runs a controller for some warm-up ticks, then measures
+ticks and prints milliseconds per tick per phase. Right after, in the same process, it times
+bare ``Physics.step()`` calls of the very same bodies with the same drive commands: the ratio
+full tick / bare step says how much the simulator adds on top of pymunk.
+
+    python bench/bench_tick.py                       # 600, 2000, 5000 robots, both controllers
+    python bench/bench_tick.py --robots 2000 --controller ggc --ticks 200
+
+Numbers are medians over --repeats blocks of ticks; these machines are noisy (+-30 %).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+from swarmsim import Simulation
+from swarmsim.sim import PHASES
+from swarmsim.world import World, world_from_dict
+
+
+def square_world(robots: int) -> World:
+    """A square target holding ~70 % of the robots at d_cover 6, spawn band below it."""
+    side = math.sqrt(0.7 * robots * 0.866 * 36)
+    band = max(20.0, 2.2 * robots / side)  # random start at spacing ~2
+    return world_from_dict({
+        "name": f"square{robots}",
+        "target": {"outline": [[0, 0], [side, 0], [side, side], [0, side]]},
+        "spawn": [{"outline": [[0, -15 - band], [side, -15 - band], [side, -15], [0, -15]]}],
+        "beacon": {"position": [side / 2, side / 2]},
+    })
+
+
+def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int) -> dict:
+    sim = Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
+                     max_ticks=10**9)
+    for _ in range(warmup):
+        sim.step()
+    blocks = []
+    for _ in range(repeats):
+        before = dict(sim.phase_seconds)
+        start = time.perf_counter()
+        for _ in range(ticks):
+            sim.step()
+        wall = time.perf_counter() - start
+        phases = {k: (sim.phase_seconds[k] - before[k]) / ticks * 1e3 for k in PHASES}
+        phases["tick"] = wall / ticks * 1e3
+        bare_start = time.perf_counter()
+        for _ in range(ticks):
+            sim.physics.step()  # the same bodies, the same drive commands
+        phases["bare_step"] = (time.perf_counter() - bare_start) / ticks * 1e3
+        blocks.append(phases)
+    out = {k: statistics.median(b[k] for b in blocks) for k in blocks[0]}
+    out["awake"] = sim.metrics.rows[-1]["awake"] if sim.metrics.rows else robots
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--robots", type=int, nargs="+", default=[600, 2000, 5000])
+    parser.add_argument("--controller", nargs="+", default=["ggc", "dispersion"])
+    parser.add_argument("--warmup", type=int, default=600, help="ticks before measuring")
+    parser.add_argument("--ticks", type=int, default=100, help="ticks per measured block")
+    parser.add_argument("--repeats", type=int, default=3, help="measured blocks (median)")
+    args = parser.parse_args()
+    head = (f"{'controller':<11}{'robots':>7}{'awake':>7}" + "".join(f"{p:>9}" for p in PHASES)
+            + f"{'tick':>9}{'bare':>9}{'ratio':>8}")
+    print("ms per tick (median of blocks); bare = pymunk step of the same bodies")
+    print(head)
+    for controller in args.controller:
+        for n in args.robots:
+            r = measure(n, controller, args.warmup, args.ticks, args.repeats)
+            cells = "".join(f"{r[p]:>9.2f}" for p in PHASES)
+            print(f"{controller:<11}{n:>7}{r['awake']:>7}{cells}{r['tick']:>9.2f}"
+                  f"{r['bare_step']:>9.2f}{r['tick'] / r['bare_step']:>8.1f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
