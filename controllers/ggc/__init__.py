@@ -35,7 +35,8 @@ class GGC(GGCRobot):
         """Per-run GGC figures for the summary: final statuses and deadlocks."""
         counts = Counter(STATUSES[r.status] for r in robots)
         return {"status_counts": dict(sorted(counts.items())),
-                "deadlocks_detected": sum(r.deadlocks for r in robots)}
+                "deadlocks_detected": sum(r.deadlocks for r in robots),
+                "collision_stops": sum(r.collision_stops for r in robots)}
 
 
 __all__ = ["GGC", "GGCParams"]

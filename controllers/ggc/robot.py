@@ -66,6 +66,7 @@ class GGCRobot:
         self.last_bearing: float | None = None
         self.deadlocks = 0
         self.sense = params.orbit
+        self.collision_stops = 0
         self.no_way_in: set[int] = set()
         self.stepping_in = False
 
@@ -98,7 +99,7 @@ class GGCRobot:
     def step(self, p: Perception) -> Action:
         self.odometer += p.moved
         handler = {INITIAL: self.initial, DETECTION: self.detection, COVERAGE: self.coverage,
-                   ARRIVE: self.arrive}[self.status]
+                   ARRIVE: self.arrive, STOP: self.stopped}[self.status]
         return handler(p)
 
     # ------------------------------------------------------------------ neighbour views
@@ -224,6 +225,10 @@ class GGCRobot:
                 return self.act()
             self.sense = -self.sense  # a dead end outside the target: try the other way round
             self.circled = 0.0
+        if self.other_group_mover(p):
+            self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
+            self.collision_stops += 1
+            return self.act()
         give_way = self.give_way(p, velocity)
         if give_way is not None:
             return self.act(give_way)
@@ -289,9 +294,19 @@ class GGCRobot:
         return self.act(toward * self.p.v)
 
     def follow_gradient(self, p: Perception, nearest: int) -> None:
-        """Algorithm 2, line 8: my gradient is my nearest stationary neighbour's plus one."""
-        g = int(p.messages["gradient"][nearest])
-        if p.messages["id"][nearest] != NO_SENDER and g < INF_GRADIENT:
+        """Algorithm 2, line 8: my gradient is my nearest stationary neighbour's plus one.
+
+        With groups, each group keeps its own gradient: only my group's robots count.
+        """
+        m = p.messages
+        if m["group"][nearest] != self.group:
+            mine = np.flatnonzero(self.stationary(p) & self.own_group(p)
+                                  & (p.distances <= 1.5 * self.p.d_cover))
+            if len(mine) == 0:
+                return
+            nearest = mine[0]
+        g = int(m["gradient"][nearest])
+        if m["id"][nearest] != NO_SENDER and g < INF_GRADIENT:
             self.grad = g + 1
 
     def should_arrive(self, p: Perception, nearest: int) -> bool:
@@ -310,8 +325,10 @@ class GGCRobot:
         if self.heading.any() and not p.probe(self.heading * self.p.probe_distance):
             return True
         m = p.messages[nearest]
-        return bool(m["id"] != NO_SENDER and m["status"] == ARRIVE and m["gradient"] >= self.grad
-                    and m["group"] == self.group)
+        if m["id"] == NO_SENDER or m["status"] != ARRIVE:
+            return False
+        # Beside another group's arrived robot: the groups meet here; fill the junction.
+        return bool(m["gradient"] >= self.grad or m["group"] != self.group)
 
     def circling(self, p: Perception, nearest: int) -> bool:
         """True once the robot has gone all the way round the same neighbour."""
@@ -336,6 +353,19 @@ class GGCRobot:
             self.deadlocks += 1
             return True
         return False
+
+    def other_group_mover(self, p: Perception) -> bool:
+        """A robot of another group in Coverage within d_cover, with priority (larger id)."""
+        m = p.messages
+        near = (p.distances <= self.p.d_cover) & (m["group"] != self.group) & (m["id"] > self.id)
+        return bool((near & (m["status"] == COVERAGE)).any())
+
+    def stopped(self, p: Perception) -> Action:
+        """Stop (Section 4.3): wait until no other group's mover is within d_cover."""
+        if self.other_group_mover(p):
+            return self.act()
+        self.set_status(COVERAGE)
+        return self.coverage(p)
 
     def give_way(self, p: Perception, velocity: np.ndarray) -> np.ndarray | None:
         """Give way to a moving robot with a larger id close ahead (ids break symmetry).
