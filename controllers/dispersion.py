@@ -9,6 +9,7 @@ range and nothing to do sleep.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -50,7 +51,7 @@ class Dispersion:
     name = "dispersion"
     Params = DispersionParams
     STATUSES = ("Idle", "Seeking", "Spreading")
-    MESSAGE_FIELDS: list = []
+    MESSAGE_FIELDS: ClassVar[list] = []
 
     @classmethod
     def sensing_range(cls, params: DispersionParams) -> float:
@@ -74,8 +75,8 @@ class Dispersion:
         if speed > self.p.v:
             v *= self.p.v / speed
             speed = self.p.v
-        if speed > self.p.deadband and p.on_target:
-            if not p.probe(v / speed * self.p.probe_distance):
+        if (speed > self.p.deadband and p.on_target
+                and not p.probe(v / speed * self.p.probe_distance)):
                 v[:] = 0.0
                 speed = 0.0
         status = SPREADING if speed > self.p.deadband else (SEEKING if not p.on_target else IDLE)

@@ -226,7 +226,7 @@ def make_params(params_cls: type, overrides: dict[str, Any], source: str = "--se
     fields = {f.name: f for f in dataclasses.fields(params_cls)}
     unknown = set(overrides) - set(fields)
     if unknown:
-        key = sorted(unknown)[0]
+        key = min(unknown)
         raise ConfigError(f"unknown parameter (value {overrides[key]!r}); known: "
                           f"{', '.join(sorted(fields))}", source=source, key=key)
     try:

@@ -79,7 +79,7 @@ class Physics:
 
     def __init__(self, world: World, positions: np.ndarray, config: PhysicsConfig | None = None):
         self.config = config or PhysicsConfig()
-        self.n = int(len(positions))
+        self.n = len(positions)
         space = pymunk.Space()
         space.gravity = (0.0, 0.0)
         space.iterations = self.config.iterations

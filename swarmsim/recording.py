@@ -6,7 +6,7 @@ Rendering only reads snapshots; turning it on never changes a run's results.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
 from swarmsim.output import write_run
 from swarmsim.sim import RunResult, Simulation
@@ -39,7 +39,7 @@ class Recorder:
             self._renderer = Renderer(self.sim.world, self.sim.grid, **self._render_kw)
         return self._renderer
 
-    def __enter__(self) -> Recorder:
+    def __enter__(self) -> Self:
         if self.video_path is not None:
             from swarmsim.render import VideoWriter
 

@@ -32,7 +32,6 @@ from swarmsim.sensing import FloorSensor, NeighbourSearch, relative_view
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
-
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
@@ -382,4 +381,4 @@ def _progress_bar(total: int, enabled: bool):
     return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False)
 
 
-__all__ = ["Simulation", "RunResult", "SimConfig", "PhysicsConfig", "INF_GRADIENT"]
+__all__ = ["INF_GRADIENT", "PhysicsConfig", "RunResult", "SimConfig", "Simulation"]

@@ -59,7 +59,7 @@ def hex_offsets(n: int, spacing: float) -> np.ndarray:
 
     Row 0 is the origin (the leader's place); ties are broken by angle, so the layout is fixed.
     """
-    rings = int(math.ceil(math.sqrt(n / 3.0))) + 2
+    rings = math.ceil(math.sqrt(n / 3.0)) + 2
     pts = []
     for a in range(-rings * 2, rings * 2 + 1):
         for b in range(-rings * 2, rings * 2 + 1):

@@ -9,7 +9,7 @@ import pytest
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 
-from swarmsim.world import World, world_from_dict  # noqa: E402
+from swarmsim.world import World, world_from_dict
 
 
 def square_world(size: float = 40.0, spawn: float = 20.0, gap: float = 10.0,

@@ -33,7 +33,7 @@ def small_run():
 
 
 def test_small_world_is_covered_fully(small_run):
-    sim, res = small_run
+    _, res = small_run
     s = res.summary
     assert s["stop_reason"] == "complete", s
     assert s["coverage"] >= 0.99 and s["completion_tick"] == s["ticks"]
@@ -79,9 +79,9 @@ def test_same_seed_same_run_and_sleep_changes_nothing():
     a = run_small(seed=3, max_ticks=1500)[1]
     b = run_small(seed=3, max_ticks=1500, allow_sleep=False)[1]
     c = run_small(seed=3, max_ticks=1500, decide_order="shuffled")[1]
-    strip = lambda r: {k: v for k, v in r.summary.items() if k != "wall_seconds"}  # noqa: E731
+    strip = lambda r: {k: v for k, v in r.summary.items() if k != "wall_seconds"}
     assert strip(a) == strip(b) == strip(c)
-    cols = lambda r: [(x["tick"], x["coverage"], x["total_distance"]) for x in r.timeseries]  # noqa: E731
+    cols = lambda r: [(x["tick"], x["coverage"], x["total_distance"]) for x in r.timeseries]
     assert cols(a) == cols(b) == cols(c)
     assert a.summary["coverage"] > 0.2
 

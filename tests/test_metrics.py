@@ -41,7 +41,7 @@ def test_no_robots_no_coverage_and_grid_size():
 
 
 def test_nearest_neighbour_spacing():
-    mean, std, cv = nearest_neighbour_spacing(hex_lattice(6.0, 60))
+    mean, std, _ = nearest_neighbour_spacing(hex_lattice(6.0, 60))
     assert abs(mean - 6.0) < 1e-9 and std < 1e-9
     assert nearest_neighbour_spacing(np.zeros((1, 2))) == (None, None, None)
 

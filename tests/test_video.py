@@ -27,7 +27,7 @@ def test_run_video_reads_back_and_summary_unchanged(tmp_path):
     assert frames.shape[0] == 1 + 60 // 5  # the start frame, then one every 5 ticks
     assert frames.shape[2] == 320 and frames.shape[1] % 2 == 0 and frames.shape[3] == 3
     info = subprocess.run([imageio_ffmpeg.get_ffmpeg_exe(), "-hide_banner", "-i", str(video)],
-                          capture_output=True, text=True).stderr
+                          capture_output=True, text=True, check=False).stderr
     assert "h264" in info and "yuv420p" in info
     assert frames[-1].std() > 5  # real content, not a blank frame
     assert iio.imread(tmp_path / "last.png").shape[1] == 320
@@ -45,6 +45,6 @@ def test_sim_render_shows_robots_where_they_are():
     away = dataclasses.replace(sim.snapshot(), positions=sim.positions + 1e4)
     background = renderer.draw(away).copy()
     for x, y in sim.positions[:5]:
-        px, py = (int(round(v)) for v in renderer.world_to_pixel((x, y)))
+        px, py = (round(v) for v in renderer.world_to_pixel((x, y)))
         assert np.abs(frame[py, px].astype(int) - background[py, px]).sum() > 30
     np.testing.assert_array_equal(before, sim.positions)  # drawing moved nothing

@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# Rebuild the showcase videos in videos/showcase/ (run from the repository root, after the
-# README's setup command). Each line is one video; sizes are kept to a few MB.
+# Rebuild the showcase in videos/showcase/ (run from the repository root after the README's
+# setup command). Each command makes one video; sizes are kept to a few MB.
 set -euo pipefail
 out=videos/showcase
 mkdir -p "$out"
 sm=${SWARMSIM:-.venv/bin/swarmsim}
-# GGC, one group, covering the letter K (603 robots, d_cover 6), coloured by gradient.
-"$sm" run K --groups 1 --seed 1 --video "$out/K-ggc-1group.mp4" --frame-every 60 --fps 30 \
-  --width 480 --snapshot "$out/K-ggc-1group.png" --quiet
+# GGC on the letter K: 603 robots in 3 groups (one formation each), d_cover 6, coloured by
+# group; a frame every 60 ticks, 480 px wide, 30 fps.
+"$sm" run K --groups 3 --seed 1 --video "$out/K-ggc-3groups.mp4" --frame-every 60 --fps 30 \
+  --width 480 --color-by group --snapshot "$out/K-ggc-3groups.png" --out "$out/K-ggc-3groups" \
+  --quiet
