@@ -35,7 +35,7 @@ STATUSES = ("Initial", "Detection", "Coverage", "Arrive", "Stop", "Approach", "P
 MOVING_STATUSES = (COVERAGE,)
 CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?")]
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?")]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -69,12 +69,13 @@ class GGCRobot:
         self.collision_stops = 0
         self.no_way_in: set[int] = set()
         self.stepping_in = False
+        self.stepped_in = False
 
     # ------------------------------------------------------------------ messages and status
     def message(self) -> tuple:
         return (self.id, self.status, self.grad, self.group, self.leader,
                 self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
-                float(self.travel[1]), self.touch)
+                float(self.travel[1]), self.touch, self.stepped_in)
 
     def set_status(self, status: int) -> None:
         if status != self.status:
@@ -276,6 +277,8 @@ class GGCRobot:
         m = p.messages[nearest]
         if p.on_target or m["status"] != ARRIVE or int(m["id"]) in self.no_way_in:
             return False
+        if m["stepped"] or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
+            return False  # next to a robot that stepped in itself: the strip is covered
         toward = p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
         return bool(p.probe(toward * self.p.boundary_probe))
 
@@ -319,7 +322,8 @@ class GGCRobot:
         if not p.on_target:
             return False
         if self.stepping_in:
-            return True  # stepped in across the boundary: stop right there
+            self.stepped_in = True  # stepped in across the boundary: stop right there
+            return True
         if p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
             return False
         if self.heading.any() and not p.probe(self.heading * self.p.probe_distance):
