@@ -1,0 +1,304 @@
+"""CVT: limited-range Lloyd (centroidal Voronoi) coverage, the classic deployment baseline.
+
+Cortes, Martinez, Karatas & Bullo, "Coverage control for mobile sensing networks" (IEEE T-RA
+2004) and Cortes, Martinez & Bullo, "Spatially-distributed coverage optimization and control
+with limited-range interactions" (ESAIM COCV 2005); the GGC paper's ref. [37]/[38] family
+(Section 1, Table 3). Non-convex targets are handled as in Breitenmoser et al. (ICRA 2010):
+each robot's cell is restricted to the target points it has sensed, and a centroid that falls
+off the target is projected onto the nearest point of the cell.
+
+Every tick, robot i:
+
+* senses the floor on a square lattice of points (spacing ``map_cell``) within ``cell_radius``
+  of itself (its local map, kept in its own odometry frame so each point is probed once);
+* samples its Voronoi cell restricted to the disc of radius ``cell_radius`` and to the target
+  (the sensed floor): points nearer to it than to any sensed neighbour, on a grid scaled to
+  the cell's size (so a small cell in a crowd is resolved as well as a big one);
+* moves toward the centroid of that cell (``gain`` per tick, capped at v), plus a short-range
+  repulsion from neighbours closer than ``d_safe``;
+* with no target point in its cell and off the target, heads for the beacon (the way in);
+* rests (and sleeps) while the centroid is within ``tolerance`` times its cell's reach.
+
+Sensing: relative positions (bearing and distance) of every neighbour within
+2 * cell_radius, a local map of the target floor within cell_radius (``min_probe_range``: the
+engine must let the floor probe reach that far; 6 units by default, where GGC's robots only
+sense the floor under themselves and 2 units ahead), odometry, and the beacon's bearing. No
+messages are needed. That is far more than GGC assumes (hop counts and distances only), and the
+per-tick computation (a Voronoi cell over ~100 map points) is much larger, as the GGC paper's
+Table 3 says.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmsim.controller import Action, Perception, RobotSetup, register
+
+SEEKING, MOVING, RESTING = 0, 1, 2
+STATUSES = ("Seeking", "Moving", "Resting")
+MIN_PROBE_RANGE = 6.0
+DISC_STEPS = 7  # the cell is sampled on a grid of radius / DISC_STEPS spacing
+_g = np.arange(-DISC_STEPS, DISC_STEPS + 1) / DISC_STEPS
+DISC = np.array([(x, y) for x in _g for y in _g if x * x + y * y <= 1.0 + 1e-9])
+
+
+class LocalMap:
+    """A robot's memory of the floor on a square lattice, in its own odometry frame.
+
+    The robot integrates its own displacement (``Perception.moved``); lattice points are fixed
+    in that frame, so each is probed once (while it is within ``radius``) and remembered. Only a
+    window of lattice points around the robot is kept, so memory stays small.
+
+    Args:
+        radius: points within this distance of the robot are sensed, units (must not exceed
+            the engine's probe range).
+        cell: lattice spacing, units.
+    """
+
+    MARGIN = 8  # lattice cells kept beyond the sensing radius before the window is moved
+
+    def __init__(self, radius: float, cell: float):
+        self.radius = float(radius)
+        self.cell = float(cell)
+        self.odo = np.zeros(2)
+        reach = math.ceil(self.radius / self.cell) + 1
+        ii, jj = np.meshgrid(np.arange(-reach, reach + 1), np.arange(-reach, reach + 1),
+                             indexing="ij")
+        self._stencil = np.column_stack([ii.ravel(), jj.ravel()])
+        self._reach = reach
+        self._size = 2 * (reach + self.MARGIN) + 1
+        self._grid = np.full((self._size, self._size), -1, dtype=np.int8)
+        self._origin = np.array([-(reach + self.MARGIN)] * 2)
+        self._base: np.ndarray | None = None
+        self._points = self._local = self._values = np.zeros((0, 2))
+
+    def move(self, moved: np.ndarray) -> None:
+        """Dead reckoning: add the robot's own displacement."""
+        self.odo = self.odo + moved
+
+    def _recentre(self, base: np.ndarray) -> None:
+        lo = base - self._reach
+        hi = base + self._reach
+        if (lo >= self._origin).all() and (hi < self._origin + self._size).all():
+            return
+        new_origin = base - (self._reach + self.MARGIN)
+        grid = np.full_like(self._grid, -1)
+        shift = new_origin - self._origin
+        src_lo = np.maximum(shift, 0)
+        src_hi = np.minimum(shift + self._size, self._size)
+        if (src_hi > src_lo).all():
+            dst_lo = src_lo - shift
+            dst_hi = src_hi - shift
+            grid[dst_lo[0]:dst_hi[0], dst_lo[1]:dst_hi[1]] = \
+                self._grid[src_lo[0]:src_hi[0], src_lo[1]:src_hi[1]]
+        self._grid = grid
+        self._origin = new_origin
+
+    def sense(self, p: Perception, radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Lattice points within ``radius`` (default: the map's radius) of the robot.
+
+        Returns their offsets from the robot (k, 2) and whether each is target floor (k,);
+        points not yet known are probed now.
+        """
+        radius = self.radius if radius is None else min(float(radius), self.radius)
+        base = np.floor(self.odo / self.cell).astype(np.int64)
+        if self._base is None or (base != self._base).any():
+            self._base = base
+            self._recentre(base)
+            idx = self._stencil + base
+            self._points = idx * self.cell
+            self._local = idx - self._origin
+            self._values = self._grid[self._local[:, 0], self._local[:, 1]]
+        offsets = self._points - self.odo
+        keep = np.flatnonzero((offsets * offsets).sum(axis=1) <= radius * radius)
+        values = self._values
+        unknown = keep[values[keep] < 0]
+        if len(unknown):
+            for k in unknown.tolist():
+                values[k] = 1 if p.probe(offsets[k]) else 0
+            loc = self._local[unknown]
+            self._grid[loc[:, 0], loc[:, 1]] = values[unknown]
+        return offsets[keep], values[keep] == 1
+
+
+    def lookup(self, p: Perception, offsets: np.ndarray) -> np.ndarray:
+        """Target floor at arbitrary offsets, read from the nearest lattice point.
+
+        Lattice points not yet known are probed (only those within ``radius``); farther ones
+        count as not target.
+        """
+        idx = np.floor((self.odo + offsets) / self.cell + 0.5).astype(np.int64)
+        self._recentre(np.floor(self.odo / self.cell).astype(np.int64))
+        local = idx - self._origin
+        ok = ((local >= 0) & (local < self._size)).all(axis=1)
+        values = np.zeros(len(offsets), dtype=np.int8)
+        values[ok] = self._grid[local[ok, 0], local[ok, 1]]
+        for k in np.flatnonzero(ok & (values < 0)).tolist():
+            point = idx[k] * self.cell - self.odo
+            if point @ point <= self.radius * self.radius:
+                values[k] = 1 if p.probe(point) else 0
+                self._grid[local[k, 0], local[k, 1]] = values[k]
+                self._base = None  # cached window values are stale
+        return values == 1
+
+
+def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
+    """Push away from neighbours closer than ``radius`` (grows as they get closer)."""
+    close = p.distances < radius
+    if not close.any():
+        return np.zeros(2)
+    d = np.maximum(p.distances[close], 1e-6)
+    push = (radius - d) / d
+    return -gain * (p.offsets[close] * push[:, None]).sum(axis=0)
+
+
+def clamp(v: np.ndarray, limit: float) -> np.ndarray:
+    """``v`` shortened to at most ``limit``."""
+    n = math.hypot(float(v[0]), float(v[1]))
+    return v * (limit / n) if n > limit else v
+
+
+@dataclass(frozen=True)
+class CVTParams:
+    """Parameters of the CVT controller (lengths in units, speeds in units per tick).
+
+    Attributes:
+        d_safe: neighbours closer than this repel (paper Table 2: 1).
+        cell_radius: a robot's Voronoi cell is limited to this radius; it senses the floor and
+            its neighbours that far (at most the class's min_probe_range, 6).
+        map_cell: spacing of the lattice of floor points a robot senses.
+        v: top speed (paper: 0.1).
+        gain: speed per unit of distance to the centroid (1 = pure Lloyd, capped at v).
+        repulsion_gain: d_safe repulsion, speed per unit of missing distance.
+        tolerance: a robot rests while its centroid is closer than tolerance times the reach
+            of its cell (its farthest point).
+    """
+
+    d_safe: float = 1.0
+    cell_radius: float = 6.0
+    map_cell: float = 1.0
+    v: float = 0.1
+    gain: float = 1.0
+    repulsion_gain: float = 0.05
+    tolerance: float = 0.04
+
+    def __post_init__(self) -> None:
+        for name in ("d_safe", "cell_radius", "map_cell", "v", "gain", "tolerance"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"CVT parameter {name} must be positive, got "
+                                 f"{getattr(self, name)!r}")
+        if self.repulsion_gain < 0:
+            raise ValueError(f"repulsion_gain must be >= 0, got {self.repulsion_gain!r}")
+        if self.cell_radius > MIN_PROBE_RANGE:
+            raise ValueError(f"cell_radius ({self.cell_radius}) must not exceed the probe range "
+                             f"the controller requests ({MIN_PROBE_RANGE})")
+        if self.map_cell > self.cell_radius / 2:
+            raise ValueError(f"map_cell ({self.map_cell}) must be at most cell_radius / 2")
+        if self.tolerance >= 1:
+            raise ValueError(f"tolerance must be < 1, got {self.tolerance!r}")
+
+
+@register
+class CVT:
+    """Limited-range Lloyd: move to the centroid of your Voronoi cell in the sensed target."""
+
+    name = "cvt"
+    Params = CVTParams
+    STATUSES = STATUSES
+    MESSAGE_FIELDS: list = []  # noqa: RUF012 (the engine reads a plain list)
+    requires_beacon = True
+    min_probe_range = MIN_PROBE_RANGE
+
+    @classmethod
+    def sensing_range(cls, params: CVTParams) -> float:
+        """Neighbours within 2 * cell_radius can own points of the cell."""
+        return 2 * params.cell_radius
+
+    def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.group = setup.group
+        self.leader = setup.leader
+        self.p = params
+        self.map = LocalMap(params.cell_radius, params.map_cell)
+        self.status = SEEKING
+        self.heard = 2 * params.cell_radius  # how far it listened for this tick's perception
+        self.extent = params.cell_radius     # radius of the disc its cell is sampled in
+        self.reach = 0.0
+        self.disc = DISC
+
+    def message(self, moving: bool) -> tuple:
+        return (self.id, self.status, 0, self.group, self.leader, moving)
+
+    def cell(self, p: Perception) -> np.ndarray:
+        """Sample points of this robot's cell: target floor nearer to it than to any neighbour.
+
+        The cell is sampled on a fine grid (``DISC`` points) over a disc of radius R, sized to
+        the cell (the previous tick's extent, at most cell_radius and half the range the robot
+        listened to), so small cells in a crowd are sampled as finely as big ones; target
+        membership comes from the local map. Classification within R is exact: a neighbour
+        farther than 2 R cannot own a point within R. When the cell reaches the edge of the
+        disc, the next tick uses the full cell_radius.
+        """
+        full = self.p.cell_radius
+        radius = min(full, self.heard / 2, self.extent)
+        self.map.sense(p)
+        h = radius / DISC_STEPS
+        q = self.disc * radius
+        q = q[self.map.lookup(p, q)]
+        if len(q):
+            near = p.distances <= 2 * radius
+            if near.any():
+                nb = p.offsets[near]
+                own = (q * q).sum(axis=1)
+                other = ((q[:, None, :] - nb[None, :, :]) ** 2).sum(axis=2).min(axis=1)
+                q = q[own <= other]
+        if len(q) == 0:
+            self.extent = full
+            self.reach = 0.0
+            target_near = bool(self.map.lookup(p, self.disc * full).any())
+            self.heard = 2 * full if target_near else max(2 * self.p.d_safe, 1.0)
+            return q
+        self.reach = math.sqrt(float((q * q).sum(axis=1).max()))
+        margin = 2 * h + 2 * self.p.v
+        self.extent = full if self.reach >= radius - 1.5 * h else min(full, self.reach + margin)
+        self.heard = 2 * self.extent
+        return q
+
+    def act(self, v: np.ndarray, moving: bool) -> Action:
+        msg = self.message(moving)
+        if not moving:
+            return Action((0.0, 0.0), msg, sleep=True, wake_range=self.heard, listen=self.heard)
+        return Action((float(v[0]), float(v[1])), msg, listen=self.heard)
+
+    def step(self, p: Perception) -> Action:
+        self.map.move(p.moved)
+        mine = self.cell(p)
+        rest = False
+        if len(mine):
+            c = mine.mean(axis=0)
+            nearest = mine[np.argmin(((mine - c) ** 2).sum(axis=1))]
+            if math.hypot(*(nearest - c)) > 1.5 * self.extent / DISC_STEPS:
+                c = nearest  # the centroid fell outside the (non-convex) cell: project it
+            v = self.p.gain * c
+            rest = (math.hypot(float(c[0]), float(c[1])) < self.p.tolerance * self.reach
+                    and p.on_target)
+            self.status = MOVING if p.on_target else SEEKING
+        elif not p.on_target and p.beacon is not None:
+            v = p.beacon * self.p.v
+            self.status = SEEKING
+        else:
+            v = np.zeros(2)
+            rest = True
+        if rest:
+            v = np.zeros(2)
+        v = clamp(v + repulsion(p, self.p.d_safe, self.p.repulsion_gain), self.p.v)
+        moving = bool(v.any())
+        if not moving:
+            self.status = RESTING if p.on_target else SEEKING
+        return self.act(v, moving)
+
+
+__all__ = ["CVT", "CVTParams", "LocalMap"]

@@ -1,0 +1,482 @@
+"""FCDFS: Find-Corner Depth-First Search uniform dispersal (Amir & Bruckstein), the GGC
+paper's "angle-first" comparison algorithm [43], on a square lattice in continuous space.
+
+Source: M. Amir and A. M. Bruckstein, "Minimizing Travel in the Uniform Dispersal Problem for
+Robotic Sensors", AAMAS 2019 (arXiv:1903.03259), extended as "Time, Travel, and Energy in the
+Uniform Dispersion Problem" (arXiv:2404.19564), where it is named "Find-Corner Depth-First
+Search" (FCDFS). (The GGC paper's ref. [43] text was not available; "FCDFS" and "angle-first",
+i.e. find-corner-first, match this algorithm, and the GGC paper's description fits it: robots
+enter through a door one after another, in a line, and settle in a regular arrangement with
+intervals, so coverage cannot reach 1.) The rules were read from the arXiv abstracts and a
+public summary of the 2024 paper (Kristofy/uniform-dispersion-problem, docs/riport.md).
+
+FCDFS works on a grid: robots enter at a door cell, at most one per cell, and each robot,
+every step, takes the first rule that applies:
+
+1. if the cell in its primary direction P is free, move there;
+2. else if the cell in its secondary direction S (P turned 90 degrees) is free, move there;
+3. else if at least 3 of its 4 neighbouring cells are blocked (wall or settled robot), settle
+   (a dead end; we settle only if the robot came in through the free side, else it turns
+   there: this matters at the entry cell, which a robot enters from the door robot's cell);
+4. else (exactly P and S blocked) if the diagonal cell opposite the blocked corner is free, or
+   it stood there two steps ago, it is in a corner: settle;
+5. else it is in a corridor bend: turn P to the free direction it did not come from, move.
+
+Settling only in corners keeps the free region simply connected, so every robot finds a
+shortest path and the area fills completely. In the asynchronous variant a robot waits while
+an active robot occupies the cell it wants.
+
+Our continuous-space version (the paper's grid is abstract; every choice here is ours):
+
+* The lattice: square, spacing ``cell`` (default d_cover = 6, so the settled arrangement has
+  the "intervals" the GGC paper mentions: a square lattice needs spacing <= 4 sqrt(2) = 5.66
+  for gap-free coverage at r = 4), axis-aligned (robots share a compass), origin at the door.
+  A cell is a wall when the floor probe says its centre is not target floor.
+* The door: the swarm starts as a hexagonal formation (like GGC); the leader leads it toward
+  the beacon (travel command copied from the gradient parent, GGC's way) and halts as soon as
+  it hears a robot report target floor under it; it names that robot (the nearest such) the
+  door. The door robot steps ``door_depth`` into the target along P (so that entering robots
+  can pass it) and stays there as cell (0, 0); P is the lattice axis nearest the beacon's
+  bearing. Everything is relayed through the formation with the halt command. The door's
+  cell is a wall for FCDFS; the entry cell (FCDFS's door cell, filled last) is the first of
+  the door's neighbours in the order P, S, -S, -P that is target floor.
+* The line: the other robots queue toward the door (straight at it when they sense it, else
+  toward their neighbour with the fewest hops to it), keeping ``queue_gap`` from the robot
+  ahead, and step away from an entering robot closer than avoid_range + 0.5. The queued
+  robot nearest the door steps onto the entry cell when no entered robot is still moving
+  within ``entry_clearance`` of the door and the entry cell is neither settled nor taken.
+* Moving robots go from cell centre to cell centre (dead reckoning from the door), side-step
+  robots in their way, and broadcast the cell they are heading to; settled robots broadcast
+  their cell. A robot that has waited ``patience`` ticks settles where it is (deadlock guard).
+
+Sensing: relative positions (bearing and distance) of neighbours within 2 * cell, their
+broadcast status, lattice cell, hop count and travel command; the floor sensor; a floor probe
+reaching the neighbouring lattice cells (``min_probe_range`` 9: one cell diagonally, where
+GGC's robots probe 2 units); odometry; and (leader only) the beacon's bearing. Moving robots
+need metric relative positions (to keep to the lattice), unlike GGC's hop counts.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup, register
+
+from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
+
+TRAVEL, QUEUE, DOOR, MOVING, SETTLED = range(5)
+STATUSES = ("Travel", "Queue", "Door", "Moving", "Settled")
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("door", "i4"), ("pdir", "i1"),
+                  ("touch", "?"), ("hops", "i4"), ("ci", "i4"), ("cj", "i4")]
+AXES = ((1, 0), (0, 1), (-1, 0), (0, -1))
+MIN_PROBE_RANGE = 9.0
+NO_DOOR = -1
+MAX_HOPS = 64
+
+
+def rotate(d: tuple[int, int], turn: int) -> tuple[int, int]:
+    """Lattice direction turned 90 degrees: counter-clockwise for turn = +1, else clockwise."""
+    return (-d[1], d[0]) if turn > 0 else (d[1], -d[0])
+
+
+def neg(d: tuple[int, int]) -> tuple[int, int]:
+    return (-d[0], -d[1])
+
+
+def add(a: tuple[int, int], b: tuple[int, int]) -> tuple[int, int]:
+    return (a[0] + b[0], a[1] + b[1])
+
+
+@dataclass(frozen=True)
+class FCDFSParams:
+    """Parameters of the FCDFS controller (lengths in units, times in ticks).
+
+    Attributes:
+        d_safe: safe distance (paper Table 2: 1).
+        d_cover: coverage distance; the lattice spacing ``cell`` defaults to it.
+        cell: lattice spacing (0 = d_cover). cell * sqrt(2) + arrive_tolerance must stay
+            within the class's min_probe_range (9).
+        d_min: spacing of the start formation (gradients and hops relay within 1.5 * d_min).
+        v: speed (paper Table 2: 0.1 per tick).
+        turn: +1: S is P turned counter-clockwise; -1: clockwise.
+        queue_gap: a queued robot stops when another robot is this close ahead.
+        door_depth: the door robot steps in until this much target floor lies behind it (so
+            the robots entering can pass it), units (<= 2, the engine's probe range).
+        door_radius: a queued robot this close to the door may enter.
+        entry_clearance: a robot enters only when no moving robot is this close to the door
+            (0 = 1.5 * cell: the previous one has left the entry cell).
+        arrive_tolerance: a moving robot has reached a cell centre within this distance.
+        avoid_range: a moving robot side-steps robots this close ahead.
+        patience: a moving robot that has waited this many ticks settles where it is.
+        init_timeout: a robot that has heard no gradient after this many ticks queues.
+    """
+
+    d_safe: float = 1.0
+    d_cover: float = 6.0
+    cell: float = 0.0
+    d_min: float = 1.0
+    v: float = 0.1
+    turn: int = -1
+    queue_gap: float = 0.95
+    door_depth: float = 2.0
+    door_radius: float = 2.5
+    entry_clearance: float = 0.0
+    arrive_tolerance: float = 0.1
+    avoid_range: float = 1.2
+    patience: int = 400
+    init_timeout: int = 400
+
+    def __post_init__(self) -> None:
+        for name in ("d_safe", "d_cover", "d_min", "v", "queue_gap", "door_depth", "door_radius",
+                     "arrive_tolerance", "avoid_range", "patience", "init_timeout"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"FCDFS parameter {name} must be positive, got "
+                                 f"{getattr(self, name)!r}")
+        if self.cell < 0 or self.entry_clearance < 0:
+            raise ValueError("cell and entry_clearance must be >= 0 (0 = default)")
+        if self.turn not in (1, -1):
+            raise ValueError(f"turn must be 1 or -1, got {self.turn!r}")
+        if self.spacing * math.sqrt(2) + self.arrive_tolerance > MIN_PROBE_RANGE:
+            raise ValueError(f"cell ({self.spacing}) too large: its diagonal must be within the "
+                             f"probe range the controller requests ({MIN_PROBE_RANGE})")
+        if self.spacing + self.door_radius > MIN_PROBE_RANGE:
+            raise ValueError("cell + door_radius must be within the probe range "
+                             f"({MIN_PROBE_RANGE})")
+
+    @property
+    def spacing(self) -> float:
+        """The lattice spacing in use."""
+        return self.cell if self.cell > 0 else self.d_cover
+
+    @property
+    def clearance(self) -> float:
+        return self.entry_clearance if self.entry_clearance > 0 else 1.5 * self.spacing
+
+
+@register
+class FCDFS(FormationTravel):
+    """Find-Corner DFS: enter through a door in a line, settle in lattice corners."""
+
+    name = "fcdfs"
+    Params = FCDFSParams
+    STATUSES = STATUSES
+    MESSAGE_FIELDS = MESSAGE_FIELDS
+    default_start = "formation"
+    requires_beacon = True
+    min_probe_range = MIN_PROBE_RANGE
+
+    @classmethod
+    def sensing_range(cls, params: FCDFSParams) -> float:
+        return max(2 * params.spacing, params.clearance + params.door_radius + 0.5)
+
+    @classmethod
+    def summarize(cls, robots) -> dict:
+        counts: dict[str, int] = {}
+        for r in robots:
+            counts[STATUSES[r.status]] = counts.get(STATUSES[r.status], 0) + 1
+        return {"status_counts": dict(sorted(counts.items()))}
+
+    def __init__(self, setup: RobotSetup, params: FCDFSParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.group = setup.group
+        self.leader = setup.leader
+        self.p = params
+        self.status = TRAVEL
+        self.grad = 0 if self.leader else INF_GRADIENT
+        self.cmd = CMD_NONE
+        self.travel = np.zeros(2)
+        self.door = NO_DOOR
+        self.pdir = 1
+        self.touch = False
+        self.hops = INF_GRADIENT
+        self.cell = (0, 0)          # current lattice cell (moving/settled), door at (0, 0)
+        self.goal: tuple[int, int] | None = None
+        self.history: list[tuple[int, int]] = []
+        self.pos = np.zeros(2)      # position relative to the door (dead reckoning), units
+        self.waited = 0
+        self.stepping = False       # the door robot is still stepping in
+        self.stepped = 0.0
+
+    # ------------------------------------------------------------------ messages
+    def act(self, velocity=(0.0, 0.0), sleep: bool = False,
+            wake_range: float | None = None) -> Action:
+        c = self.goal if (self.status == MOVING and self.goal is not None) else self.cell
+        # the gradient field keeps the formation gradient (travel parents are chosen by it);
+        # robots on the lattice show their lattice distance from the door instead
+        grad = self.grad if self.status in (TRAVEL, QUEUE, DOOR) else abs(c[0]) + abs(c[1])
+        moving = self.status == MOVING or (self.status in (QUEUE, DOOR) and bool(np.any(velocity)))
+        msg = (self.id, self.status, grad, self.group, self.leader, moving, self.cmd,
+               float(self.travel[0]), float(self.travel[1]), self.door, self.pdir, self.touch,
+               self.hops, c[0], c[1])
+        return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
+                      self.listen_range())
+
+    def listen_range(self) -> float | None:
+        """How far this robot needs to hear next tick (less is cheaper)."""
+        if self.status == TRAVEL and not self.leader:
+            return 1.5 * self.p.d_min
+        if self.status in (SETTLED, DOOR):
+            return self.p.d_safe
+        return None
+
+    def step(self, p: Perception) -> Action:
+        self.pos = self.pos + p.moved
+        if self.status == TRAVEL:
+            self.touch = p.on_target
+            return self.lead(p) if self.leader else self.follow(p)
+        if self.status == QUEUE:
+            return self.queue(p)
+        if self.status == MOVING:
+            return self.moving(p)
+        if self.status == DOOR and self.stepping:
+            return self.door_step(p)
+        return self.act(sleep=True, wake_range=0.0)
+
+    # ------------------------------------------------------------------ travel (formation)
+    def formation_gradient(self, p: Perception) -> int | None:
+        """1 + the smallest formation gradient of halted or travelling neighbours nearby."""
+        m = p.messages
+        ok = (p.distances <= 1.5 * self.p.d_min) & self.heard(p)
+        ok &= (m["status"] == TRAVEL) | (m["status"] == QUEUE) | (m["status"] == DOOR)
+        ok &= m["gradient"] < INF_GRADIENT
+        if not ok.any():
+            return None
+        return int(m["gradient"][ok].min()) + 1
+
+    def lead(self, p: Perception) -> Action:
+        """Head for the beacon; halt when a robot (or the leader) reports target floor."""
+        m = p.messages
+        touching = np.flatnonzero(m["touch"] & self.heard(p) & (m["status"] == TRAVEL))
+        if p.on_target or len(touching) or p.beacon is None:
+            self.cmd, self.travel = CMD_HALT, np.zeros(2)
+            self.door = self.id if (p.on_target or not len(touching)) else int(
+                m["id"][touching[0]])
+            if p.beacon is not None:
+                self.pdir = int(np.argmax([p.beacon @ np.array(a) for a in AXES]))
+            return self.halt(p)
+        self.cmd, self.travel = CMD_TRAVEL, p.beacon * self.p.v
+        return self.act(self.travel)
+
+    def follow(self, p: Perception) -> Action:
+        cmd = self.follow_travel(p)
+        if cmd is None:
+            if p.tick >= self.p.init_timeout:
+                self.cmd = CMD_HALT
+                return self.halt(p)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+        if cmd == CMD_HALT:
+            parent = self.travel_parent(p)
+            self.door, self.pdir = int(parent["door"]), int(parent["pdir"])
+            return self.halt(p)
+        return self.act(self.travel)
+
+    def halt(self, p: Perception) -> Action:
+        if self.door == self.id:
+            self.status, self.hops, self.cell = DOOR, 0, (0, 0)
+            self.stepping = True
+            return self.door_step(p)
+        self.status = QUEUE
+        return self.act()
+
+    def door_step(self, p: Perception) -> Action:
+        """The door robot moves along P until door_depth of target floor lies behind it."""
+        P = np.array(AXES[self.pdir], dtype=float)
+        if (self.stepping and not p.probe(-P * self.p.door_depth)
+                and p.probe(P * self.p.door_depth) and self.stepped < 4 * self.p.door_depth):
+            self.stepped += self.p.v
+            return self.act(P * self.p.v)
+        self.stepping = False
+        return self.act(sleep=True, wake_range=0.0)
+
+    # ------------------------------------------------------------------ queue (the line)
+    def queue(self, p: Perception) -> Action:
+        m = p.messages
+        heard = self.heard(p)
+        if self.door == NO_DOOR:
+            known = np.flatnonzero(heard & (m["door"] != NO_DOOR))
+            if len(known):
+                self.door, self.pdir = int(m["door"][known[0]]), int(m["pdir"][known[0]])
+        link = (p.distances <= 2.0 * self.p.d_min) & heard & (m["hops"] < INF_GRADIENT)
+        link &= ((m["status"] == QUEUE) | (m["status"] == DOOR)) & (m["door"] == self.door)
+        sees_door = bool((heard & (m["id"] == self.door)).any())
+        hops = 1 if sees_door else (int(m["hops"][link].min()) + 1 if link.any() else INF_GRADIENT)
+        self.hops = hops if hops <= MAX_HOPS else INF_GRADIENT  # no counting to infinity
+        movers = (m["status"] == MOVING) & heard & (p.distances <= self.p.avoid_range + 0.5)
+        if movers.any():  # make way for a robot entering the lattice
+            k = int(np.flatnonzero(movers)[0])
+            away = -p.offsets[k] / max(float(p.distances[k]), 1e-9)
+            return self.act(away * self.p.v * (1.0 if self.clear_ahead(p, away) else 0.5))
+        at = np.flatnonzero((m["id"] == self.door) & heard)
+        if len(at):
+            door = p.offsets[int(at[0])]
+            if m["moving"][int(at[0])]:  # the door robot is still stepping in: wait
+                return self.act(sleep=True, wake_range=float(np.hypot(*door)) + 0.5)
+            if float(np.hypot(*door)) <= self.p.door_radius:
+                entered = self.try_enter(p, door)
+                if entered is not None:
+                    return entered
+                return self.act(sleep=True,
+                                wake_range=self.p.clearance + self.p.door_radius + 0.5)
+            goal = door
+        else:
+            parents = np.flatnonzero(link & (m["hops"] < self.hops))
+            if not len(parents):
+                return self.act(sleep=True, wake_range=2.0 * self.p.d_min)
+            goal = p.offsets[int(parents[0])]
+        heading = unit(goal)
+        if not self.clear_ahead(p, heading):
+            return self.act(sleep=True, wake_range=self.p.queue_gap + 0.5)
+        return self.act(heading * self.p.v)
+
+    def clear_ahead(self, p: Perception, heading: np.ndarray) -> bool:
+        """No robot within queue_gap in a 60-degree cone around ``heading``."""
+        ahead = (p.distances <= self.p.queue_gap) & (p.offsets @ heading > 0.5 * p.distances)
+        return not ahead.any()
+
+    def try_enter(self, p: Perception, door: np.ndarray) -> Action | None:
+        """Step onto the entry cell if it is my turn and the entry cell is free."""
+        m = p.messages
+        heard = self.heard(p)
+        from_door = np.hypot(*(p.offsets - door).T)
+        heard &= m["door"] == self.door
+        if ((m["status"] == MOVING) & heard & (from_door <= self.p.clearance)).any():
+            return None
+        mine = float(np.hypot(*door))
+        rivals = heard & (m["status"] == QUEUE) & (from_door <= self.p.door_radius)
+        tie = np.abs(from_door - mine) <= 1e-6
+        rivals &= ((from_door < mine) & ~tie) | (tie & (m["id"] < self.id))
+        if rivals.any():
+            return None
+        self.pos = -door
+        entry = self.entry_cell(p)
+        if entry is None or self.settled_at(p, entry) or self.active_at(p, entry):
+            return None
+        self.status = MOVING
+        self.cell, self.history, self.goal, self.waited = (0, 0), [], entry, 0
+        return self.moving(p)
+
+    def entry_cell(self, p: Perception) -> tuple[int, int] | None:
+        """The door's first neighbouring cell (P, S, -S, -P order) on the target floor."""
+        P = AXES[self.pdir]
+        S = rotate(P, self.p.turn)
+        for d in (P, S, neg(S), neg(P)):
+            if not self.wall(p, d):
+                return d
+        return None
+
+    # ------------------------------------------------------------------ moving (FCDFS)
+    def centre(self, c: tuple[int, int]) -> np.ndarray:
+        return np.array(c, dtype=float) * self.p.spacing
+
+    def wall(self, p: Perception, c: tuple[int, int]) -> bool:
+        return not p.probe(self.centre(c) - self.pos)
+
+    def settled_at(self, p: Perception, c: tuple[int, int]) -> bool:
+        """A settled robot holds cell c: one of this door's lattice, or any settled robot
+        standing within half a cell of its centre (another group's lattice)."""
+        m = p.messages
+        done = ((m["status"] == SETTLED) | (m["status"] == DOOR)) & self.heard(p)
+        mine = done & (m["door"] == self.door)
+        if (mine & (m["ci"] == c[0]) & (m["cj"] == c[1])).any():
+            return True
+        other = done & ~mine
+        if not other.any():
+            return False
+        there = self.pos + p.offsets[other] - self.centre(c)
+        return bool((np.hypot(*there.T) < 0.5 * self.p.spacing).any())
+
+    def blocked(self, p: Perception, c: tuple[int, int]) -> bool:
+        """A wall or a settled robot (the door robot holds cell (0, 0))."""
+        return c == (0, 0) or self.settled_at(p, c) or self.wall(p, c)
+
+    def active_at(self, p: Perception, c: tuple[int, int]) -> bool:
+        """Another moving robot is heading to cell c or standing in it."""
+        m = p.messages
+        moving = (m["status"] == MOVING) & self.heard(p)
+        if (moving & (m["door"] == self.door) & (m["ci"] == c[0]) & (m["cj"] == c[1])).any():
+            return True
+        there = self.pos + p.offsets[moving] - self.centre(c)
+        return bool((np.hypot(*there.T) < 0.5 * self.p.spacing).any()) if len(there) else False
+
+    def decide(self, p: Perception) -> tuple[int, int] | str | None:
+        """FCDFS rules at the current cell: the next cell, "settle", or None (wait)."""
+        c = self.cell
+        P = AXES[self.pdir]
+        S = rotate(P, self.p.turn)
+        for d in (P, S):
+            nxt = add(c, d)
+            if not self.blocked(p, nxt):
+                return None if self.active_at(p, nxt) else nxt
+        came = (self.history[-1][0] - c[0], self.history[-1][1] - c[1]) if self.history \
+            else neg(P)
+        free = [a for a in AXES if not self.blocked(p, add(c, a))]
+        if len(free) <= 1:
+            # a dead end, if the robot came in through its one free side; at the entry cell
+            # (entered from the door robot's cell) the free side leads on: turn there
+            if not free or free[0] == came:
+                return "settle"
+            return self.turn_to(p, free[0])
+        diag = add(c, neg(add(P, S)))
+        if (len(self.history) >= 2 and self.history[-2] == diag) or not self.blocked(p, diag):
+            return "settle"
+        return self.turn_to(p, neg(S) if neg(P) == came else neg(P))
+
+    def turn_to(self, p: Perception, d: tuple[int, int]) -> tuple[int, int] | None:
+        """Make ``d`` the primary direction and head one cell that way (None: wait)."""
+        self.pdir = AXES.index(d)
+        nxt = add(self.cell, d)
+        return None if self.active_at(p, nxt) else nxt
+
+    def moving(self, p: Perception) -> Action:
+        if self.goal is not None and self.settled_at(p, self.goal):
+            self.goal = None  # someone settled there first: choose again from this cell
+        if self.goal is not None:
+            to_goal = self.centre(self.goal) - self.pos
+            if float(np.hypot(*to_goal)) > self.p.arrive_tolerance:
+                return self.go(p, to_goal)
+            if self.cell != (0, 0):  # the door robot's cell is a wall, not a visited cell
+                self.history.append(self.cell)
+            self.cell, self.goal = self.goal, None
+        if self.cell == (0, 0):  # lost the entry cell on the way in: back to the line
+            self.status = QUEUE
+            return self.act()
+        choice = self.decide(p)
+        if choice == "settle":
+            return self.settle()
+        if choice is None:
+            self.waited += 1
+            if self.waited >= self.p.patience:
+                return self.settle()
+            return self.act()
+        self.waited = 0
+        self.goal = choice
+        return self.go(p, self.centre(choice) - self.pos)
+
+    def settle(self) -> Action:
+        self.status = SETTLED
+        self.goal = None
+        return self.act(sleep=True, wake_range=0.0)
+
+    def go(self, p: Perception, to_goal: np.ndarray) -> Action:
+        """Head for the goal at speed v, side-stepping robots close ahead."""
+        dist = float(np.hypot(*to_goal))
+        v = unit(to_goal) * min(self.p.v, dist)
+        close = (p.distances <= self.p.avoid_range) & (p.distances > 1e-9)
+        for k in np.flatnonzero(close):
+            u = p.offsets[k] / p.distances[k]
+            toward = float(v @ u)
+            if toward > 0:
+                v = v - toward * u + rotate_vec(u, self.p.turn) * toward
+        v = unit(v) * min(self.p.v, dist)
+        return self.act(v)
+
+
+def rotate_vec(u: np.ndarray, turn: int) -> np.ndarray:
+    """A unit vector turned 90 degrees (side-step direction)."""
+    return np.array([-u[1], u[0]]) if turn > 0 else np.array([u[1], -u[0]])
+
+
+__all__ = ["FCDFS", "FCDFSParams"]

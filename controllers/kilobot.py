@@ -1,0 +1,364 @@
+"""Kilobot programmable self-assembly (Rubenstein, Cornejo & Nagpal, Science 345:795, 2014),
+the GGC paper's comparison algorithm [41], in the GGC paper's units.
+
+Rules (reconstructed from the supplementary pseudocode as mirrored by public
+implementations; /work/shared/research/algorithms.md section 2):
+
+* Start: the swarm stands as one hexagonal formation (spacing ``d_min``) around the seed
+  (the RobotSetup leader, gradient 0; no grouping: every robot follows the one seed). The
+  Kilobot seeds stand next to the shape, so the seed first leads the formation there, as GGC
+  does: it heads for the beacon and broadcasts a travel command; every robot copies its
+  gradient parent's command one tick later (the formation moves rigidly) and the seed halts
+  when its floor sensor finds the target. It then stays, joined.
+* Gradient: a waiting robot's gradient is 1 + the smallest gradient among stationary
+  neighbours within 1.5 * d_min (hop count from the seed through the formation); a moving
+  robot's is 1 + the smallest among stationary neighbours within ``gradient_reach * d_cover``
+  (Kilobot's GRADIENT_DIST / DESIRED_DIST ~ 1.3).
+* Start moving (WAIT -> MOVE): only when no moving robot is within ``quiet_range``, and no
+  waiting neighbour within ``start_range`` has a larger gradient, or the same gradient and a
+  larger id (so the outermost robots peel off one per neighbourhood).
+* Edge-following: keep ``d_cover`` from the nearest stationary robot, rotating around it
+  (``orbit`` -1: clockwise, as the Kilobots do); yield (wait) while a moving robot with a
+  larger id is within ``yield_distance`` ahead.
+* Join (stop for good), only on the target and at least d_cover - arrive_tolerance from the
+  nearest stationary robot: when the floor probe ``probe_distance`` ahead leaves the target
+  ("about to leave the shape"), or when the nearest stationary robot has joined with a
+  gradient >= this robot's (its layer is full). A robot outside the target never joins.
+* Our additions for robustness (documented; the Kilobot paper has no such rule): a robot that
+  has circled the same robot all the way round, or has moved less than ``theta`` in ``T_r``
+  ticks (trapped in a pocket narrower than d_cover), stops for good (joins), even off the
+  target, so that it cannot keep every waiting robot near it waiting forever; a moving robot
+  that senses no stationary robot heads for the beacon.
+
+Kilobots localize by trilateration and test their estimated position against a stored shape
+bitmap; here the floor sensor and a 1-unit probe play that role, like GGC's robots.
+
+Sensing: distances and bearings of neighbours within max(gradient_reach * d_cover,
+quiet_range), their broadcast gradient, id, status and travel command, the floor sensor, a
+floor probe 1 unit ahead, and (seed only) the beacon's bearing: the same class of sensing as
+GGC (hop counts and distances); no map of the target.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup, register
+
+TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
+STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
+MOVING = (OUTSIDE, INSIDE)
+CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    n = math.hypot(float(v[0]), float(v[1]))
+    return v / n if n > 1e-12 else np.zeros(2)
+
+
+class FormationTravel:
+    """The formation's trip to the target, GGC's way (shared with the FCDFS controller).
+
+    The leader sets ``cmd``/``travel``; every other robot copies them from its gradient parent
+    (the nearest stationary neighbour within 1.5 * d_min whose gradient is one less) one tick
+    later. Subclasses provide ``grad``, ``p.d_min`` and ``p.init_timeout``.
+    """
+
+    grad: int
+    cmd: int
+    travel: np.ndarray
+
+    def heard(self, p: Perception) -> np.ndarray:
+        return p.messages["id"] != NO_SENDER
+
+    def formation_gradient(self, p: Perception) -> int | None:
+        """1 + the smallest gradient of stationary neighbours within 1.5 d_min."""
+        m = p.messages
+        ok = (p.distances <= 1.5 * self.p.d_min) & ~m["moving"] & self.heard(p)
+        ok &= m["gradient"] < INF_GRADIENT
+        if not ok.any():
+            return None
+        return int(m["gradient"][ok].min()) + 1
+
+    def travel_parent(self, p: Perception) -> np.void | None:
+        m = p.messages
+        ok = (p.distances <= 1.5 * self.p.d_min) & ~m["moving"] & self.heard(p)
+        ok &= m["gradient"] == self.grad - 1
+        idx = np.flatnonzero(ok)
+        return m[idx[0]] if len(idx) else None
+
+    def follow_travel(self, p: Perception) -> int | None:
+        """Copy the parent's travel command; returns the command, or None with no gradient."""
+        grad = self.formation_gradient(p)
+        if grad is None:
+            return None
+        self.grad = grad
+        parent = self.travel_parent(p)
+        if parent is None:
+            return None
+        self.cmd = int(parent["cmd"])
+        self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
+        if self.cmd != CMD_TRAVEL:
+            self.travel[:] = 0.0
+        return self.cmd
+
+
+@dataclass(frozen=True)
+class KilobotParams:
+    """Parameters of the Kilobot self-assembly controller (lengths in units, times in ticks).
+
+    Attributes:
+        d_safe: safe distance (paper Table 2: 1).
+        d_cover: edge-following and joining distance (Kilobot's DESIRED_DIST; GGC's coverage
+            distance, default 6).
+        d_min: spacing of the start formation; waiting robots relay the gradient within
+            1.5 * d_min.
+        v: speed (paper Table 2: 0.1 per tick).
+        gradient_reach: a moving robot takes its gradient from stationary neighbours within
+            gradient_reach * d_cover.
+        start_range: a waiting robot compares gradients with waiting neighbours this close.
+        quiet_range: a waiting robot starts only when no moving robot is this close (default
+            d_cover + d_safe: an edge-follower passing by blocks it).
+        yield_distance: a moving robot waits while a moving robot with a larger id is this
+            close ahead.
+        radial_gain: edge following: radial correction per unit of distance error.
+        arrive_tolerance: a robot joins only at least d_cover - arrive_tolerance from the
+            nearest stationary robot.
+        probe_distance: the floor probe looks this far ahead (<= 2, the engine's probe range).
+        orbit: -1 follows edges clockwise (the Kilobots' sense), +1 counter-clockwise.
+        init_timeout: a robot that has heard no gradient after this many ticks starts waiting
+            with an infinite gradient.
+        T_r: progress is checked every T_r ticks while moving (our robustness addition).
+        theta: a moving robot that moved less than theta in T_r ticks joins.
+    """
+
+    d_safe: float = 1.0
+    d_cover: float = 6.0
+    d_min: float = 1.0
+    v: float = 0.1
+    gradient_reach: float = 1.3
+    start_range: float = 6.0
+    quiet_range: float = 7.0
+    yield_distance: float = 2.0
+    radial_gain: float = 1.0
+    arrive_tolerance: float = 0.3
+    probe_distance: float = 1.0
+    orbit: int = -1
+    init_timeout: int = 400
+    T_r: int = 100
+    theta: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
+                     "quiet_range", "yield_distance", "radial_gain", "probe_distance",
+                     "init_timeout", "T_r"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"Kilobot parameter {name} must be positive, got "
+                                 f"{getattr(self, name)!r}")
+        if self.d_cover < self.d_safe:
+            raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
+        if self.orbit not in (1, -1):
+            raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
+        if self.arrive_tolerance < 0 or self.theta < 0:
+            raise ValueError("arrive_tolerance and theta must be >= 0")
+        if self.probe_distance > 2.0:
+            raise ValueError(f"probe_distance ({self.probe_distance}) must be <= 2 (the "
+                             "engine's default probe range)")
+
+
+@register
+class Kilobot(FormationTravel):
+    """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
+
+    name = "kilobot"
+    Params = KilobotParams
+    STATUSES = STATUSES
+    MESSAGE_FIELDS = MESSAGE_FIELDS
+    default_start = "formation"
+    requires_beacon = True
+
+    @classmethod
+    def sensing_range(cls, params: KilobotParams) -> float:
+        return max(params.gradient_reach * params.d_cover, params.quiet_range,
+                   params.start_range, params.yield_distance, params.d_cover + 2)
+
+    @classmethod
+    def summarize(cls, robots) -> dict:
+        counts: dict[str, int] = {}
+        for r in robots:
+            counts[STATUSES[r.status]] = counts.get(STATUSES[r.status], 0) + 1
+        return {"status_counts": dict(sorted(counts.items()))}
+
+    def __init__(self, setup: RobotSetup, params: KilobotParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.group = setup.group
+        self.leader = setup.leader
+        self.p = params
+        self.status = TRAVEL
+        self.grad = 0 if self.leader else INF_GRADIENT
+        self.cmd = CMD_NONE
+        self.travel = np.zeros(2)
+        self.heading = np.zeros(2)
+        self.circling_id = NO_SENDER
+        self.circled = 0.0
+        self.last_bearing: float | None = None
+        self.odometer = np.zeros(2)
+        self.progress_tick = 0
+
+    # ------------------------------------------------------------------ messages
+    def act(self, velocity=(0.0, 0.0), sleep: bool = False,
+            wake_range: float | None = None) -> Action:
+        msg = (self.id, self.status, self.grad, self.group, self.leader,
+               self.status in MOVING, self.cmd, float(self.travel[0]), float(self.travel[1]))
+        return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
+                      self.listen_range())
+
+    def listen_range(self) -> float | None:
+        """How far this robot needs to hear next tick (less is cheaper)."""
+        if self.status == TRAVEL:
+            return 1.5 * self.p.d_min
+        if self.status == WAIT:
+            return max(self.p.start_range, self.p.quiet_range, 1.5 * self.p.d_min)
+        if self.status == JOINED:
+            return self.p.d_safe
+        return None
+
+    def step(self, p: Perception) -> Action:
+        self.odometer += p.moved
+        if self.status == TRAVEL:
+            return self.lead(p) if self.leader else self.follow(p)
+        if self.status == WAIT:
+            return self.wait(p)
+        if self.status in MOVING:
+            return self.move(p)
+        return self.act(sleep=True, wake_range=0.0)
+
+    # ------------------------------------------------------------------ travel
+    def lead(self, p: Perception) -> Action:
+        """The seed heads for the beacon until its floor sensor finds the target."""
+        if p.on_target or p.beacon is None:
+            self.cmd, self.travel = CMD_HALT, np.zeros(2)
+            self.status = JOINED
+            return self.act()
+        self.cmd, self.travel = CMD_TRAVEL, p.beacon * self.p.v
+        return self.act(self.travel)
+
+    def follow(self, p: Perception) -> Action:
+        cmd = self.follow_travel(p)
+        if cmd is None:
+            if p.tick >= self.p.init_timeout:
+                self.status = WAIT
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+        if cmd == CMD_HALT:
+            self.status = WAIT
+            return self.act()
+        return self.act(self.travel)
+
+    # ------------------------------------------------------------------ waiting
+    def wait(self, p: Perception) -> Action:
+        grad = self.formation_gradient(p)
+        if grad is not None:
+            self.grad = grad
+        if self.blocked(p):
+            return self.act(sleep=True, wake_range=max(self.p.start_range, self.p.quiet_range))
+        self.status = INSIDE if p.on_target else OUTSIDE
+        self.odometer[:] = 0.0
+        self.progress_tick = p.tick
+        return self.move(p)
+
+    def blocked(self, p: Perception) -> bool:
+        """Kilobot's start rule: wait while a robot moves nearby or a waiting one outranks."""
+        m = p.messages
+        heard = self.heard(p)
+        if ((p.distances <= self.p.quiet_range) & m["moving"] & heard).any():
+            return True
+        near = (p.distances <= self.p.start_range) & heard
+        near &= (m["status"] == WAIT) | (m["status"] == TRAVEL)
+        outranks = (m["gradient"] > self.grad) | ((m["gradient"] == self.grad)
+                                                  & (m["id"] > self.id))
+        return bool((near & outranks).any())
+
+    # ------------------------------------------------------------------ moving
+    def move(self, p: Perception) -> Action:
+        self.status = INSIDE if p.on_target else OUTSIDE
+        structure = np.flatnonzero(~p.messages["moving"])
+        if len(structure) == 0:
+            return self.wander(p)
+        nearest = int(structure[0])
+        velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
+        self.heading = unit(velocity)
+        trapped = self.circling(p, nearest) or self.stuck(p)
+        if self.should_join(p, nearest) or trapped:
+            self.status = JOINED
+            return self.act()
+        self.update_gradient(p)
+        if self.must_yield(p, velocity):
+            return self.act()
+        return self.act(velocity)
+
+    def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
+        radial = offset / max(dist, 1e-9)
+        tangent = np.array([radial[1], -radial[0]]) * self.p.orbit
+        error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
+        return unit(tangent + error * radial) * self.p.v
+
+    def should_join(self, p: Perception, nearest: int) -> bool:
+        if not p.on_target or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
+            return False
+        if not p.probe(self.heading * self.p.probe_distance):
+            return True
+        m = p.messages[nearest]
+        return bool(m["id"] != NO_SENDER and m["status"] == JOINED and m["gradient"] >= self.grad)
+
+    def update_gradient(self, p: Perception) -> None:
+        m = p.messages
+        ok = (p.distances <= self.p.gradient_reach * self.p.d_cover) & ~m["moving"]
+        ok &= self.heard(p) & (m["gradient"] < INF_GRADIENT)
+        if ok.any():
+            self.grad = int(m["gradient"][ok].min()) + 1
+
+    def circling(self, p: Perception, nearest: int) -> bool:
+        """True once the robot has gone all the way round the same neighbour."""
+        sender = int(p.messages["id"][nearest])
+        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
+        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
+            self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
+            return False
+        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
+        self.circled += turn
+        self.last_bearing = bearing
+        return abs(self.circled) > 2 * math.pi
+
+    def stuck(self, p: Perception) -> bool:
+        """Moved less than theta over the last T_r ticks."""
+        if p.tick - self.progress_tick < self.p.T_r:
+            return False
+        moved = math.hypot(*self.odometer)
+        self.odometer[:] = 0.0
+        self.progress_tick = p.tick
+        return moved <= self.p.theta
+
+    def must_yield(self, p: Perception, velocity: np.ndarray) -> bool:
+        close = ((p.distances <= self.p.yield_distance) & p.messages["moving"]
+                 & (p.messages["id"] > self.id))
+        if not close.any():
+            return False
+        return bool((p.offsets[close] @ velocity > 0).any())
+
+    def wander(self, p: Perception) -> Action:
+        """No stationary robot in range: head for the beacon (or keep going)."""
+        if p.beacon is not None and not p.on_target:
+            self.heading = p.beacon
+        if not self.heading.any():
+            self.heading = np.array([1.0, 0.0])
+        if p.on_target and not p.probe(self.heading * self.p.probe_distance):
+            self.status = JOINED
+            return self.act()
+        return self.act(self.heading * self.p.v)
+
+
+__all__ = ["FormationTravel", "Kilobot", "KilobotParams"]

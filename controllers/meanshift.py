@@ -1,0 +1,196 @@
+"""Mean-shift exploration shape assembly (Sun, Zhou, Ma, Li, Gross, Chen & Zhao, Nat. Commun.
+14:3476, 2023), scaled to the GGC paper's units; a modern assignment-free anchor.
+
+Each robot sums three velocity commands (from the released MATLAB code's structure, see
+/work/shared/research/algorithms.md section 5a), then low-pass filters and caps the sum:
+
+* Entering: off the target, head for the nearest sensed target point (the beacon when none is
+  sensed): ``kappa_enter`` times a unit vector.
+* Exploring (mean shift): with the raised-cosine kernel W(d) = (1 + cos(pi d / R)) / 2 over the
+  sensed target points within R = ``r_sense``, ``m_fill`` is the W-weighted mean of all of them
+  and ``m_expl`` the W-weighted mean of those not occupied by a neighbour (within
+  ``r_occupied`` of one); the command is ``kappa_fill (m_fill - p) + kappa_expl (m_expl - p)``:
+  a robot surrounded by neighbours and free target floor gives up its place for the densest
+  free floor nearby.
+* Interaction: repulsion ``kappa_avoid (d_cover - d) / d`` along the unit vector away from
+  each neighbour closer than ``d_cover`` (the paper's r_avoid), and velocity consensus
+  ``-kappa_cons * mean_j (v_i - v_j)`` over neighbours within r_sense (neighbours broadcast
+  their velocity).
+* ``v <- (1 - inertia) * cmd + inertia * v``, capped at v_max (the code's 0.1 / 0.9 filter).
+
+Scaling from the paper's units (r_avoid 1.5, r_sense 2.5, v_max 5 per second, dt 0.01 s) to
+ours (d_cover 6 = r_avoid, so lengths x4; v 0.1 per tick, so speeds x0.02): gains on lengths
+(kappa_fill 5, kappa_expl 15) become /200, gains on unit vectors or ratios (kappa_enter 10,
+kappa_avoid 25) become x0.02, kappa_cons stays 1, r_sense = 2.5 / 1.5 * d_cover = 10.
+The paper's gray "halo" around the shape (which guides robots in from afar) is replaced by the
+beacon's bearing, and its shape-pose negotiation is not needed (the target is fixed).
+
+Sensing: relative positions (bearing and distance) of every neighbour within r_sense, their
+broadcast velocities, a local map of the target floor within r_sense (``min_probe_range`` 10:
+the engine must let the floor probe reach that far; GGC's robots sense only the floor under
+them and 2 units ahead), odometry and the beacon's bearing. Far more than GGC's hop counts and
+distances.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
+
+from .cvt import LocalMap, clamp
+
+SEEKING, EXPLORING, RESTING = 0, 1, 2
+STATUSES = ("Seeking", "Exploring", "Resting")
+MESSAGE_FIELDS = [("vx", "f4"), ("vy", "f4")]
+MIN_PROBE_RANGE = 10.0
+
+
+@dataclass(frozen=True)
+class MeanShiftParams:
+    """Parameters of the mean-shift controller (lengths in units, speeds in units per tick).
+
+    Attributes:
+        d_cover: avoidance distance (the paper's r_avoid): neighbours closer repel; sets the
+            spacing, like GGC's d_cover (default 6).
+        r_sense: kernel radius R and sensing radius for neighbours and floor (paper:
+            2.5 / 1.5 r_avoid = 10; at most the class's min_probe_range, 10).
+        r_occupied: a sensed target point within this distance of a neighbour is occupied
+            (paper: max(r_avoid / 2, 2 r_body) = 3).
+        map_cell: spacing of the lattice of floor points a robot senses.
+        v: top speed (paper Table 2: 0.1).
+        kappa_enter: entering speed toward the nearest target point (paper 10 -> 0.2).
+        kappa_fill: gain toward the kernel mean of all target points (paper 5 -> 0.025).
+        kappa_expl: gain toward the kernel mean of unoccupied target points (15 -> 0.075).
+        kappa_avoid: avoidance gain (paper 25 -> 0.5).
+        kappa_cons: velocity-consensus gain (paper 1).
+        inertia: weight of the previous velocity in the low-pass filter (paper 0.9).
+        deadband: a robot whose command and velocity are both below this rests (and sleeps).
+    """
+
+    d_cover: float = 6.0
+    r_sense: float = 10.0
+    r_occupied: float = 3.0
+    map_cell: float = 1.0
+    v: float = 0.1
+    kappa_enter: float = 0.2
+    kappa_fill: float = 0.025
+    kappa_expl: float = 0.075
+    kappa_avoid: float = 0.5
+    kappa_cons: float = 1.0
+    inertia: float = 0.9
+    deadband: float = 0.004
+
+    def __post_init__(self) -> None:
+        for name in ("d_cover", "r_sense", "r_occupied", "map_cell", "v", "kappa_enter"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"mean-shift parameter {name} must be positive, got "
+                                 f"{getattr(self, name)!r}")
+        for name in ("kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons", "deadband"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"mean-shift parameter {name} must be >= 0, got "
+                                 f"{getattr(self, name)!r}")
+        if not 0 <= self.inertia < 1:
+            raise ValueError(f"inertia must be in [0, 1), got {self.inertia!r}")
+        if self.r_sense > MIN_PROBE_RANGE:
+            raise ValueError(f"r_sense ({self.r_sense}) must not exceed the probe range the "
+                             f"controller requests ({MIN_PROBE_RANGE})")
+        if self.map_cell > self.r_sense / 4:
+            raise ValueError(f"map_cell ({self.map_cell}) must be at most r_sense / 4")
+
+
+@register
+class MeanShift:
+    """Sun et al. 2023: enter, explore free target floor by mean shift, avoid, agree."""
+
+    name = "meanshift"
+    Params = MeanShiftParams
+    STATUSES = STATUSES
+    MESSAGE_FIELDS = MESSAGE_FIELDS
+    requires_beacon = True
+    min_probe_range = MIN_PROBE_RANGE
+
+    @classmethod
+    def sensing_range(cls, params: MeanShiftParams) -> float:
+        return max(params.r_sense + params.r_occupied, params.d_cover)
+
+    def __init__(self, setup: RobotSetup, params: MeanShiftParams, rng: np.random.Generator):
+        self.id = setup.robot_id
+        self.group = setup.group
+        self.leader = setup.leader
+        self.p = params
+        self.map = LocalMap(params.r_sense, params.map_cell)
+        self.velocity = np.zeros(2)
+        self.status = SEEKING
+
+    def message(self) -> tuple:
+        return (self.id, self.status, 0, self.group, self.leader, self.status != RESTING,
+                float(self.velocity[0]), float(self.velocity[1]))
+
+    def entering(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
+        if p.on_target:
+            return np.zeros(2)
+        if target.any():
+            q = points[target]
+            goal = q[np.argmin((q * q).sum(axis=1))]
+            n = math.hypot(float(goal[0]), float(goal[1]))
+            if n > 1e-9:
+                return self.p.kappa_enter * goal / n
+        if p.beacon is not None:
+            return self.p.kappa_enter * p.beacon
+        return np.zeros(2)
+
+    def exploring(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
+        q = points[target]
+        if len(q) == 0:
+            return np.zeros(2)
+        d = np.sqrt((q * q).sum(axis=1))
+        w = 0.5 * (1.0 + np.cos(np.pi * np.minimum(d / self.p.r_sense, 1.0)))
+        out = np.zeros(2)
+        if w.sum() > 0:
+            out += self.p.kappa_fill * (w[:, None] * q).sum(axis=0) / w.sum()
+        near = p.distances <= self.p.r_sense + self.p.r_occupied
+        free = np.ones(len(q), dtype=bool)
+        if near.any():
+            nb = p.offsets[near]
+            d2 = ((q[:, None, :] - nb[None, :, :]) ** 2).sum(axis=2).min(axis=1)
+            free = d2 > self.p.r_occupied ** 2
+        wf = w[free]
+        if wf.sum() > 0:
+            out += self.p.kappa_expl * (wf[:, None] * q[free]).sum(axis=0) / wf.sum()
+        return out
+
+    def interaction(self, p: Perception) -> np.ndarray:
+        out = np.zeros(2)
+        close = p.distances < self.p.d_cover
+        if close.any():
+            d = np.maximum(p.distances[close], 1e-6)
+            push = (self.p.d_cover - d) / d
+            out -= self.p.kappa_avoid * (p.offsets[close] / d[:, None] * push[:, None]).sum(0)
+        heard = (p.distances <= self.p.r_sense) & (p.messages["id"] != NO_SENDER)
+        if heard.any() and self.p.kappa_cons > 0:
+            vj = np.column_stack([p.messages["vx"][heard], p.messages["vy"][heard]])
+            out -= self.p.kappa_cons * (self.velocity - vj.astype(float)).mean(axis=0)
+        return out
+
+    def step(self, p: Perception) -> Action:
+        self.map.move(p.moved)
+        points, target = self.map.sense(p)
+        cmd = self.entering(p, points, target) + self.exploring(p, points, target)
+        cmd = cmd + self.interaction(p)
+        cmd = clamp(cmd, self.p.v)
+        v = clamp((1 - self.p.inertia) * cmd + self.p.inertia * self.velocity, self.p.v)
+        speed = math.hypot(float(v[0]), float(v[1]))
+        if speed < self.p.deadband and math.hypot(*cmd) < self.p.deadband:
+            self.velocity = np.zeros(2)
+            self.status = RESTING if p.on_target else SEEKING
+            return Action((0.0, 0.0), self.message(), sleep=True)
+        self.velocity = v
+        self.status = EXPLORING if p.on_target else SEEKING
+        return Action((float(v[0]), float(v[1])), self.message())
+
+
+__all__ = ["MeanShift", "MeanShiftParams"]
