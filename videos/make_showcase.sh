@@ -10,3 +10,4 @@ sm=${SWARMSIM:-.venv/bin/swarmsim}
 "$sm" run K --groups 3 --seed 1 --video "$out/K-ggc-3groups.mp4" --frame-every 60 --fps 30 \
   --width 480 --color-by group --snapshot "$out/K-ggc-3groups.png" --out "$out/K-ggc-3groups" \
   --quiet
+rm -f "$out/K-ggc-3groups/timeseries.csv"  # keep the showcase small: summary + plot only
