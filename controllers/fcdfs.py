@@ -40,9 +40,9 @@ Our continuous-space version (the paper's grid is abstract; every choice here is
   bearing. Everything is relayed through the formation with the halt command. The door's
   cell is a wall for FCDFS; the entry cell (FCDFS's door cell, filled last) is the first of
   the door's neighbours in the order P, S, -S, -P that is target floor.
-* The line: the other robots queue toward the door (straight at it when they sense it, else
-  toward their neighbour with the fewest hops to it), keeping ``queue_gap`` from the robot
-  ahead, and step away from an entering robot closer than avoid_range + 0.5. The queued
+* The line: the other robots queue toward a point 0.6 door_radius behind the door (away
+  from the lattice; straight at it when they sense the door, else toward their neighbour with the
+  fewest hops to it), keeping ``queue_gap`` from the robot ahead, and step away from an entering robot closer than avoid_range + 0.5. The queued
   robot nearest the door steps onto the entry cell when no entered robot is still moving
   within ``entry_clearance`` of the door and the entry cell is neither settled nor taken.
 * Moving robots go from cell centre to cell centre (dead reckoning from the door), side-step
@@ -314,21 +314,26 @@ class FCDFS(FormationTravel):
             door = p.offsets[int(at[0])]
             if m["moving"][int(at[0])]:  # the door robot is still stepping in: wait
                 return self.act(sleep=True, wake_range=float(np.hypot(*door)) + 0.5)
-            if float(np.hypot(*door)) <= self.p.door_radius:
+            candidate = float(np.hypot(*door)) <= self.p.door_radius
+            if candidate:
                 entered = self.try_enter(p, door)
                 if entered is not None:
                     return entered
-                return self.act(sleep=True,
-                                wake_range=self.p.clearance + self.p.door_radius + 0.5)
-            goal = door
+            # queue behind the door (on the side away from the lattice), so that the way from
+            # the door into the lattice stays clear
+            goal = door - np.array(AXES[self.pdir], dtype=float) * 0.6 * self.p.door_radius
+            wake = self.p.clearance + self.p.door_radius + 0.5 if candidate else None
+            if float(np.hypot(*goal)) <= self.p.queue_gap:
+                return self.act(sleep=True, wake_range=wake or self.p.queue_gap + 0.5)
         else:
+            wake = None
             parents = np.flatnonzero(link & (m["hops"] < self.hops))
             if not len(parents):
                 return self.act(sleep=True, wake_range=2.0 * self.p.d_min)
             goal = p.offsets[int(parents[0])]
         heading = unit(goal)
         if not self.clear_ahead(p, heading):
-            return self.act(sleep=True, wake_range=self.p.queue_gap + 0.5)
+            return self.act(sleep=True, wake_range=wake or self.p.queue_gap + 0.5)
         return self.act(heading * self.p.v)
 
     def clear_ahead(self, p: Perception, heading: np.ndarray) -> bool:
@@ -372,7 +377,11 @@ class FCDFS(FormationTravel):
         return np.array(c, dtype=float) * self.p.spacing
 
     def wall(self, p: Perception, c: tuple[int, int]) -> bool:
-        return not p.probe(self.centre(c) - self.pos)
+        """The floor at the centre of cell c is not target (out of probe reach counts as wall)."""
+        offset = self.centre(c) - self.pos
+        if float(offset @ offset) > MIN_PROBE_RANGE ** 2:
+            return True
+        return not p.probe(offset)
 
     def settled_at(self, p: Perception, c: tuple[int, int]) -> bool:
         """A settled robot holds cell c: one of this door's lattice, or any settled robot
@@ -433,7 +442,11 @@ class FCDFS(FormationTravel):
     def moving(self, p: Perception) -> Action:
         if self.goal is not None and self.settled_at(p, self.goal):
             self.goal = None  # someone settled there first: choose again from this cell
-        if self.goal is not None:
+        if self.goal is None:  # (goal dropped on the way) back to the current cell first
+            to_cell = self.centre(self.cell) - self.pos
+            if float(np.hypot(*to_cell)) > self.p.arrive_tolerance:
+                return self.go(p, to_cell)
+        else:
             to_goal = self.centre(self.goal) - self.pos
             if float(np.hypot(*to_goal)) > self.p.arrive_tolerance:
                 return self.go(p, to_goal)

@@ -26,9 +26,10 @@ implementations; /work/shared/research/algorithms.md section 2):
   gradient >= this robot's (its layer is full). A robot outside the target never joins.
 * Our additions for robustness (documented; the Kilobot paper has no such rule): a robot that
   has circled the same robot all the way round, or has moved less than ``theta`` in ``T_r``
-  ticks (trapped in a pocket narrower than d_cover), stops for good (joins), even off the
-  target, so that it cannot keep every waiting robot near it waiting forever; a moving robot
-  that senses no stationary robot heads for the beacon.
+  ticks without yielding (trapped in a pocket narrower than d_cover), joins if it is on the
+  target and otherwise heads for the beacon for T_r ticks; trapped a third time in a row off
+  the target, it stops there for good (so that it cannot keep every waiting robot near it
+  waiting forever); a moving robot that senses no stationary robot heads for the beacon.
 
 Kilobots localize by trilateration and test their estimated position against a stored shape
 bitmap; here the floor sensor and a 1-unit probe play that role, like GGC's robots.
@@ -133,7 +134,8 @@ class KilobotParams:
         init_timeout: a robot that has heard no gradient after this many ticks starts waiting
             with an infinite gradient.
         T_r: progress is checked every T_r ticks while moving (our robustness addition).
-        theta: a moving robot that moved less than theta in T_r ticks joins.
+        theta: a moving robot that moved less than theta in T_r ticks (not counting ticks it
+            yielded) is trapped: on the target it joins, off it it heads for the beacon.
     """
 
     d_safe: float = 1.0
@@ -208,6 +210,8 @@ class Kilobot(FormationTravel):
         self.last_bearing: float | None = None
         self.odometer = np.zeros(2)
         self.progress_tick = 0
+        self.escape_until = -1
+        self.traps = 0
 
     # ------------------------------------------------------------------ messages
     def act(self, velocity=(0.0, 0.0), sleep: bool = False,
@@ -292,11 +296,18 @@ class Kilobot(FormationTravel):
         velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
         self.heading = unit(velocity)
         trapped = self.circling(p, nearest) or self.stuck(p)
-        if self.should_join(p, nearest) or trapped:
+        self.traps = self.traps + 1 if trapped else self.traps
+        if self.should_join(p, nearest) or (trapped and (p.on_target or self.traps > 2)):
             self.status = JOINED
             return self.act()
+        if trapped and p.beacon is not None:  # trapped off the target: make for the beacon
+            self.escape_until = p.tick + self.p.T_r
+        if p.tick < self.escape_until and p.beacon is not None:
+            velocity = p.beacon * self.p.v
         self.update_gradient(p)
         if self.must_yield(p, velocity):
+            self.progress_tick = p.tick  # waiting for another robot is not being stuck
+            self.odometer[:] = 0.0
             return self.act()
         return self.act(velocity)
 
@@ -340,6 +351,8 @@ class Kilobot(FormationTravel):
         moved = math.hypot(*self.odometer)
         self.odometer[:] = 0.0
         self.progress_tick = p.tick
+        if moved > self.p.theta:
+            self.traps = 0
         return moved <= self.p.theta
 
     def must_yield(self, p: Perception, velocity: np.ndarray) -> bool:
