@@ -28,7 +28,7 @@ from swarmsim.controller import (
 from swarmsim.errors import ConfigError
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.sensing import FloorSensor, NeighbourSearch, relative_view
+from swarmsim.sensing import FloorSensor, NeighbourSearch, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
@@ -168,11 +168,11 @@ class Simulation:
         moved = pos - self._prev_positions
         search = NeighbourSearch(pos)
         awake = self._awake_robots(search)
-        neighbour_lists = search.neighbours(awake, self.listen[awake])
+        views = search.neighbourhoods(awake, self.listen[awake])
         t1 = clock()
         new_messages = self.messages.copy()
         velocities = np.zeros((self.n, 2))
-        self._decide(awake, neighbour_lists, moved, new_messages, velocities)
+        self._decide(awake, views, moved, new_messages, velocities)
         self._changed_msg = _rows_differ(new_messages, self.messages)
         self.messages = new_messages
         self.velocities = _clamp(velocities, self.config.v_max)
@@ -229,20 +229,26 @@ class Simulation:
         hit &= self.wake_on_motion[near] | by_message[src]
         self.asleep[near[hit]] = False
 
-    def _decide(self, awake: np.ndarray, neighbour_lists: list[np.ndarray], moved: np.ndarray,
-                new_messages: np.ndarray, velocities: np.ndarray) -> None:
-        pos, msgs, on_target = self.positions, self.messages, self.on_target
-        silent_rows = self.failed
+    def _decide(self, awake: np.ndarray,
+                views: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]],
+                moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
+        pos, on_target = self.positions, self.on_target
+        neighbour_lists, offset_lists, distance_lists = views
+        heard = self.messages[np.concatenate(neighbour_lists)] if neighbour_lists else None
+        if heard is not None:
+            if self.failed.any():
+                heard[self.failed[np.concatenate(neighbour_lists)]] = self.silent
+            heard.flags.writeable = False  # every robot gets a read-only view of its part
+            bounds = split_bounds(np.fromiter(map(len, neighbour_lists), dtype=np.intp))
+            message_lists = [heard[a:b] for a, b in bounds]
         bearings = _bearings(self.world.beacon, pos[awake])
-        for k, (i, idx) in enumerate(zip(awake.tolist(), neighbour_lists, strict=True)):
-            offsets, dists = relative_view(pos, i, idx)
-            nb_msgs = msgs[idx]
-            if silent_rows.any():
-                nb_msgs[silent_rows[idx]] = self.silent
+        probe_at, tick = self.floor.probe_at, self.tick
+        for k, i in enumerate(awake.tolist()):
             perception = Perception(
-                tick=self.tick, offsets=offsets, distances=dists, messages=nb_msgs,
-                on_target=bool(on_target[i]), probe=self.floor.probe_at(*pos[i]),
-                beacon=None if bearings is None else bearings[k], moved=moved[i])
+                tick=tick, offsets=offset_lists[k], distances=distance_lists[k],
+                messages=message_lists[k], on_target=bool(on_target[i]),
+                probe=probe_at(*pos[i]), beacon=None if bearings is None else bearings[k],
+                moved=moved[i])
             action: Action = self.controllers[i].step(perception)
             vx, vy = action.velocity
             velocities[i] = (vx, vy)

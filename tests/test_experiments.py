@@ -387,3 +387,9 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
     again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
     assert again.sweep_line.startswith("2 runs: 2 done (0 run now")
+
+
+def test_world_may_be_given_only_as_a_grid_key(tmp_path):
+    path = write_spec(tmp_path, 'controller = "dispersion"\n[grid]\nworld = ["tiny", "corridor"]\n')
+    runs = load_spec(path).runs()
+    assert [r.world for r in runs] == ["tiny", "corridor"]

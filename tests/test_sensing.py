@@ -42,3 +42,23 @@ def test_floor_probe_and_range():
     assert not probe(np.array([-1.0, 0.0]))
     with pytest.raises(ValueError, match="probe range"):
         probe(np.array([3.0, 0.0]))
+
+
+def test_neighbourhoods_match_neighbours_and_relative_view():
+    from swarmsim.sensing import relative_view
+
+    rng = np.random.default_rng(3)
+    pos = rng.uniform(0, 20, (200, 2))
+    pos[5] = pos[6] + [1.0, 0.0]  # ties in distance are broken by index
+    pos[7] = pos[6] - [1.0, 0.0]
+    search = NeighbourSearch(pos)
+    robots = np.array([6, 0, 199, 42])
+    radii = np.array([3.0, 0.01, 5.0, 8.0])
+    idx, offsets, dists = search.neighbourhoods(robots, radii)
+    for k, i in enumerate(robots):
+        expected = search.neighbours(np.array([i]), radii[k])[0]
+        np.testing.assert_array_equal(idx[k], expected)
+        off, d = relative_view(pos, int(i), expected)
+        np.testing.assert_array_equal(offsets[k], off)
+        np.testing.assert_array_equal(dists[k], d)
+    assert len(idx[1]) == 0 and offsets[1].shape == (0, 2)

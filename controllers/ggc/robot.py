@@ -360,9 +360,12 @@ class GGCRobot:
 
     def other_group_mover(self, p: Perception) -> bool:
         """A robot of another group in Coverage within d_cover, with priority (larger id)."""
-        m = p.messages
-        near = (p.distances <= self.p.d_cover) & (m["group"] != self.group) & (m["id"] > self.id)
-        return bool((near & (m["status"] == COVERAGE)).any())
+        k = int(np.searchsorted(p.distances, self.p.d_cover, side="right"))
+        m = p.messages[:k]  # distances are sorted: the first k are within d_cover
+        others = m["group"] != self.group
+        if not others.any():
+            return False
+        return bool((others & (m["id"] > self.id) & (m["status"] == COVERAGE)).any())
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover."""
@@ -377,9 +380,9 @@ class GGCRobot:
         If it is coming toward us, back away from it so that it can pass; if it goes our
         way, wait. Returns the velocity to use instead, or None to carry on.
         """
-        m = p.messages
-        close = (p.distances <= self.p.yield_distance) & m["moving"] & (m["id"] > self.id)
-        ahead = np.flatnonzero(close)
+        k = int(np.searchsorted(p.distances, self.p.yield_distance, side="right"))
+        m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
+        ahead = np.flatnonzero(m["moving"] & (m["id"] > self.id))
         ahead = ahead[p.offsets[ahead] @ velocity > 0]
         if len(ahead) == 0:
             return None

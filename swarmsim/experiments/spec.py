@@ -168,13 +168,13 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
                           f"{', '.join(TOP_KEYS)}", source=source, key=unknown[0])
     name = _string(data, "name", "", source)
     description = _string(data, "description", "", source)
-    if "world" not in data:
-        raise ConfigError("missing (the world to run: a name or a .toml path)", source=source,
-                          key="world")
-    world = _string(data, "world", "", source)
-    controller = _string(data, "controller", "ggc", source)
     params = _params(data.get("params", {}), source)
     grid = _grid(data.get("grid"), source)
+    if "world" not in data and "world" not in grid:
+        raise ConfigError("missing (the world to run: a name or a .toml path; or a list of "
+                          "them as grid.world)", source=source, key="world")
+    world = _string(data, "world", str(grid.get("world", [""])[0]), source)
+    controller = _string(data, "controller", "ggc", source)
     both = [k for k in grid if k in params]
     if both:
         raise ConfigError(f"set both in [params] ({params[both[0]]!r}) and in [grid] "
