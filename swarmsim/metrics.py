@@ -154,6 +154,8 @@ class RunMetrics:
         self.total_impulse = 0.0
         self.contact_robot_ticks = 0
         self.plateau_tick = 0
+        self.settle_distance = 0.0
+        self.completion_distance = 0.0
         self._plateau_ref = -1.0
         self.last_change_tick = 0
         self.rows: list[dict] = []
@@ -176,9 +178,11 @@ class RunMetrics:
         self.coverage = self._coverage.update(positions)
         if self.completion_tick is None and 1.0 - self.coverage <= self.config.eps0 + 1e-12:
             self.completion_tick = tick
+            self.completion_distance = self.total_distance
         if self.coverage > self._plateau_ref + self.config.plateau_delta:
             self._plateau_ref = self.coverage
             self.plateau_tick = tick
+            self.settle_distance = self.total_distance
         in_contact, overlap, impulse = self.physics.contact_state()
         self.max_overlap = max(self.max_overlap, overlap)
         self.total_impulse += impulse
@@ -205,11 +209,22 @@ class RunMetrics:
                           "max_overlap": round(self.max_overlap, 6)})
 
     def summary(self, positions: np.ndarray, on_target: np.ndarray) -> dict:
-        """Summary fields for summary.json."""
+        """Summary fields for summary.json.
+
+        ``settle_tick`` is the completion tick, or else the last tick at which coverage rose by
+        plateau_delta (the coverage the run ends with was reached then), and
+        ``distance_at_settle`` the total distance moved by then (units): unlike total_distance
+        it leaves out the walking of robots that can no longer add coverage (surplus robots
+        circle until the plateau stop).
+        """
         c = self.physics.contacts
+        done = self.completion_tick
         spacing = nearest_neighbour_spacing(positions[on_target])
         return {"coverage": round(self.coverage, 6), "completion_tick": self.completion_tick,
                 "total_distance": round(self.total_distance, 3),
+                "settle_tick": self.plateau_tick if done is None else done,
+                "distance_at_settle": round(self.settle_distance if done is None
+                                            else self.completion_distance, 3),
                 "robots_on_target": int(on_target.sum()),
                 "collisions_robot_robot": c.robot_robot, "collisions_robot_wall": c.robot_wall,
                 "max_overlap": round(self.max_overlap, 6),

@@ -105,3 +105,32 @@ def test_ggc_needs_a_beacon():
 def test_params_defaults_follow_table_2():
     p = GGCParams()
     assert (p.d_safe, p.d_cover, p.v, p.R_c) == (1.0, 6.0, 0.1, 15.0)
+
+
+@pytest.fixture(scope="module")
+def d_cover_runs():
+    """One run per d_cover of Table 2 on the small world (60 robots, ~6 s each)."""
+    return {d: run_small(d_cover=d, max_ticks=20000, plateau_ticks=2500)[1].summary
+            for d in (1, 2, 4, 6, 8, 10)}
+
+
+def test_every_d_cover_run_terminates_by_a_stop_rule(d_cover_runs):
+    for d, s in d_cover_runs.items():
+        assert s["stop_reason"] in ("complete", "plateau", "stalled"), (d, s["stop_reason"])
+
+
+def test_coverage_follows_the_lattice_bound(d_cover_runs):
+    cov = {d: s["coverage"] for d, s in d_cover_runs.items()}
+    # 60 robots fill a lattice of 720 units^2 for d_cover 4 and 6 (capacity 52 and 23)
+    assert cov[4] >= 0.99 and cov[6] >= 0.99
+    # too few robots for d_cover 1 and 2 (capacity 831 and 208): coverage grows with d_cover
+    assert cov[1] < cov[2] < cov[4]
+    # discs of r = 4 on a lattice of spacing 8 or 10 cannot cover everything (90.7 %, 58 %)
+    assert cov[10] < cov[8] < 0.95 and cov[10] < 0.7
+
+
+def test_larger_d_cover_uses_fewer_robots_and_less_distance(d_cover_runs):
+    on = [d_cover_runs[d]["robots_on_target"] for d in (2, 4, 6, 8, 10)]
+    assert on == sorted(on, reverse=True) and on[0] > 2 * on[-1]
+    dist = [d_cover_runs[d]["distance_at_settle"] for d in (4, 6, 8, 10)]
+    assert dist[1] < dist[0] and dist[3] < dist[1], dist
