@@ -382,9 +382,13 @@ def _rows_differ(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def _progress_bar(total: int, enabled: bool):
     if not enabled:
         return None
+    import sys
+
     from tqdm import tqdm
 
-    return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False)
+    # redrawn twice a second on a terminal; in a log file (not a tty) every 30 s
+    interval = 0.5 if sys.stderr.isatty() else 30.0
+    return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False, mininterval=interval)
 
 
 __all__ = ["INF_GRADIENT", "PhysicsConfig", "RunResult", "SimConfig", "Simulation"]

@@ -70,6 +70,8 @@ class GGCRobot:
         self.no_way_in: set[int] = set()
         self.stepping_in = False
         self.stepped_in = False
+        self.groups = setup.groups
+        self.resume_tick = 0
 
     # ------------------------------------------------------------------ messages and status
     def message(self) -> tuple:
@@ -221,11 +223,13 @@ class GGCRobot:
             return self.step_in(p, nearest)
         self.stepping_in = False
         if self.circling(p, nearest) | self.stuck(p):
-            if p.on_target:
+            if p.on_target and self.spaced(p, nearest):
                 self.set_status(ARRIVE)
                 return self.act()
-            self.sense = -self.sense  # a dead end outside the target: try the other way round
+            self.sense = -self.sense  # a dead end: try the other way round
             self.circled = 0.0
+            if p.on_target:  # Algorithm 6: wait T_s, then resume
+                return self.deadlock_stop(p)
         if self.other_group_mover(p):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
             self.collision_stops += 1
@@ -358,6 +362,18 @@ class GGCRobot:
             return True
         return False
 
+    def spaced(self, p: Perception, nearest: int) -> bool:
+        """Far enough from the structure to stop here: d_cover - arrive_tolerance from the
+        nearest stationary robot, or any distance in a single group (the one-group rule)."""
+        if self.groups == 1:
+            return True
+        return bool(p.distances[nearest] >= self.p.d_cover - self.p.arrive_tolerance)
+
+    def deadlock_stop(self, p: Perception) -> Action:
+        self.set_status(STOP)
+        self.resume_tick = p.tick + self.p.T_s
+        return self.act()
+
     def other_group_mover(self, p: Perception) -> bool:
         """A robot of another group in Coverage within d_cover, with priority (larger id)."""
         k = int(np.searchsorted(p.distances, self.p.d_cover, side="right"))
@@ -368,8 +384,11 @@ class GGCRobot:
         return bool((others & (m["id"] > self.id) & (m["status"] == COVERAGE)).any())
 
     def stopped(self, p: Perception) -> Action:
-        """Stop (Section 4.3): wait until no other group's mover is within d_cover."""
-        if self.other_group_mover(p):
+        """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
+        a deadlock, T_s ticks: Algorithm 6). Waiting does not count as making no progress."""
+        self.progress_tick = p.tick
+        self.odometer[:] = 0.0
+        if self.other_group_mover(p) or p.tick < self.resume_tick:
             return self.act()
         self.set_status(COVERAGE)
         return self.coverage(p)
