@@ -294,8 +294,9 @@ class Simulation:
                     on_tick(self)
                 self.stop_reason = self._should_stop()
                 if bar is not None and (self.tick % 50 == 0 or self.stop_reason):
-                    bar.n = self.tick
-                    bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%")
+                    bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%",
+                                        refresh=False)
+                    bar.update(self.tick - bar.n)  # redraws at most every mininterval
         finally:
             self.wall_seconds += time.perf_counter() - start
             if bar is not None:
