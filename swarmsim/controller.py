@@ -82,12 +82,15 @@ class RobotSetup:
         leader: True if the robot is pre-programmed as a (group) leader.
         group: its pre-assigned group (0 = none yet).
         groups: number of groups K in this run.
+        scattered: True when the robots start scattered at random (start "random"): groups
+            must still be formed and gathered; False when they start in formation.
     """
 
     robot_id: int
     leader: bool = False
     group: int = 0
     groups: int = 1
+    scattered: bool = False
 
 
 @dataclass(frozen=True, slots=True)

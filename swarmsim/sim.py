@@ -155,7 +155,8 @@ class Simulation:
         positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng)
         leaders = role_rng.choice(cfg.robots, size=cfg.groups, replace=False)
         group_of = {int(r): k + 1 for k, r in enumerate(leaders)}
-        setups = [RobotSetup(i, leader=i in group_of, group=group_of.get(i, 0), groups=cfg.groups)
+        setups = [RobotSetup(i, leader=i in group_of, group=group_of.get(i, 0), groups=cfg.groups,
+                             scattered=True)
                   for i in range(cfg.robots)]
         return positions, setups
 

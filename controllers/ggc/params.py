@@ -31,6 +31,17 @@ class GGCParams:
         init_timeout: a robot that has heard no gradient after this many ticks starts with an
             infinite gradient (it may be isolated or its neighbours may have failed).
         h_max: leader hand-over hop budget (Algorithm 3).
+        handover_reach: a leader hands over only to a neighbour this close (units). The paper
+            allows any neighbour within R_c; the hand-over then favours the swarm's far edges,
+            and leaders there get small groups (Algorithm 4 splits the swarm by nearness).
+        T_settle: scattered start: ticks between leader hand-overs (the leaders' distance
+            fields settle meanwhile; they are refreshed this often).
+        T_quiet: scattered start: a group's formation leaves for the target once none of its
+            robots has heard a robot of the group that is still gathering for this many ticks.
+        aggregation_timeout: scattered start: a robot not in its formation this many ticks
+            after leader selection covers on its own.
+        join_tolerance: a joining robot takes its place in the formation when two formed
+            robots are within d_min + join_tolerance (units).
         boundary_fill: an edge-follower just outside the target that senses target floor
             within boundary_probe toward an arrived robot steps in and stops on the boundary
             (our addition: fills the strip the paper's rules leave between the last row of
@@ -54,12 +65,18 @@ class GGCParams:
     T_s: int = 100
     init_timeout: int = 400
     h_max: int = 5
+    handover_reach: float = 8.0
+    T_settle: int = 40
+    T_quiet: int = 200
+    aggregation_timeout: int = 5000
+    join_tolerance: float = 0.15
     boundary_fill: bool = True
     boundary_probe: float = 2.0
 
     def __post_init__(self) -> None:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
-                    "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout")
+                    "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout", "T_settle",
+                    "T_quiet", "aggregation_timeout", "join_tolerance", "handover_reach")
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"GGC parameter {name} must be positive, got "

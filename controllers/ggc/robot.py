@@ -28,14 +28,29 @@ import numpy as np
 
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
+from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
 from .params import GGCParams
+from .statuses import (  # noqa: F401 (re-exported)
+    APPROACH,
+    ARRIVE,
+    CMD_HALT,
+    CMD_NONE,
+    CMD_TRAVEL,
+    COVERAGE,
+    DETECTION,
+    FORMED,
+    GATHERING,
+    INITIAL,
+    JOIN,
+    MOVING_STATUSES,
+    PEND,
+    STATUSES,
+    STOP,
+)
 
-INITIAL, DETECTION, COVERAGE, ARRIVE, STOP, APPROACH, PEND, JOIN = range(8)
-STATUSES = ("Initial", "Detection", "Coverage", "Arrive", "Stop", "Approach", "Pend", "Join")
-MOVING_STATUSES = (COVERAGE,)
-CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?")]
+MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
+                  *AGGREGATION_FIELDS]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -43,10 +58,13 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 1e-12 else np.zeros(2)
 
 
-class GGCRobot:
-    """One robot's GGC controller (single group; groups extend it in grouping.py)."""
+class GGCRobot(Aggregation):
+    """One robot's GGC controller: travel and coverage here, the scattered start's leader
+    selection, grouping and aggregation in aggregation.py."""
 
     def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator):
+        if setup.groups > MAX_GROUPS:
+            raise ValueError(f"GGC supports at most {MAX_GROUPS} groups, got {setup.groups}")
         self.id = setup.robot_id
         self.p = params
         self.rng = rng
@@ -72,12 +90,18 @@ class GGCRobot:
         self.stepped_in = False
         self.groups = setup.groups
         self.resume_tick = 0
+        self.scattered = setup.scattered
+        self.initial_since = 0
+        self.init_aggregation()
+        if self.scattered:
+            self.status = FORMED if self.leader else APPROACH
+            self.history = [self.status]
 
     # ------------------------------------------------------------------ messages and status
     def message(self) -> tuple:
         return (self.id, self.status, self.grad, self.group, self.leader,
                 self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
-                float(self.travel[1]), self.touch, self.stepped_in)
+                float(self.travel[1]), self.touch, self.stepped_in, *self.aggregation_message())
 
     def set_status(self, status: int) -> None:
         if status != self.status:
@@ -91,6 +115,8 @@ class GGCRobot:
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
+        if self.status in GATHERING or self.status == FORMED:
+            return self.p.R_c
         if self.status == INITIAL:
             return 1.5 * self.p.d_min
         if self.status == DETECTION:
@@ -101,8 +127,10 @@ class GGCRobot:
 
     def step(self, p: Perception) -> Action:
         self.odometer += p.moved
+        if self.scattered and p.tick < self.selection_ticks:
+            return self.select_leaders(p)
         handler = {INITIAL: self.initial, DETECTION: self.detection, COVERAGE: self.coverage,
-                   ARRIVE: self.arrive, STOP: self.stopped}[self.status]
+                   ARRIVE: self.arrive, STOP: self.stopped}.get(self.status, self.gather)
         return handler(p)
 
     # ------------------------------------------------------------------ neighbour views
@@ -130,7 +158,7 @@ class GGCRobot:
             return self.lead(p)
         grad = self.gradient_from(p, 1.5 * self.p.d_min)
         if grad is None:
-            if p.tick >= self.p.init_timeout:
+            if p.tick - self.initial_since >= self.p.init_timeout:
                 self.set_status(DETECTION)
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         self.grad = grad
@@ -230,6 +258,9 @@ class GGCRobot:
             self.circled = 0.0
             if p.on_target:  # Algorithm 6: wait T_s, then resume
                 return self.deadlock_stop(p)
+            if self.wedged(p):
+                self.set_status(DETECTION)  # wait for my turn again (Algorithm 7)
+                return self.act()
         if self.other_group_mover(p):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
             self.collision_stops += 1
@@ -368,6 +399,16 @@ class GGCRobot:
         if self.groups == 1:
             return True
         return bool(p.distances[nearest] >= self.p.d_cover - self.p.arrive_tolerance)
+
+    def wedged(self, p: Perception) -> bool:
+        """Pressed against waiting robots of my group (bodies touching: closer than 0.9 d_safe).
+
+        A robot can start from inside a formation that aggregation packed unevenly; pushing
+        gets it nowhere, so it waits its turn again and the robots outside it go first.
+        """
+        k = int(np.searchsorted(p.distances, 0.9 * self.p.d_safe, side="right"))
+        m = p.messages[:k]
+        return bool(((m["status"] == DETECTION) & (m["group"] == self.group)).any())
 
     def deadlock_stop(self, p: Perception) -> Action:
         self.set_status(STOP)

@@ -1,0 +1,84 @@
+"""GGC from a scattered start: leader selection, grouping, aggregation, groups covering."""
+
+import itertools
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from controllers.ggc.statuses import ARRIVE, FORMED, GATHERING, INITIAL
+from swarmsim import Simulation
+from swarmsim.world import world_from_dict
+
+from .test_ggc import small_world
+
+
+def scattered(world, robots, groups, seed, **settings):
+    return Simulation(world, controller="ggc", robots=robots, groups=groups, seed=seed,
+                      max_ticks=20000, settings={"start": "random", **settings})
+
+
+def leader_spread(sim):
+    """Sum of pairwise distances between the current leaders (units)."""
+    pos = [sim.positions[c.id] for c in sim.controllers if c.leader]
+    return sum(float(np.hypot(*(a - b))) for a, b in itertools.combinations(pos, 2))
+
+
+def wide_band():
+    """A long spawn band (so that leaders have room to spread) below a small target."""
+    return world_from_dict({
+        "name": "band",
+        "target": {"outline": [[0, 0], [60, 0], [60, 20], [0, 20]]},
+        "spawn": [{"outline": [[-20, -30], [80, -30], [80, -12], [-20, -12]]}],
+        "beacon": {"position": [30, 10]},
+    })
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_grouping_gives_k_non_empty_groups_of_every_robot(seed):
+    sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
+    selection = sim.controllers[0].selection_ticks
+    for _ in range(selection + 60):
+        sim.step()
+    leaders = [c for c in sim.controllers if c.leader]
+    assert sorted(c.group for c in leaders) == [1, 2, 3]
+    sizes = Counter(c.group for c in sim.controllers)
+    assert set(sizes) == {1, 2, 3}, sizes  # every robot has a group, none is empty
+    # sizes follow the leaders' nearness cells: not equal, but no group starves or dominates
+    assert min(sizes.values()) >= 8 and max(sizes.values()) <= 0.6 * 120, sizes
+
+
+def test_leaders_end_farther_apart_than_they_started():
+    before, after = [], []
+    for seed in range(4):
+        sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
+        before.append(leader_spread(sim))
+        for _ in range(sim.controllers[0].selection_ticks):
+            sim.step()
+        after.append(leader_spread(sim))
+        assert after[-1] >= before[-1] - 1.0, (seed, before[-1], after[-1])
+    assert np.mean(after) > 1.2 * np.mean(before), (before, after)
+
+
+@pytest.fixture(scope="module")
+def two_group_run():
+    sim = scattered(small_world(), robots=60, groups=2, seed=0)
+    statuses_seen = set()
+
+    def watch(s):
+        if s.tick % 20 == 0:
+            statuses_seen.update(c.status for c in s.controllers)
+
+    return sim, sim.run(on_tick=watch), statuses_seen
+
+
+def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
+    sim, res, seen = two_group_run
+    s = res.summary
+    assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
+    assert s["max_overlap"] < 0.05 * 0.4
+    # every robot went through aggregation into a formation, then travelled and covered
+    assert {FORMED, INITIAL, ARRIVE} <= seen and seen & set(GATHERING)
+    assert all(c.history[0] in (FORMED, *GATHERING) for c in sim.controllers)
+    formed = sum(FORMED in c.history for c in sim.controllers)
+    assert formed >= 0.9 * len(sim.controllers)
