@@ -82,3 +82,22 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     assert all(c.history[0] in (FORMED, *GATHERING) for c in sim.controllers)
     formed = sum(FORMED in c.history for c in sim.controllers)
     assert formed >= 0.9 * len(sim.controllers)
+
+
+def test_two_groups_meeting_head_on_resolve_without_deadlock():
+    """The corridor world: two formations enter a band from its two ends and meet."""
+    from controllers.ggc.statuses import STOP
+    from swarmsim.world import load_world
+
+    sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
+                     max_ticks=20000)
+    s = sim.run().summary
+    assert s["stop_reason"] in ("complete", "plateau"), s  # never stalled or out of ticks
+    assert s["coverage"] >= 0.97, s
+    assert s["collision_stops"] > 0  # the groups did meet (Section 4.3 stops happened) ...
+    assert not any(c.status == STOP for c in sim.controllers)  # ... and every stop was lifted
+    arrived = [(sim.positions[c.id], c.group) for c in sim.controllers
+               if c.status == ARRIVE and sim.on_target[c.id]]
+    pairs = [np.hypot(*(a - b)) for (a, g), (b, h) in itertools.combinations(arrived, 2)
+             if g != h]
+    assert min(pairs) <= 1.5 * 6.0  # the junction is filled: the groups' robots are neighbours
