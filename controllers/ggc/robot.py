@@ -50,7 +50,9 @@ from .statuses import (  # noqa: F401 (re-exported)
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
-                  *AGGREGATION_FIELDS]
+                  ("enclosed", "?"), *AGGREGATION_FIELDS]
+ENCLOSED_GAP = math.radians(100)
+"""A robot whose neighbours within 1.5 d_min leave no angular gap wider than this is enclosed."""
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -91,6 +93,7 @@ class GGCRobot(Aggregation):
         self.groups = setup.groups
         self.resume_tick = 0
         self.scattered = setup.scattered
+        self.enclosed = False
         self.initial_since = 0
         self.init_aggregation()
         if self.scattered:
@@ -101,7 +104,8 @@ class GGCRobot(Aggregation):
     def message(self) -> tuple:
         return (self.id, self.status, self.grad, self.group, self.leader,
                 self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
-                float(self.travel[1]), self.touch, self.stepped_in, *self.aggregation_message())
+                float(self.travel[1]), self.touch, self.stepped_in, self.enclosed,
+                *self.aggregation_message())
 
     def set_status(self, status: int) -> None:
         if status != self.status:
@@ -207,6 +211,9 @@ class GGCRobot(Aggregation):
         if grad is not None:
             self.grad = grad
         blocker = self.blocked(p)
+        self.enclosed = self.is_enclosed(p)
+        if not blocker and self.enclosed:  # my turn, but no way out: let the others go
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         if blocker:
             # Blocked by a waiting robot: only a changed broadcast can lift that.
             return self.act(sleep=True, wake_range=self.p.d_cover,
@@ -224,11 +231,24 @@ class GGCRobot(Aggregation):
         m = p.messages
         near = (p.distances <= self.p.d_cover) & self.own_group(p) & (m["id"] != NO_SENDER)
         near &= m["status"] != ARRIVE
-        outranks = near & ((m["gradient"] > self.grad)
-                           | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
+        outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
+                                            | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
         if not outranks.any():
             return NOT_BLOCKED
         return BLOCKED_BY_MOVER if m["moving"][outranks].all() else BLOCKED_BY_WAITING
+
+    def is_enclosed(self, p: Perception) -> bool:
+        """Waiting neighbours within 1.5 d_min all round (no gap wider than ENCLOSED_GAP): a
+        robot inside a formation, which cannot leave before the robots around it have. (Formations
+        gathered from a scattered start are not perfect lattices: their highest gradients
+        are not always on the rim.)"""
+        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
+        waiting = np.flatnonzero(np.isin(p.messages["status"][:k], (INITIAL, DETECTION)))
+        if len(waiting) < 3:
+            return False
+        angles = np.sort(np.arctan2(p.offsets[waiting, 1], p.offsets[waiting, 0]))
+        gaps = np.diff(angles, append=angles[0] + 2 * math.pi)
+        return bool(gaps.max() < ENCLOSED_GAP)
 
     def start_coverage(self, p: Perception) -> None:
         self.set_status(COVERAGE)
