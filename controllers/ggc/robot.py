@@ -94,6 +94,7 @@ class GGCRobot(Aggregation):
         self.resume_tick = 0
         self.scattered = setup.scattered
         self.enclosed = False
+        self.yield_count = 0
         self.initial_since = 0
         self.init_aggregation()
         if self.scattered:
@@ -211,7 +212,9 @@ class GGCRobot(Aggregation):
         if grad is not None:
             self.grad = grad
         blocker = self.blocked(p)
-        self.enclosed = self.is_enclosed(p)
+        if self.yield_count and len(self.waiting_near(p)) < self.yield_count:
+            self.yield_count = 0  # a robot around me has left: try again
+        self.enclosed = bool(self.yield_count) or self.is_enclosed(p)
         if not blocker and self.enclosed:  # my turn, but no way out: let the others go
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         if blocker:
@@ -242,13 +245,17 @@ class GGCRobot(Aggregation):
         robot inside a formation, which cannot leave before the robots around it have. (Formations
         gathered from a scattered start are not perfect lattices: their highest gradients
         are not always on the rim.)"""
-        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
-        waiting = np.flatnonzero(np.isin(p.messages["status"][:k], (INITIAL, DETECTION)))
+        waiting = self.waiting_near(p)
         if len(waiting) < 3:
             return False
         angles = np.sort(np.arctan2(p.offsets[waiting, 1], p.offsets[waiting, 0]))
         gaps = np.diff(angles, append=angles[0] + 2 * math.pi)
         return bool(gaps.max() < ENCLOSED_GAP)
+
+    def waiting_near(self, p: Perception) -> np.ndarray:
+        """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
+        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
+        return np.flatnonzero(np.isin(p.messages["status"][:k], (INITIAL, DETECTION)))
 
     def start_coverage(self, p: Perception) -> None:
         self.set_status(COVERAGE)
@@ -279,7 +286,8 @@ class GGCRobot(Aggregation):
             if p.on_target:  # Algorithm 6: wait T_s, then resume
                 return self.deadlock_stop(p)
             if self.wedged(p):
-                self.set_status(DETECTION)  # wait for my turn again (Algorithm 7)
+                self.set_status(DETECTION)  # wait until the robots around me have gone
+                self.yield_count = len(self.waiting_near(p))
                 return self.act()
         if self.other_group_mover(p):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
