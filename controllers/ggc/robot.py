@@ -278,7 +278,7 @@ class GGCRobot(Aggregation):
             return self.step_in(p, nearest)
         self.stepping_in = False
         if self.circling(p, nearest) | self.stuck(p):
-            if p.on_target and self.spaced(p, nearest):
+            if p.on_target and self.at_covering_distance(p, nearest):
                 self.set_status(ARRIVE)
                 return self.act()
             self.sense = -self.sense  # a dead end: try the other way round
@@ -421,7 +421,7 @@ class GGCRobot(Aggregation):
             return True
         return False
 
-    def spaced(self, p: Perception, nearest: int) -> bool:
+    def at_covering_distance(self, p: Perception, nearest: int) -> bool:
         """Far enough from the structure to stop here: d_cover - arrive_tolerance from the
         nearest stationary robot, or any distance in a single group (the one-group rule)."""
         if self.groups == 1:
