@@ -94,6 +94,7 @@ class GGCRobot(Aggregation):
         self.resume_tick = 0
         self.scattered = setup.scattered
         self.enclosed = False
+        self.turned_at = NO_SENDER
         self.yield_count = 0
         self.initial_since = 0
         self.init_aggregation()
@@ -274,6 +275,8 @@ class GGCRobot(Aggregation):
             self.set_status(ARRIVE)
             return self.act()
         self.follow_gradient(p, nearest)
+        if self.p.own_edges:
+            self.turn_at_junction(p, nearest)
         if self.p.boundary_fill and self.target_inward(p, nearest):
             return self.step_in(p, nearest)
         self.stepping_in = False
@@ -297,6 +300,17 @@ class GGCRobot(Aggregation):
         if give_way is not None:
             return self.act(give_way)
         return self.act(velocity)
+
+    def turn_at_junction(self, p: Perception, nearest: int) -> None:
+        """With ``own_edges``: off the target, reaching another group's structure (my nearest
+        stationary robot is another group's) turns me back, once per such robot."""
+        m = p.messages[nearest]
+        if m["group"] == self.group or m["id"] == NO_SENDER or p.on_target:
+            return
+        if int(m["id"]) != self.turned_at:
+            self.turned_at = int(m["id"])
+            self.sense = -self.sense
+            self.circled = 0.0
 
     def edge_velocity(self, p: Perception, structure: np.ndarray) -> np.ndarray:
         """Follow the edge of the stationary robots (Algorithm 2), or a valley between two."""
