@@ -72,6 +72,10 @@ class Simulation:
         merged = self._merge_settings(robots, groups, seed, d_cover, max_ticks, settings or {})
         self.config, self.physics_config, self.params = build_configs(merged,
                                                                       self.controller_cls.Params)
+        most = getattr(self.controller_cls, "max_groups", None)
+        if most is not None and self.config.groups > most:
+            raise ConfigError(f"value {self.config.groups}: controller {controller!r} supports at "
+                              f"most {most} groups", key="groups")
         self._setup()
 
     def _merge_settings(self, robots, groups, seed, d_cover, max_ticks,

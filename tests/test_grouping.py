@@ -101,3 +101,10 @@ def test_two_groups_meeting_head_on_resolve_without_deadlock():
     pairs = [np.hypot(*(a - b)) for (a, g), (b, h) in itertools.combinations(arrived, 2)
              if g != h]
     assert min(pairs) <= 1.5 * 6.0  # the junction is filled: the groups' robots are neighbours
+
+
+def test_too_many_groups_is_a_clear_error():
+    from swarmsim import ConfigError
+
+    with pytest.raises(ConfigError, match="groups.*20.*at most 16"):
+        Simulation(small_world(), controller="ggc", robots=60, groups=20, seed=0)

@@ -10,6 +10,7 @@ from collections.abc import Sequence
 
 from swarmsim.controller import register
 
+from .aggregation import MAX_GROUPS
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot
 
@@ -23,6 +24,7 @@ class GGC(GGCRobot):
     STATUSES = STATUSES
     MESSAGE_FIELDS = MESSAGE_FIELDS
     default_start = "formation"
+    max_groups = MAX_GROUPS
     requires_beacon = True
 
     @classmethod
