@@ -47,6 +47,9 @@ class GGCParams:
             (our addition: fills the strip the paper's rules leave between the last row of
             robots and the boundary).
         boundary_probe: see boundary_fill, units (<= the engine's probe range, 2).
+        lattice_stop: rule (b) also needs a second arrived robot within d_cover +
+            arrive_tolerance, so that robots stop on lattice sites and leave no holes between
+            three robots (experimental, off by default).
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -76,6 +79,7 @@ class GGCParams:
     boundary_fill: bool = True
     boundary_probe: float = 2.0
     own_edges: bool = False
+    lattice_stop: bool = False
 
     def __post_init__(self) -> None:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",

@@ -408,8 +408,18 @@ class GGCRobot(Aggregation):
         m = p.messages[nearest]
         if m["id"] == NO_SENDER or m["status"] != ARRIVE:
             return False
+        if self.p.lattice_stop and not self.at_lattice_site(p):
+            return False
         # Beside another group's arrived robot: the groups meet here; fill the junction.
         return bool(m["gradient"] >= self.grad or m["group"] != self.group)
+
+    def at_lattice_site(self, p: Perception) -> bool:
+        """Two arrived robots within d_cover + arrive_tolerance: stopping here closes a
+        triangle whose sides are at most that long, which discs of radius r cover when
+        d_cover + arrive_tolerance <= r * sqrt(3)."""
+        k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
+                                side="right"))
+        return int((p.messages["status"][:k] == ARRIVE).sum()) >= 2
 
     def circling(self, p: Perception, nearest: int) -> bool:
         """True once the robot has gone all the way round the same neighbour."""
