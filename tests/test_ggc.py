@@ -134,3 +134,9 @@ def test_larger_d_cover_uses_fewer_robots_and_less_distance(d_cover_runs):
     assert on == sorted(on, reverse=True) and on[0] > 2 * on[-1]
     dist = [d_cover_runs[d]["distance_at_settle"] for d in (4, 6, 8, 10)]
     assert dist[1] < dist[0] and dist[3] < dist[1], dist
+
+
+def test_lattice_stop_still_covers_the_small_world():
+    s = run_small(seed=3, lattice_stop=True)[1].summary
+    assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
+    assert abs(s["spacing_mean"] - 6.0) < 0.6  # robots stop on lattice sites, ~d_cover apart
