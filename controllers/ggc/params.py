@@ -49,7 +49,8 @@ class GGCParams:
         boundary_probe: see boundary_fill, units (<= the engine's probe range, 2).
         lattice_stop: rule (b) also needs a second arrived robot within d_cover +
             arrive_tolerance, so that robots stop on lattice sites and leave no holes between
-            three robots (experimental, off by default).
+            three robots (off by default while it is measured: it completes K seeds 0 and 4,
+            where the default ends seed 4 at 0.986 with small holes).
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
