@@ -140,3 +140,8 @@ def test_lattice_stop_still_covers_the_small_world():
     s = run_small(seed=3, lattice_stop=True)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
     assert abs(s["spacing_mean"] - 6.0) < 0.6  # robots stop on lattice sites, ~d_cover apart
+
+
+def test_without_lattice_stop_the_small_world_is_covered_too():
+    s = run_small(seed=3, lattice_stop=False)[1].summary
+    assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s

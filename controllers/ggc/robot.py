@@ -408,7 +408,10 @@ class GGCRobot(Aggregation):
         m = p.messages[nearest]
         if m["id"] == NO_SENDER or m["status"] != ARRIVE:
             return False
-        if self.p.lattice_stop and not self.at_lattice_site(p):
+        reach = self.p.d_cover + self.p.arrive_tolerance
+        lattice = self.p.lattice_stop and reach <= self.p.lattice_reach
+        lattice &= self.groups == 1  # with groups it slowed the corridor: see params.py
+        if lattice and not self.at_lattice_site(p):
             return False
         # Beside another group's arrived robot: the groups meet here; fill the junction.
         return bool(m["gradient"] >= self.grad or m["group"] != self.group)
