@@ -172,13 +172,6 @@ class FCDFS(FormationTravel):
     def sensing_range(cls, params: FCDFSParams) -> float:
         return max(2 * params.spacing, params.clearance + params.door_radius + 0.5)
 
-    @classmethod
-    def summarize(cls, robots) -> dict:
-        counts: dict[str, int] = {}
-        for r in robots:
-            counts[STATUSES[r.status]] = counts.get(STATUSES[r.status], 0) + 1
-        return {"status_counts": dict(sorted(counts.items()))}
-
     def __init__(self, setup: RobotSetup, params: FCDFSParams, rng: np.random.Generator):
         self.id = setup.robot_id
         self.group = setup.group

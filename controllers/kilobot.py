@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from controllers.edges import CirclingWatch
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup, register
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
@@ -72,6 +73,15 @@ class FormationTravel:
     grad: int
     cmd: int
     travel: np.ndarray
+    STATUSES: tuple[str, ...]
+
+    @classmethod
+    def summarize(cls, robots) -> dict:
+        """Per-run figures for the summary: how many robots end in each status."""
+        counts: dict[str, int] = {}
+        for r in robots:
+            counts[cls.STATUSES[r.status]] = counts.get(cls.STATUSES[r.status], 0) + 1
+        return {"status_counts": dict(sorted(counts.items()))}
 
     def heard(self, p: Perception) -> np.ndarray:
         return p.messages["id"] != NO_SENDER
@@ -173,7 +183,7 @@ class KilobotParams:
 
 
 @register
-class Kilobot(FormationTravel):
+class Kilobot(FormationTravel, CirclingWatch):
     """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
 
     name = "kilobot"
@@ -187,13 +197,6 @@ class Kilobot(FormationTravel):
     def sensing_range(cls, params: KilobotParams) -> float:
         return max(params.gradient_reach * params.d_cover, params.quiet_range,
                    params.start_range, params.yield_distance, params.d_cover + 2)
-
-    @classmethod
-    def summarize(cls, robots) -> dict:
-        counts: dict[str, int] = {}
-        for r in robots:
-            counts[STATUSES[r.status]] = counts.get(STATUSES[r.status], 0) + 1
-        return {"status_counts": dict(sorted(counts.items()))}
 
     def __init__(self, setup: RobotSetup, params: KilobotParams, rng: np.random.Generator):
         self.id = setup.robot_id
@@ -331,18 +334,6 @@ class Kilobot(FormationTravel):
         ok &= self.heard(p) & (m["gradient"] < INF_GRADIENT)
         if ok.any():
             self.grad = int(m["gradient"][ok].min()) + 1
-
-    def circling(self, p: Perception, nearest: int) -> bool:
-        """True once the robot has gone all the way round the same neighbour."""
-        sender = int(p.messages["id"][nearest])
-        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
-        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
-            self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
-            return False
-        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
-        self.circled += turn
-        self.last_bearing = bearing
-        return abs(self.circled) > 2 * math.pi
 
     def stuck(self, p: Perception) -> bool:
         """Moved less than theta over the last T_r ticks."""

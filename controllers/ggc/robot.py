@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from controllers.edges import CirclingWatch
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
@@ -60,7 +61,7 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 1e-12 else np.zeros(2)
 
 
-class GGCRobot(Aggregation):
+class GGCRobot(Aggregation, CirclingWatch):
     """One robot's GGC controller: travel and coverage here, the scattered start's leader
     selection, grouping and aggregation in aggregation.py."""
 
@@ -423,18 +424,6 @@ class GGCRobot(Aggregation):
         k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
                                 side="right"))
         return int((p.messages["status"][:k] == ARRIVE).sum()) >= 2
-
-    def circling(self, p: Perception, nearest: int) -> bool:
-        """True once the robot has gone all the way round the same neighbour."""
-        sender = int(p.messages["id"][nearest])
-        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
-        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
-            self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
-            return False
-        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
-        self.circled += turn
-        self.last_bearing = bearing
-        return abs(self.circled) > 2 * math.pi
 
     def stuck(self, p: Perception) -> bool:
         """Equation 3: displacement <= theta over T_r ticks."""

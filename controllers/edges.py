@@ -1,0 +1,31 @@
+"""Shared by edge-following controllers (GGC, Kilobot): noticing a full orbit."""
+
+from __future__ import annotations
+
+import math
+
+from swarmsim.controller import NO_SENDER, Perception
+
+
+class CirclingWatch:
+    """Mixin: counts how far a robot has gone round the neighbour it follows.
+
+    Needs ``circling_id``, ``circled`` (radians) and ``last_bearing`` attributes (set them to
+    NO_SENDER, 0.0 and None in ``__init__``); setting ``circled = 0.0`` restarts the count.
+    """
+
+    circling_id: int
+    circled: float
+    last_bearing: float | None
+
+    def circling(self, p: Perception, nearest: int) -> bool:
+        """True once the robot has gone all the way round the same neighbour."""
+        sender = int(p.messages["id"][nearest])
+        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
+        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
+            self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
+            return False
+        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
+        self.circled += turn
+        self.last_bearing = bearing
+        return abs(self.circled) > 2 * math.pi
