@@ -251,13 +251,15 @@ class GGCRobot(Aggregation, CirclingWatch):
         if len(waiting) < 3:
             return False
         angles = np.sort(np.arctan2(p.offsets[waiting, 1], p.offsets[waiting, 0]))
-        gaps = np.diff(angles, append=angles[0] + 2 * math.pi)
-        return bool(gaps.max() < ENCLOSED_GAP)
+        widest = max(float((angles[1:] - angles[:-1]).max()),
+                     float(angles[0]) + 2 * math.pi - float(angles[-1]))
+        return widest < ENCLOSED_GAP
 
     def waiting_near(self, p: Perception) -> np.ndarray:
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
         k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
-        return np.flatnonzero(np.isin(p.messages["status"][:k], (INITIAL, DETECTION)))
+        status = p.messages["status"][:k]
+        return np.flatnonzero((status == INITIAL) | (status == DETECTION))
 
     def start_coverage(self, p: Perception) -> None:
         self.set_status(COVERAGE)
