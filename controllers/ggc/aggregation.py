@@ -51,6 +51,14 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 1e-12 else np.zeros(2)
 
 
+def status_in(status: np.ndarray, statuses: tuple[int, ...]) -> np.ndarray:
+    """``np.isin(status, statuses)`` for a few statuses, without isin's overhead."""
+    out = status == statuses[0]
+    for s in statuses[1:]:
+        out |= status == s
+    return out
+
+
 class Aggregation:
     """Mixin for GGCRobot: the scattered-start phases. Needs the robot's p, id, group,
     groups, leader, status, set_status, act and the status constants of robot.py."""
@@ -85,17 +93,18 @@ class Aggregation:
             self.ldist[k] = 0.0
         if not ok.any():
             return
-        epochs = m["lepoch"][ok]
-        through = m["ldist"][ok] + p.distances[ok][:, None]
+        g = self.groups  # fields of groups that do not exist stay FAR at epoch 0
+        epochs = m["lepoch"][ok, :g]
+        through = m["ldist"][ok, :g] + p.distances[ok][:, None]
         newest = epochs.max(axis=0)
         best = np.where(epochs == newest, through, FAR).min(axis=0)
-        newer = newest > self.lepoch
-        fresh = np.where(newer, best, np.minimum(self.ldist, best))
+        newer = newest > self.lepoch[:g]
+        fresh = np.where(newer, best, np.minimum(self.ldist[:g], best))
         if self.leader:
             fresh[self.group - 1] = 0.0
             newer[self.group - 1] = False
-        self.ldist = np.minimum(fresh, FAR)
-        self.lepoch = np.where(newer, newest, self.lepoch)
+        self.ldist[:g] = np.minimum(fresh, FAR)
+        self.lepoch[:g] = np.where(newer, newest, self.lepoch[:g])
 
     # ------------------------------------------------------------------ Algorithm 3
     def select_leaders(self, p: Perception) -> Action:
@@ -162,7 +171,7 @@ class Aggregation:
 
     def own(self, p: Perception, statuses: tuple[int, ...]) -> np.ndarray:
         m = p.messages
-        return (m["group"] == self.group) & np.isin(m["status"], statuses) & (m["id"] != NO_SENDER)
+        return (m["group"] == self.group) & status_in(m["status"], statuses) & (m["id"] != NO_SENDER)
 
     def approach(self, p: Perception) -> Action:
         from .statuses import APPROACH, FORMED, INITIAL, JOIN, PEND
@@ -200,7 +209,7 @@ class Aggregation:
 
         k = int(np.searchsorted(p.distances, 1.2 * self.p.d_min, side="right"))
         m = p.messages[:k]
-        ahead = (m["group"] == self.group) & np.isin(m["status"], GATHERING)
+        ahead = (m["group"] == self.group) & status_in(m["status"], GATHERING)
         ahead &= m["ldist"][:, self.group - 1] < self.ldist[self.group - 1]
         ahead &= p.offsets[:k] @ velocity > 0.5 * self.p.v * p.distances[:k]
         return bool(ahead.any())
