@@ -1,10 +1,15 @@
-"""Shared by edge-following controllers (GGC, Kilobot): noticing a full orbit."""
+"""Shared by edge-following controllers (GGC, Kilobot): noticing a full orbit, and sampling
+progress (the paper's Equation 3)."""
 
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from swarmsim.controller import NO_SENDER, Perception
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 class CirclingWatch:
@@ -29,3 +34,23 @@ class CirclingWatch:
         self.circled += turn
         self.last_bearing = bearing
         return abs(self.circled) > 2 * math.pi
+
+
+class ProgressWatch:
+    """Mixin: samples a robot's displacement every ``p.T_r`` ticks (Equation 3).
+
+    Needs ``p.T_r``, ``odometer`` (a 2-vector the robot adds its motion to each tick) and
+    ``progress_tick`` (the tick of the last sample).
+    """
+
+    odometer: np.ndarray
+    progress_tick: int
+
+    def sample_progress(self, p: Perception) -> float | None:
+        """Displacement since the last sample (units) once T_r ticks have passed, else None."""
+        if p.tick - self.progress_tick < self.p.T_r:
+            return None
+        moved = math.hypot(*self.odometer)
+        self.odometer[:] = 0.0
+        self.progress_tick = p.tick
+        return moved

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from controllers.edges import CirclingWatch
+from controllers.edges import CirclingWatch, ProgressWatch
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup, register
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
@@ -183,7 +183,7 @@ class KilobotParams:
 
 
 @register
-class Kilobot(FormationTravel, CirclingWatch):
+class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
 
     name = "kilobot"
@@ -337,11 +337,9 @@ class Kilobot(FormationTravel, CirclingWatch):
 
     def stuck(self, p: Perception) -> bool:
         """Moved less than theta over the last T_r ticks."""
-        if p.tick - self.progress_tick < self.p.T_r:
+        moved = self.sample_progress(p)
+        if moved is None:
             return False
-        moved = math.hypot(*self.odometer)
-        self.odometer[:] = 0.0
-        self.progress_tick = p.tick
         if moved > self.p.theta:
             self.traps = 0
         return moved <= self.p.theta

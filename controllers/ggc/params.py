@@ -56,6 +56,9 @@ class GGCParams:
             instead of 87) and ended at 0.974 instead of 0.980.
         lattice_reach: r * sqrt(3) for the paper's coverage radius r = 4 (units): the longest
             triangle side that discs of radius r still cover.
+        follow_other_formations: with groups, movers follow the edges of other groups' waiting
+            formations too (the paper's rule); False: only their own group's robots and
+            arrived robots of any group (experimental).
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -85,6 +88,7 @@ class GGCParams:
     boundary_fill: bool = True
     boundary_probe: float = 2.0
     own_edges: bool = False
+    follow_other_formations: bool = True
     lattice_stop: bool = True
     lattice_reach: float = 6.93
 

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from controllers.edges import CirclingWatch
+from controllers.edges import CirclingWatch, ProgressWatch
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
@@ -61,7 +61,7 @@ def unit(v: np.ndarray) -> np.ndarray:
     return v / n if n > 1e-12 else np.zeros(2)
 
 
-class GGCRobot(Aggregation, CirclingWatch):
+class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     """One robot's GGC controller: travel and coverage here, the scattered start's leader
     selection, grouping and aggregation in aggregation.py."""
 
@@ -148,6 +148,16 @@ class GGCRobot(Aggregation, CirclingWatch):
     def stationary(p: Perception) -> np.ndarray:
         """Neighbours that are not moving on purpose (formation, arrived, failed robots)."""
         return ~p.messages["moving"]
+
+    def edge_robots(self, p: Perception) -> np.ndarray:
+        """The stationary robots whose edge a mover follows: all of them, or without
+        ``follow_other_formations`` not the waiting formations of other groups."""
+        still = self.stationary(p)
+        if self.p.follow_other_formations or self.groups == 1:
+            return still
+        m = p.messages
+        return still & ((m["group"] == self.group) | (m["status"] == ARRIVE)
+                        | (m["id"] == NO_SENDER))
 
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
@@ -268,7 +278,7 @@ class GGCRobot(Aggregation, CirclingWatch):
 
     # ------------------------------------------------------------------ Coverage
     def coverage(self, p: Perception) -> Action:
-        structure = np.flatnonzero(self.stationary(p))
+        structure = np.flatnonzero(self.edge_robots(p))
         if len(structure) == 0:
             return self.wander(p)
         nearest = structure[0]
@@ -429,12 +439,8 @@ class GGCRobot(Aggregation, CirclingWatch):
 
     def stuck(self, p: Perception) -> bool:
         """Equation 3: displacement <= theta over T_r ticks."""
-        if p.tick - self.progress_tick < self.p.T_r:
-            return False
-        moved = math.hypot(*self.odometer)
-        self.odometer[:] = 0.0
-        self.progress_tick = p.tick
-        if moved <= self.p.theta:
+        moved = self.sample_progress(p)
+        if moved is not None and moved <= self.p.theta:
             self.deadlocks += 1
             return True
         return False
