@@ -59,6 +59,8 @@ class GGCParams:
         follow_other_formations: with groups, movers follow the edges of other groups' waiting
             formations too (the paper's rule); False: only their own group's robots and
             arrived robots of any group (experimental).
+        stop_ahead_only: Section 4.3's Stop only for another group's mover ahead of me (in my
+            direction of travel), not one behind or beside me (experimental).
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -89,6 +91,7 @@ class GGCParams:
     boundary_probe: float = 2.0
     own_edges: bool = False
     follow_other_formations: bool = True
+    stop_ahead_only: bool = False
     lattice_stop: bool = True
     lattice_reach: float = 6.93
 

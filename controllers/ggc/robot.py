@@ -474,7 +474,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         others = m["group"] != self.group
         if not others.any():
             return False
-        return bool((others & (m["id"] > self.id) & (m["status"] == COVERAGE)).any())
+        others &= (m["id"] > self.id) & (m["status"] == COVERAGE)
+        if self.p.stop_ahead_only and self.heading.any():
+            others &= p.offsets[:k] @ self.heading > 0
+        return bool(others.any())
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after

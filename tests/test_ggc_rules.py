@@ -1,0 +1,55 @@
+"""GGC's inter-group rules on hand-made perceptions (no simulation): which robots a mover
+follows and which movers make it Stop."""
+
+import numpy as np
+
+from controllers.ggc import GGCParams
+from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, MESSAGE_FIELDS, GGCRobot
+from swarmsim.controller import Perception, RobotSetup, message_dtype
+
+
+def robot(groups: int = 3, **params) -> GGCRobot:
+    setup = RobotSetup(5, leader=False, group=1, groups=groups)
+    return GGCRobot(setup, GGCParams(**params), np.random.default_rng(0))
+
+
+def perception(rows: list[tuple[tuple[float, float], int, int, int]]) -> Perception:
+    """rows: (offset, id, group, status), nearest first."""
+    messages = np.zeros(len(rows), dtype=message_dtype(MESSAGE_FIELDS))
+    offsets = np.array([r[0] for r in rows], dtype=float)
+    for k, (_, rid, group, status) in enumerate(rows):
+        messages[k]["id"], messages[k]["group"], messages[k]["status"] = rid, group, status
+        messages[k]["moving"] = status == COVERAGE
+    return Perception(tick=10, offsets=offsets, distances=np.hypot(*offsets.T),
+                      messages=messages, on_target=False, probe=lambda offset: False,
+                      beacon=None, moved=np.zeros(2))
+
+
+NEIGHBOURS = [((1.0, 0.0), 7, 2, DETECTION),   # another group's formation
+              ((2.0, 0.0), 8, 1, DETECTION),   # my group's formation
+              ((3.0, 0.0), 9, 3, ARRIVE)]      # another group's arrived robot
+
+
+def test_movers_follow_every_formation_by_default():
+    assert robot().edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
+
+
+def test_without_follow_other_formations_other_groups_formations_are_not_edges():
+    r = robot(follow_other_formations=False)
+    assert r.edge_robots(perception(NEIGHBOURS)).tolist() == [False, True, True]
+    # one group: the option changes nothing
+    one = robot(groups=1, follow_other_formations=False)
+    assert one.edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
+
+
+def test_another_groups_mover_with_priority_makes_a_mover_stop():
+    behind = perception([((-2.0, 0.0), 9, 2, COVERAGE)])
+    lower_id = perception([((2.0, 0.0), 3, 2, COVERAGE)])
+    r = robot()
+    r.heading = np.array([1.0, 0.0])
+    assert r.other_group_mover(behind)            # the paper's rule: anywhere within d_cover
+    assert not r.other_group_mover(lower_id)      # ids break the symmetry
+    ahead_only = robot(stop_ahead_only=True)
+    ahead_only.heading = np.array([1.0, 0.0])
+    assert not ahead_only.other_group_mover(behind)
+    assert ahead_only.other_group_mover(perception([((2.0, 0.5), 9, 2, COVERAGE)]))
