@@ -40,7 +40,7 @@ class SimConfig:
         grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
         record_every: a time-series row every this many ticks.
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
-            many ticks.
+            many ticks (10,000: GGC on house, seed 3, took 7,200 ticks for its last 0.2 %).
         plateau_delta: see plateau_ticks (fraction of the target).
         stall_ticks: stop ("stalled") when no robot moved or changed its message for this long.
         stop_on_complete: stop at the completion tick.
@@ -69,7 +69,7 @@ class SimConfig:
     eps0: float = 0.01
     grid_size: int = 100
     record_every: int = 10
-    plateau_ticks: int = 6000
+    plateau_ticks: int = 10000
     plateau_delta: float = 0.002
     stall_ticks: int = 1000
     stop_on_complete: bool = True
