@@ -208,6 +208,7 @@ class CVT:
     name = "cvt"
     Params = CVTParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = ("Resting",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS: list = []  # noqa: RUF012 (the engine reads a plain list)
     requires_beacon = True
     min_probe_range = MIN_PROBE_RANGE

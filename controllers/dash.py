@@ -103,6 +103,7 @@ class Dash:
     name = "dash"
     Params = DashParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = ("Resting",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
     requires_beacon = True
 

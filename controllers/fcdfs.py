@@ -163,6 +163,7 @@ class FCDFS(FormationTravel):
     name = "fcdfs"
     Params = FCDFSParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = ("Settled",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
     default_start = "formation"
     requires_beacon = True

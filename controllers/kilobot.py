@@ -189,6 +189,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     name = "kilobot"
     Params = KilobotParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = ("Joined",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
     default_start = "formation"
     requires_beacon = True

@@ -109,6 +109,7 @@ class MeanShift:
     name = "meanshift"
     Params = MeanShiftParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = ("Resting",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
     requires_beacon = True
     min_probe_range = MIN_PROBE_RANGE

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from swarmsim.errors import ConfigError
+from swarmsim.imperfections import NoiseLevels
 from swarmsim.physics import PhysicsConfig
 
 
@@ -55,6 +56,17 @@ class SimConfig:
             status; tick 1 for controllers without one), "coverage" (when the first robot
             starts moving to cover) or "tick" (at failure_tick).
         failure_tick: the tick at which robots fail with failure_phase = "tick" (>= 1).
+        speed_noise: actuation noise: relative sd of a moving robot's speed each tick (0 = off;
+            0.05 = 5 %). See swarmsim/imperfections.py for every imperfection's model.
+        heading_noise: actuation noise: sd of a moving robot's heading each tick, radians.
+        distance_noise: sensing noise: relative sd of each sensed neighbour distance.
+        bearing_noise: sensing noise: sd of each sensed neighbour bearing, radians.
+        message_loss: probability that a neighbour's broadcast is lost (per receiver,
+            neighbour and tick), in [0, 1]; a lost message reads like a silent neighbour.
+        sensing_limit: largest distance (units) at which a robot senses and hears neighbours,
+            whatever its controller's range (e.g. GGC's R_c = 15); 0 = the controller's range.
+        displaced_threshold: a settled robot (GGC: Arrive) counts as displaced (pushed out of
+            place) once it is this far from where it settled, units.
     """
 
     robots: int = 100
@@ -80,6 +92,13 @@ class SimConfig:
     failures: int = 0
     failure_phase: str = "coverage"
     failure_tick: int = 0
+    speed_noise: float = 0.0
+    heading_noise: float = 0.0
+    distance_noise: float = 0.0
+    bearing_noise: float = 0.0
+    message_loss: float = 0.0
+    sensing_limit: float = 0.0
+    displaced_threshold: float = 0.1
 
     def __post_init__(self) -> None:
         positive = ("robots", "groups", "max_ticks", "spawn_spacing", "formation_spacing",
@@ -100,6 +119,7 @@ class SimConfig:
             raise ConfigError(f"must be 'index' or 'shuffled', got {self.decide_order!r}",
                               key="decide_order")
         self._check_failures()
+        self._check_imperfections()
 
     def _check_failures(self) -> None:
         if not 0 <= self.failures <= self.robots:
@@ -112,6 +132,24 @@ class SimConfig:
                                      and self.failure_tick < 1):
             raise ConfigError(f"must be >= 1 with failure_phase 'tick', got {self.failure_tick!r}",
                               key="failure_tick")
+
+
+    def _check_imperfections(self) -> None:
+        for name in ("speed_noise", "heading_noise", "distance_noise", "bearing_noise",
+                     "sensing_limit"):
+            value = getattr(self, name)
+            if not value >= 0:
+                raise ConfigError(f"must be >= 0, got {value!r}", key=name)
+        if not 0 <= self.message_loss <= 1:
+            raise ConfigError(f"must be in [0, 1], got {self.message_loss!r}", key="message_loss")
+        if not self.displaced_threshold > 0:
+            raise ConfigError(f"must be positive, got {self.displaced_threshold!r}",
+                              key="displaced_threshold")
+
+    def noise_levels(self) -> NoiseLevels:
+        """The run's imperfections (all zero by default)."""
+        return NoiseLevels(self.speed_noise, self.heading_noise, self.distance_noise,
+                           self.bearing_noise, self.message_loss)
 
 
 def parse_value(text: str) -> Any:

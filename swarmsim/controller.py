@@ -16,6 +16,9 @@ Writing a controller::
         Params = MyParams                     # frozen dataclass: every field has a default
         STATUSES = ("Idle", "Moving")         # names for the status codes it broadcasts
         MESSAGE_FIELDS = [("hops", "i4")]     # extra broadcast fields (numpy dtype spec)
+        SETTLED_STATUSES = ("Idle",)          # optional: statuses meaning "done, standing
+                                              # still" (default: "Arrive", "Arrived"); the
+                                              # engine counts robots pushed out of place there
 
         @classmethod
         def sensing_range(cls, params) -> float: ...   # how far it listens, in units

@@ -134,6 +134,46 @@ class IncrementalCoverage:
         return float(covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0
 
 
+class SettledWatch:
+    """Robots pushed out of place after they settled (GGC: Arrive), from their broadcasts.
+
+    A robot is settled while it broadcasts one of the controller's settled statuses and is not
+    moving on purpose; its anchor is where it settled. It counts as displaced once it is more
+    than ``threshold`` units from its anchor: with rigid bodies only a push moves it.
+
+    Args:
+        n: number of robots.
+        codes: status codes that mean "settled" (index into the controller's STATUSES).
+        threshold: displacement that counts as "pushed out of place", units.
+    """
+
+    def __init__(self, n: int, codes: tuple[int, ...], threshold: float):
+        self.codes = np.asarray(codes, dtype=np.int64)
+        self.threshold = threshold
+        self.settled = np.zeros(n, dtype=bool)
+        self.anchor = np.zeros((n, 2))
+        self.max_shift = np.zeros(n)  # largest displacement of each robot while settled, units
+        self.now = np.zeros(n)  # current displacement of each settled robot, units
+
+    def observe(self, positions: np.ndarray, messages: np.ndarray) -> None:
+        settled = np.isin(messages["status"], self.codes) & ~messages["moving"]
+        new = settled & ~self.settled
+        self.anchor[new] = positions[new]
+        self.settled = settled
+        self.now = np.where(settled, np.hypot(*(positions - self.anchor).T), 0.0)
+        np.maximum(self.max_shift, self.now, out=self.max_shift)
+
+    @property
+    def displaced_now(self) -> int:
+        """Settled robots currently more than ``threshold`` from where they settled."""
+        return int((self.now > self.threshold).sum())
+
+    @property
+    def ever_displaced(self) -> np.ndarray:
+        """(N,) bool: robots that were once pushed more than ``threshold`` while settled."""
+        return self.max_shift > self.threshold
+
+
 class RunMetrics:
     """Accumulates a run's metrics tick by tick and keeps the time series.
 
@@ -141,12 +181,18 @@ class RunMetrics:
         grid: the coverage raster.
         config: the run's SimConfig (eps0, record_every, plateau and stall settings).
         physics: the Physics whose contact counters and arbiters are read.
+        settled_codes: the controller's status codes that mean "settled" (for SettledWatch).
     """
 
-    def __init__(self, grid: CoverageGrid, config, physics):
+    def __init__(self, grid: CoverageGrid, config, physics, settled_codes: tuple[int, ...] = ()):
         self.grid = grid
         self.config = config
         self.physics = physics
+        self.settled = SettledWatch(physics.n, settled_codes, config.displaced_threshold)
+        self.peak_impulse = 0.0
+        self.overlap_sum = 0.0
+        self.overlap_contacts = 0
+        self.contact_ticks = np.zeros(physics.n, dtype=np.int64)
         self.coverage = 0.0
         self.completion_tick: int | None = None
         self.total_distance = 0.0
@@ -183,14 +229,24 @@ class RunMetrics:
             self._plateau_ref = self.coverage
             self.plateau_tick = tick
             self.settle_distance = self.total_distance
-        in_contact, overlap, impulse = self.physics.contact_state()
-        self.max_overlap = max(self.max_overlap, overlap)
-        self.total_impulse += impulse
-        self.contact_robot_ticks += int(in_contact.sum())
-        self._state = {"on_target": int(on_target.sum()),
-                       "moving": int(messages["moving"].sum()), "awake": awake,
-                       "in_contact": int(in_contact.sum()), "overlap": overlap}
+        self._observe_contacts()
+        self.settled.observe(positions, messages)
+        self._state.update({"on_target": int(on_target.sum()),
+                            "moving": int(messages["moving"].sum()), "awake": awake,
+                            "displaced": self.settled.displaced_now})
         self.record(tick)
+
+    def _observe_contacts(self) -> None:
+        c = self.physics.contact_state()
+        self.max_overlap = max(self.max_overlap, c.max_overlap)
+        self.total_impulse += c.impulse
+        self.peak_impulse = max(self.peak_impulse, c.peak_impulse)
+        self.overlap_sum += c.overlap_sum
+        self.overlap_contacts += c.robot_pairs
+        self.contact_ticks += c.in_contact
+        touching = int(c.in_contact.sum())
+        self.contact_robot_ticks += touching
+        self._state = {"in_contact": touching, "impulse": c.impulse}
 
     def record(self, tick: int, force: bool = False) -> None:
         """Append a time-series row every ``record_every`` ticks (or now, if forced)."""
@@ -206,7 +262,9 @@ class RunMetrics:
                           "in_contact": self._state.get("in_contact", 0),
                           "contacts_robot_robot": c.robot_robot,
                           "contacts_robot_wall": c.robot_wall,
-                          "max_overlap": round(self.max_overlap, 6)})
+                          "max_overlap": round(self.max_overlap, 6),
+                          "contact_impulse": round(self._state.get("impulse", 0.0), 6),
+                          "settled_displaced": self._state.get("displaced", 0)})
 
     def summary(self, positions: np.ndarray, on_target: np.ndarray) -> dict:
         """Summary fields for summary.json.
@@ -230,7 +288,31 @@ class RunMetrics:
                 "max_overlap": round(self.max_overlap, 6),
                 "total_contact_impulse": round(self.total_impulse, 3),
                 "contact_robot_ticks": self.contact_robot_ticks,
+                **self._collision_summary(),
                 "spacing_mean": spacing[0], "spacing_std": spacing[1], "spacing_cv": spacing[2]}
+
+    def _collision_summary(self) -> dict:
+        """Collision-realism figures: per-robot contacts, overlap, impulse, pushed robots."""
+        per_robot = self.physics.contacts.per_robot
+        mean_overlap = self.overlap_sum / self.overlap_contacts if self.overlap_contacts else 0.0
+        return {"mean_overlap": round(mean_overlap, 6),
+                "peak_contact_impulse": round(self.peak_impulse, 6),
+                "robots_touched": int((per_robot > 0).sum()),
+                "contacts_per_robot_mean": round(float(per_robot.mean()), 3) if per_robot.size
+                else 0.0,
+                "contacts_per_robot_max": int(per_robot.max()) if per_robot.size else 0,
+                "settled_displaced": int(self.settled.ever_displaced.sum()),
+                "settled_max_displacement": round(float(self.settled.max_shift.max()), 4)
+                if per_robot.size else 0.0}
+
+    def robot_rows(self) -> list[dict]:
+        """One row per robot: its contacts, time in contact and largest push while settled."""
+        c = self.physics.contacts
+        return [{"robot": i, "contacts_robot": int(c.per_robot[i]),
+                 "contacts_wall": int(c.per_robot_wall[i]),
+                 "contact_ticks": int(self.contact_ticks[i]),
+                 "settled_max_displacement": round(float(self.settled.max_shift[i]), 4)}
+                for i in range(len(c.per_robot))]
 
 
 def nearest_neighbour_spacing(positions: np.ndarray) -> tuple[float | None, ...]:

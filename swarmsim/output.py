@@ -54,10 +54,17 @@ def write_csv(path: str | Path, rows: Iterable[Mapping[str, Any]]) -> None:
 
 
 def write_run(out_dir: str | Path, summary: Mapping[str, Any],
-              timeseries: Iterable[Mapping[str, Any]]) -> Path:
-    """Write ``summary.json`` and ``timeseries.csv`` into ``out_dir``."""
+              timeseries: Iterable[Mapping[str, Any]],
+              robots: Iterable[Mapping[str, Any]] = ()) -> Path:
+    """Write ``summary.json``, ``timeseries.csv`` and (if given) ``robots.csv`` into ``out_dir``.
+
+    ``robots.csv`` has one row per robot (contacts, time in contact, pushes while settled).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     write_csv(out / "timeseries.csv", timeseries)
+    robots = list(robots)
+    if robots:
+        write_csv(out / "robots.csv", robots)
     write_json(out / "summary.json", summary)
     return out

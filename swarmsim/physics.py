@@ -13,7 +13,7 @@ the convex hull). All body IO goes through pymunk.batch.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
@@ -68,10 +68,40 @@ class PhysicsConfig:
 
 @dataclass
 class ContactStats:
-    """Collision accounting accumulated over a run (counts of contact begins)."""
+    """Collision accounting accumulated over a run (counts of contact begins).
+
+    Attributes:
+        robot_robot: robot-robot contacts begun (one per touching pair and contact).
+        robot_wall: robot-wall (or obstacle) contacts begun.
+        per_robot: (N,) robot-robot contacts each robot took part in.
+        per_robot_wall: (N,) robot-wall contacts of each robot.
+    """
 
     robot_robot: int = 0
     robot_wall: int = 0
+    per_robot: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    per_robot_wall: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+
+
+@dataclass(frozen=True)
+class ContactState:
+    """The contacts active at the end of a tick (read from pymunk's arbiters).
+
+    Attributes:
+        in_contact: (N,) bool, robots touching another robot or a wall.
+        max_overlap: deepest penetration of any contact, units (0 without contacts).
+        overlap_sum: sum of the penetration depths of the robot-robot contacts, units.
+        robot_pairs: number of robot-robot contacts (arbiters with a penetration).
+        impulse: total contact impulse of the last substep, mass * units / tick.
+        peak_impulse: largest impulse of a single contact in the last substep.
+    """
+
+    in_contact: np.ndarray
+    max_overlap: float = 0.0
+    overlap_sum: float = 0.0
+    robot_pairs: int = 0
+    impulse: float = 0.0
+    peak_impulse: float = 0.0
 
 
 class Physics:
@@ -85,7 +115,8 @@ class Physics:
         space.iterations = self.config.iterations
         space.collision_slop = self.config.collision_slop
         self.space = space
-        self.contacts = ContactStats()
+        self.contacts = ContactStats(per_robot=np.zeros(self.n, dtype=np.int64),
+                                     per_robot_wall=np.zeros(self.n, dtype=np.int64))
         self._robots: list[pymunk.Body] = []
         self._controls: list[pymunk.Body] = []
         self._add_walls(world)
@@ -133,11 +164,21 @@ class Physics:
             self._controls.append(ctrl)
 
     def _install_contact_counters(self) -> None:
+        stats = self.contacts
+
         def robot_robot(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict) -> None:
-            self.contacts.robot_robot += 1
+            stats.robot_robot += 1
+            a, b = arbiter.bodies
+            lookup = self._robot_of_body
+            stats.per_robot[lookup[a.id]] += 1
+            stats.per_robot[lookup[b.id]] += 1
 
         def robot_wall(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict) -> None:
-            self.contacts.robot_wall += 1
+            stats.robot_wall += 1
+            for body in arbiter.bodies:
+                i = self._robot_of_body.get(body.id)
+                if i is not None:
+                    stats.per_robot_wall[i] += 1
 
         self.space.on_collision(ROBOT_TYPE, ROBOT_TYPE, begin=robot_robot)
         self.space.on_collision(ROBOT_TYPE, WALL_TYPE, begin=robot_wall)
@@ -181,8 +222,8 @@ class Physics:
         for _ in range(self.config.substeps):
             self.space.step(dt)
 
-    def contact_state(self) -> tuple[np.ndarray, float, float]:
-        """Robots touching anything now, the worst overlap (units) and total impulse this step.
+    def contact_state(self) -> ContactState:
+        """The contacts active now: who touches, overlap and impulse (see ContactState).
 
         Overlap is the penetration depth reported by the active contact arbiters.
         """
@@ -194,14 +235,18 @@ class Physics:
         floats = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 3)
         in_contact = np.zeros(self.n, dtype=bool)
         if len(ids) == 0:
-            return in_contact, 0.0, 0.0
+            return ContactState(in_contact)
         lookup = self._robot_of_body
-        touched = [lookup[b] for b in ids.ravel().tolist() if b in lookup]
+        rows = [(lookup.get(a, -1), lookup.get(b, -1)) for a, b in ids.tolist()]
+        robots = np.array(rows, dtype=np.intp).reshape(-1, 2)
+        touched = robots[robots >= 0]
         in_contact[touched] = True
         # pymunk.batch lays float fields out in flag order: TOTAL_IMPULSE (x, y), DISTANCE_1
-        overlap = float(max(0.0, -floats[:, 2].min()))
-        impulse = float(np.hypot(floats[:, 0], floats[:, 1]).sum())
-        return in_contact, overlap, impulse
+        depth = np.maximum(0.0, -floats[:, 2])
+        impulses = np.hypot(floats[:, 0], floats[:, 1])
+        pair = (robots >= 0).all(axis=1) & (depth > 0)
+        return ContactState(in_contact, float(depth.max()), float(depth[pair].sum()),
+                            int(pair.sum()), float(impulses.sum()), float(impulses.max()))
 
     def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
         """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.

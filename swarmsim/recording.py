@@ -67,8 +67,8 @@ class Recorder:
             save_png(self.renderer.draw(self.sim.snapshot()), self.snapshot_path)
 
     def write_outputs(self, out_dir: Path, result: RunResult) -> Path:
-        """summary.json, timeseries.csv and coverage.png in ``out_dir``."""
-        out = write_run(out_dir, result.summary, result.timeseries)
+        """summary.json, timeseries.csv, robots.csv and coverage.png in ``out_dir``."""
+        out = write_run(out_dir, result.summary, result.timeseries, result.robots)
         from swarmsim.plots import plot_timeseries
 
         title = (f"{result.summary['world']} / {result.summary['controller']} / "

@@ -78,13 +78,16 @@ class NeighbourSearch:
             out.append(idx[np.argsort(d2, kind="stable")])
         return out
 
-    def neighbourhoods(self, robots: np.ndarray, radius: float | np.ndarray
+    def neighbourhoods(self, robots: np.ndarray, radius: float | np.ndarray,
+                       perturb: Callable[[np.ndarray], np.ndarray] | None = None
                        ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
         """Like :meth:`neighbours`, with each robot's relative view, in one vectorised pass.
 
         Returns three lists aligned with ``robots``: neighbour indices (sorted by distance,
         ties by index, self excluded), their offsets (k, 2) relative to the robot and their
         distances (k,), in units. The same values as :meth:`neighbours` + :func:`relative_view`.
+        ``perturb`` (sensing noise) maps all true offsets (P, 2) to sensed ones before sorting,
+        so neighbours come sorted by sensed distance.
         """
         if len(robots) == 0:
             return [], [], []
@@ -98,6 +101,8 @@ class NeighbourSearch:
         keep = flat != src
         flat, src, segment = flat[keep], src[keep], segment[keep]
         offsets = pos[flat] - pos[src]
+        if perturb is not None:
+            offsets = perturb(offsets)
         d2 = offsets[:, 0] ** 2 + offsets[:, 1] ** 2
         order = np.lexsort((flat, d2, segment))
         flat, offsets = flat[order], offsets[order]

@@ -26,11 +26,15 @@ from swarmsim.controller import (
     silent_message,
 )
 from swarmsim.errors import ConfigError
+from swarmsim.imperfections import Imperfections
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.sensing import FloorSensor, NeighbourSearch, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
+
+DEFAULT_SETTLED = ("Arrive", "Arrived")
+"""Status names that mean "done, standing still" unless a controller says SETTLED_STATUSES."""
 
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
@@ -42,6 +46,8 @@ class RunResult:
 
     summary: dict[str, Any]
     timeseries: list[dict[str, Any]] = field(default_factory=list)
+    robots: list[dict[str, Any]] = field(default_factory=list)
+    """One row per robot: contacts, time in contact, largest push while settled."""
 
 
 class Simulation:
@@ -112,6 +118,8 @@ class Simulation:
         probe_range = max(cfg.probe_range, getattr(self.controller_cls, "min_probe_range", 0.0))
         self.floor = FloorSensor(self.world.target, probe_range)
         self.sensing_range = float(self.controller_cls.sensing_range(self.params))
+        if cfg.sensing_limit > 0:
+            self.sensing_range = min(self.sensing_range, cfg.sensing_limit)
         if not self.sensing_range > 0:
             raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
                               key="sensing_range")
@@ -135,7 +143,8 @@ class Simulation:
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size)
-        self.metrics = RunMetrics(self.grid, cfg, self.physics)
+        self.metrics = RunMetrics(self.grid, cfg, self.physics, self._settled_codes())
+        self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
@@ -145,6 +154,11 @@ class Simulation:
         if cfg.failures:
             from swarmsim.faults import FaultPlan, fault_rng, install_faults
             install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
+
+    def _settled_codes(self) -> tuple[int, ...]:
+        """Status codes in which the controller's robots are done (GGC: Arrive)."""
+        names = getattr(self.controller_cls, "SETTLED_STATUSES", DEFAULT_SETTLED)
+        return tuple(i for i, s in enumerate(self.statuses) if s in names)
 
     def _initial_layout(self, start: str, layout_rng: np.random.Generator,
                         role_rng: np.random.Generator) -> tuple[np.ndarray, list[RobotSetup]]:
@@ -173,14 +187,15 @@ class Simulation:
         moved = pos - self._prev_positions
         search = NeighbourSearch(pos)
         awake = self._awake_robots(search)
-        views = search.neighbourhoods(awake, self.listen[awake])
+        perturb = self.imperfect.perturb_offsets if self.imperfect.perturbs_sensing else None
+        views = search.neighbourhoods(awake, self.listen[awake], perturb=perturb)
         t1 = clock()
         new_messages = self.messages.copy()
         velocities = np.zeros((self.n, 2))
         self._decide(awake, views, moved, new_messages, velocities)
         self._changed_msg = _rows_differ(new_messages, self.messages)
         self.messages = new_messages
-        self.velocities = _clamp(velocities, self.config.v_max)
+        self.velocities = self.imperfect.actuate(_clamp(velocities, self.config.v_max))
         t2 = clock()
         self.physics.command(self.velocities)
         self.physics.step()
@@ -243,6 +258,9 @@ class Simulation:
         if heard is not None:
             if self.failed.any():
                 heard[self.failed[np.concatenate(neighbour_lists)]] = self.silent
+            lost = self.imperfect.lost(len(heard))
+            if lost is not None:
+                heard[lost] = self.silent
             heard.flags.writeable = False  # every robot gets a read-only view of its part
             bounds = split_bounds(np.fromiter(map(len, neighbour_lists), dtype=np.intp))
             message_lists = [heard[a:b] for a, b in bounds]
@@ -307,7 +325,7 @@ class Simulation:
             if bar is not None:
                 bar.close()
         self.metrics.record(self.tick, force=True)
-        return RunResult(self.summary(), list(self.metrics.rows))
+        return RunResult(self.summary(), list(self.metrics.rows), self.metrics.robot_rows())
 
     def summary(self) -> dict[str, Any]:
         """The run's summary (the fields of summary.json)."""
@@ -320,6 +338,7 @@ class Simulation:
             "d_cover": d_cover,
             "seed": self.config.seed,
             "start": self.start,
+            "mode": self.physics_config.mode,
             "ticks": self.tick,
             "stop_reason": self.stop_reason,
             "wall_seconds": round(self.wall_seconds, 3),
@@ -334,7 +353,7 @@ class Simulation:
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""
         covered = self.grid.covered_grid(self.positions) if with_coverage else None
-        in_contact, _, _ = self.physics.contact_state()
+        in_contact = self.physics.contact_state().in_contact
         return Snapshot(tick=self.tick, positions=self.positions.copy(),
                         messages=self.messages.copy(), statuses=self.statuses,
                         radius=self.physics_config.radius, coverage=self.metrics.coverage,

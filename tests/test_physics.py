@@ -15,7 +15,7 @@ def drive(physics: Physics, velocity_fn, ticks: int) -> float:
         pos, _ = physics.read()
         physics.command(velocity_fn(pos))
         physics.step()
-        worst = max(worst, physics.contact_state()[1])
+        worst = max(worst, physics.contact_state().max_overlap)
     return worst
 
 

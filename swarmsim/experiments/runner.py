@@ -4,6 +4,7 @@ Layout of an output folder::
 
     DIR/runs/<run_id>/run.json         the run's world, controller, settings and seed
     DIR/runs/<run_id>/timeseries.csv   its time series
+    DIR/runs/<run_id>/robots.csv       per robot: contacts, time in contact, pushes when settled
     DIR/runs/<run_id>/summary.json     its summary: written last, it marks the run as done
     DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
     DIR/results.csv                    one row per run (rewritten after each completion)
@@ -50,7 +51,7 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
         fired = getattr(sim.fault_hook, "fired_tick", None)
         if sim.config.failures:
             summary["fault_tick"] = fired
-        return {"summary": summary, "timeseries": result.timeseries}
+        return {"summary": summary, "timeseries": result.timeseries, "robots": result.robots}
     except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
@@ -87,10 +88,13 @@ class RunStore:
     def timeseries(self, run_id: str) -> list[dict[str, str]]:
         return read_table(self.path(run_id) / "timeseries.csv")
 
-    def write_result(self, run: RunSpec, summary: dict, timeseries: Sequence[dict]) -> None:
+    def write_result(self, run: RunSpec, summary: dict, timeseries: Sequence[dict],
+                     robots: Sequence[dict] = ()) -> None:
         p = self.path(run.run_id)
         write_json(p / "run.json", run.to_json())
         write_csv(p / "timeseries.csv", timeseries)
+        if robots:
+            write_csv(p / "robots.csv", robots)
         write_json(p / "summary.json", summary)  # last: marks the run done
         (p / "error.txt").unlink(missing_ok=True)
 
@@ -180,7 +184,8 @@ class Sweep:
         """Write a run's outcome; returns DONE or FAILED."""
         self._rows.pop(run.run_id, None)
         if "summary" in outcome:
-            self.store.write_result(run, outcome["summary"], outcome["timeseries"])
+            self.store.write_result(run, outcome["summary"], outcome["timeseries"],
+                                    outcome.get("robots", ()))
             status = DONE
         else:
             self.store.write_error(run, outcome["error"], outcome.get("traceback", ""))
