@@ -1,4 +1,4 @@
-"""Command line: ``swarmsim run | sweep | reproduce | worlds | controllers | params``.
+"""Command line: ``swarmsim run | sweep | reproduce | study | worlds | controllers | params``.
 
 Every input error prints one line naming the file, key and value, and exits with status 2.
 """
@@ -90,6 +90,32 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     _add_executor_args(r)
 
 
+def _add_study_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("study", help="collision-realism study: ghost vs rigid robots",
+                       description="Run the same scenarios with robots that pass through each "
+                       "other (ghost, the paper's points) and rigid discs (and optionally noise "
+                       "levels); write a table, plots and REPORT.md. Resumable.")
+    p.add_argument("what", choices=("collisions",), help="the study to run")
+    p.add_argument("--world", default="K", help="world (default K)")
+    p.add_argument("--controller", default="ggc", help="controller (default ggc)")
+    p.add_argument("--robots", type=int, help="robot count (default: the world's)")
+    p.add_argument("--groups", type=int, default=3, help="number of groups K (default 3)")
+    p.add_argument("--d-cover", type=float, dest="d_cover", help="d_cover (default: 6)")
+    p.add_argument("--reps", type=int, default=5, help="seeds per condition (default 5)")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks",
+                   help="tick limit of every run (default 100000)")
+    p.add_argument("--modes", nargs="+", default=["ghost", "rigid"], choices=("ghost", "rigid"),
+                   help="physics modes to compare (default: ghost rigid)")
+    p.add_argument("--noise", nargs="+", type=float, default=[0.0], metavar="LEVEL",
+                   help="noise levels: LEVEL sets speed, heading (rad), distance and bearing "
+                   "(rad) noise to LEVEL (default: 0 = ideal robots)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="another setting for every run (e.g. message_loss=0.1)")
+    p.add_argument("--out", type=Path, default=Path("results/collisions"),
+                   help="output folder (default results/collisions)")
+    _add_executor_args(p)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="swarmsim",
@@ -97,6 +123,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     _add_run_parser(sub)
     _add_sweep_parsers(sub)
+    _add_study_parser(sub)
     sub.add_parser("worlds", help="list shipped worlds with target area and lattice capacity")
     sub.add_parser("controllers", help="list registered controllers")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning")
@@ -212,10 +239,25 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     return 1 if result.failed else 0
 
 
+def cmd_study(args: argparse.Namespace) -> int:
+    from swarmsim.experiments.collisions import StudySetup, study_collisions
+
+    if args.max_ticks is not None and args.max_ticks < 1:
+        raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
+    setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
+                       groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
+                       noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,
+                       extra=_parse_set(args.set))
+    result = study_collisions(setup, args.out, args.reps, args.workers, args.scheduler,
+                              args.retry_failed, progress=not args.quiet)
+    print(f"{result.sweep_line}\nreport: {result.report}")
+    return 1 if result.failed else 0
+
+
 def _dispatch(args: argparse.Namespace) -> int:
     from swarmsim.experiments.runner import SweepError
 
-    commands = {"sweep": cmd_sweep, "reproduce": cmd_reproduce}
+    commands = {"sweep": cmd_sweep, "reproduce": cmd_reproduce, "study": cmd_study}
     try:
         return commands[args.command](args)
     except SweepError as exc:
@@ -237,7 +279,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return cmd_controllers()
         if args.command == "params":
             return cmd_params(args.controller)
-        if args.command in ("sweep", "reproduce"):
+        if args.command in ("sweep", "reproduce", "study"):
             return _dispatch(args)
         return cmd_run(args)
     except ConfigError as exc:
