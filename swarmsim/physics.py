@@ -193,6 +193,9 @@ class Physics:
         self.robot_rows = np.array([row_of[b.id] for b in self._robots], dtype=np.intp)
         self.control_rows = np.array([row_of[b.id] for b in self._controls], dtype=np.intp)
         self._robot_of_body = {b.id: i for i, b in enumerate(self._robots)}
+        ids = np.array([b.id for b in self._robots], dtype=np.uintp)
+        self._sorted_body_ids = np.sort(ids)
+        self._robot_by_sorted_id = np.argsort(ids, kind="stable")
         self._cmd = np.zeros((self.n_rows, 2))
 
     def read(self) -> tuple[np.ndarray, np.ndarray]:
@@ -236,9 +239,7 @@ class Physics:
         in_contact = np.zeros(self.n, dtype=bool)
         if len(ids) == 0:
             return ContactState(in_contact)
-        lookup = self._robot_of_body
-        rows = [(lookup.get(a, -1), lookup.get(b, -1)) for a, b in ids.tolist()]
-        robots = np.array(rows, dtype=np.intp).reshape(-1, 2)
+        robots = self._robots_of(ids)
         touched = robots[robots >= 0]
         in_contact[touched] = True
         # pymunk.batch lays float fields out in flag order: TOTAL_IMPULSE (x, y), DISTANCE_1
@@ -247,6 +248,12 @@ class Physics:
         pair = (robots >= 0).all(axis=1) & (depth > 0)
         return ContactState(in_contact, float(depth.max()), float(depth[pair].sum()),
                             int(pair.sum()), float(impulses.sum()), float(impulses.max()))
+
+    def _robots_of(self, body_ids: np.ndarray) -> np.ndarray:
+        """Robot index of each body id (same shape), -1 for bodies that are not robots."""
+        at = np.searchsorted(self._sorted_body_ids, body_ids).clip(0, self.n - 1)
+        found = self._sorted_body_ids[at] == body_ids
+        return np.where(found, self._robot_by_sorted_id[at], -1)
 
     def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
         """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.
