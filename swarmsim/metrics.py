@@ -148,25 +148,30 @@ class SettledWatch:
     """
 
     def __init__(self, n: int, codes: tuple[int, ...], threshold: float):
-        self.codes = np.asarray(codes, dtype=np.int64)
+        self._is_settled = np.zeros(257, dtype=bool)  # status code + 128 -> settled?
+        self._is_settled[np.asarray(codes, dtype=np.int64) + 128] = True
         self.threshold = threshold
         self.settled = np.zeros(n, dtype=bool)
         self.anchor = np.zeros((n, 2))
         self.max_shift = np.zeros(n)  # largest displacement of each robot while settled, units
-        self.now = np.zeros(n)  # current displacement of each settled robot, units
+        self._displaced_now = 0
 
     def observe(self, positions: np.ndarray, messages: np.ndarray) -> None:
-        settled = np.isin(messages["status"], self.codes) & ~messages["moving"]
+        status = messages["status"].astype(np.int16) + 128
+        settled = self._is_settled[status] & ~messages["moving"]
         new = settled & ~self.settled
         self.anchor[new] = positions[new]
         self.settled = settled
-        self.now = np.where(settled, np.hypot(*(positions - self.anchor).T), 0.0)
-        np.maximum(self.max_shift, self.now, out=self.max_shift)
+        idx = np.flatnonzero(settled)
+        d = positions[idx] - self.anchor[idx]
+        shift = np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2)
+        self.max_shift[idx] = np.maximum(self.max_shift[idx], shift)
+        self._displaced_now = int(np.count_nonzero(shift > self.threshold))
 
     @property
     def displaced_now(self) -> int:
         """Settled robots currently more than ``threshold`` from where they settled."""
-        return int((self.now > self.threshold).sum())
+        return self._displaced_now
 
     @property
     def ever_displaced(self) -> np.ndarray:

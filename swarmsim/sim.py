@@ -265,27 +265,45 @@ class Simulation:
             bounds = split_bounds(np.fromiter(map(len, neighbour_lists), dtype=np.intp))
             message_lists = [heard[a:b] for a, b in bounds]
         bearings = _bearings(self.world.beacon, pos[awake])
-        probe_at, tick = self.floor.probe_at, self.tick
-        for k, i in enumerate(awake.tolist()):
-            perception = Perception(
-                tick=tick, offsets=offset_lists[k], distances=distance_lists[k],
-                messages=message_lists[k], on_target=bool(on_target[i]),
-                probe=probe_at(*pos[i]), beacon=None if bearings is None else bearings[k],
-                moved=moved[i])
-            action: Action = self.controllers[i].step(perception)
-            vx, vy = action.velocity
-            velocities[i] = (vx, vy)
-            if action.message is not None:
-                new_messages[i] = action.message
-            listen = action.listen
-            self.listen[i] = self.sensing_range if listen is None else min(float(listen),
-                                                                           self.sensing_range)
-            if action.sleep and vx == 0 and vy == 0 and self.config.allow_sleep:
+        beacons = [None] * len(awake) if bearings is None else list(bearings)
+        probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
+        at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), moved[awake]
+        actions: list[Action] = [
+            controllers[i].step(Perception(tick, offset_lists[k], distance_lists[k],
+                                           message_lists[k], on[k], probe_at(*at[k]),
+                                           beacons[k], shift[k]))
+            for k, i in enumerate(awake.tolist())]
+        self._apply(awake, actions, new_messages, velocities)
+
+    def _apply(self, awake: np.ndarray, actions: list[Action], new_messages: np.ndarray,
+               velocities: np.ndarray) -> None:
+        """Write the awake robots' actions: velocities, broadcasts, listening and sleep."""
+        if not actions:
+            return
+        vel = np.array([a.velocity for a in actions], dtype=float).reshape(-1, 2)
+        velocities[awake] = vel
+        sent = [k for k, a in enumerate(actions) if a.message is not None]
+        if sent:
+            rows = [actions[k].message for k in sent]
+            try:
+                new_messages[awake[sent]] = np.array(rows, dtype=self.dtype)
+            except (TypeError, ValueError):  # not plain tuples: assign row by row
+                for k, row in zip(sent, rows, strict=True):
+                    new_messages[awake[k]] = row
+        reach = self.sensing_range
+        self.listen[awake] = [reach if a.listen is None else min(float(a.listen), reach)
+                              for a in actions]
+        if not self.config.allow_sleep:
+            return
+        still = (vel[:, 0] == 0) & (vel[:, 1] == 0)
+        for k in np.flatnonzero(still).tolist():
+            action = actions[k]
+            if action.sleep:
+                i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
                 wake = action.wake_range
-                self.wake_range[i] = self.sensing_range if wake is None else min(
-                    float(wake), self.sensing_range)
+                self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""
