@@ -52,6 +52,9 @@ def test_robots_never_leave_the_arena():
     assert (p[:, 0] > xmin).all() and (p[:, 0] < xmax).all()
     assert (p[:, 1] > ymin).all() and (p[:, 1] < ymax).all()
     assert physics.contacts.robot_wall > 0
+    assert physics.contacts.per_robot_wall.sum() == physics.contacts.robot_wall
+    touching = physics.contact_state().in_contact
+    assert touching.any() and touching.sum() <= len(p)
 
 
 def test_obstacles_block_robots():
