@@ -84,3 +84,11 @@ def test_yield_release_is_off_above_its_d_cover_bound():
     r.status, r.yield_count = DETECTION, 4
     r.detection(_yielder_view([True, True, True, True], with_leader=False))
     assert r.yield_count == 4
+
+
+def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover():
+    beside = perception([((1.2, 0.0), 7, 1, DETECTION), ((0.0, 1.1), 9, 1, ARRIVE)])
+    assert robot(groups=1, d_cover=2.0).wedged(beside)       # a formation neighbour: rejoin
+    assert not robot(groups=1, d_cover=6.0).wedged(beside)   # d_cover 6: only when touching
+    touching = perception([((0.85, 0.0), 7, 1, DETECTION)])
+    assert robot(groups=1, d_cover=6.0).wedged(touching)

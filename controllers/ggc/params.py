@@ -68,6 +68,8 @@ class GGCParams:
             rim ends up yielding to itself and 287 robots never leave the formation). The
             bound keeps d_cover 6 runs as they were: there the rule fires twice in K's first
             2,500 ticks (one group, seed 0) and changes the run, though it never deadlocked.
+            The same bound widens ``wedged`` (robot.py): a robot stuck outside the target
+            rejoins its formation from 1.5 d_min away, not only when touching it.
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).

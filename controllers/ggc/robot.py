@@ -486,8 +486,19 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
         A robot can start from inside a formation that aggregation packed unevenly; pushing
         gets it nowhere, so it waits its turn again and the robots outside it go first.
+
+        While d_cover <= yield_release, a stuck robot outside the target rejoins its formation
+        when a waiting robot of its group is within 1.5 d_min (a formation neighbour), touching
+        or not. At small d_cover movers get pinned just outside the target between the
+        formation's top and arrived robots; still moving, they outrank the formation's rim
+        (their gradient comes from the arrived robots) and every waiting robot's turn chains
+        up to them (K, d_cover 2: 190 robots never left). Back in Detection they wait their
+        turn with the others (and yield_release lets them go again).
         """
-        k = int(np.searchsorted(p.distances, 0.9 * self.p.d_safe, side="right"))
+        reach = 0.9 * self.p.d_safe
+        if self.p.d_cover <= self.p.yield_release:
+            reach = 1.5 * self.p.d_min
+        k = int(np.searchsorted(p.distances, reach, side="right"))
         m = p.messages[:k]
         return bool(((m["status"] == DETECTION) & (m["group"] == self.group)).any())
 
