@@ -53,3 +53,42 @@ def test_another_groups_mover_with_priority_makes_a_mover_stop():
     ahead_only.heading = np.array([1.0, 0.0])
     assert not ahead_only.other_group_mover(behind)
     assert ahead_only.other_group_mover(perception([((2.0, 0.5), 9, 2, COVERAGE)]))
+
+
+def _yielder_view(enclosed: list[bool], with_leader: bool) -> Perception:
+    """A wedged rim robot: waiting robots of its group on one side (one row of a formation),
+    and, with_leader, an arrived robot on the other side closing the ring."""
+    rows = [((1.0, 0.0), 7, 1, DETECTION), ((0.5, 0.87), 8, 1, DETECTION),
+            ((-0.5, 0.87), 9, 1, DETECTION), ((-1.0, 0.0), 10, 1, DETECTION)]
+    if with_leader:
+        rows.append(((0.0, -1.0), 1, 1, ARRIVE))
+    p = perception(rows)
+    p.messages["enclosed"][:4] = enclosed
+    return p
+
+
+def test_a_yielding_rim_robot_stops_yielding_when_everyone_around_it_yields():
+    r = robot(groups=1, d_cover=2.0)
+    r.status, r.yield_count = DETECTION, 4
+    assert r.nobody_to_yield_to(_yielder_view([True, True, True, True], with_leader=False))
+    r.detection(_yielder_view([True, True, True, True], with_leader=False))
+    assert r.yield_count == 0 and r.status == DETECTION  # it waits one tick, then takes turns
+    # a waiting neighbour that may still leave first: keep yielding
+    assert not r.nobody_to_yield_to(_yielder_view([True, False, True, True], with_leader=False))
+    # closed in by the formation's leader (inside the formation): keep yielding
+    assert not r.nobody_to_yield_to(_yielder_view([True, True, True, True], with_leader=True))
+
+
+def test_yield_release_is_off_above_its_d_cover_bound():
+    r = robot(groups=1, d_cover=6.0)  # default bound 4: d_cover 6 runs unchanged
+    r.status, r.yield_count = DETECTION, 4
+    r.detection(_yielder_view([True, True, True, True], with_leader=False))
+    assert r.yield_count == 4
+
+
+def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover():
+    beside = perception([((1.2, 0.0), 7, 1, DETECTION), ((0.0, 1.1), 9, 1, ARRIVE)])
+    assert robot(groups=1, d_cover=2.0).wedged(beside)       # a formation neighbour: rejoin
+    assert not robot(groups=1, d_cover=6.0).wedged(beside)   # d_cover 6: only when touching
+    touching = perception([((0.85, 0.0), 7, 1, DETECTION)])
+    assert robot(groups=1, d_cover=6.0).wedged(touching)

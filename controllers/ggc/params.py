@@ -61,6 +61,15 @@ class GGCParams:
             arrived robots of any group (experimental).
         stop_ahead_only: Section 4.3's Stop only for another group's mover ahead of me (in my
             direction of travel), not one behind or beside me (experimental).
+        yield_release: a wedged robot back in Detection waits for a robot around it to leave
+            first (``yield_count``); while d_cover <= yield_release (units; 0: never) it stops
+            waiting once every waiting robot around it is yielding or enclosed too and it is
+            on the formation's outside (our addition: without it, at d_cover 2 on K the whole
+            rim ends up yielding to itself and 287 robots never leave the formation). The
+            bound keeps d_cover 6 runs as they were: there the rule fires twice in K's first
+            2,500 ticks (one group, seed 0) and changes the run, though it never deadlocked.
+            The same bound widens ``wedged`` (robot.py): a robot stuck outside the target
+            rejoins its formation from 1.5 d_min away, not only when touching it.
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -90,6 +99,7 @@ class GGCParams:
     boundary_fill: bool = True
     boundary_probe: float = 2.0
     own_edges: bool = False
+    yield_release: float = 4.0
     follow_other_formations: bool = True
     stop_ahead_only: bool = False
     lattice_stop: bool = True
@@ -107,7 +117,7 @@ class GGCParams:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
             raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
-        if self.theta < 0 or self.arrive_tolerance < 0 or self.h_max < 0:
-            raise ValueError("theta, arrive_tolerance and h_max must be >= 0")
+        if self.theta < 0 or self.arrive_tolerance < 0 or self.h_max < 0 or self.yield_release < 0:
+            raise ValueError("theta, arrive_tolerance, h_max and yield_release must be >= 0")
         if self.theta > 2 * self.d_cover:
             raise ValueError(f"theta ({self.theta}) must not exceed 2 * d_cover (Section 4.4)")

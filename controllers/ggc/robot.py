@@ -226,6 +226,11 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         blocker = self.blocked(p)
         if self.yield_count and len(self.waiting_near(p)) < self.yield_count:
             self.yield_count = 0  # a robot around me has left: try again
+        elif (self.yield_count and self.p.d_cover <= self.p.yield_release
+              and self.nobody_to_yield_to(p)):
+            self.yield_count = 0  # the robots around me all yield too: take turns again
+            self.enclosed = self.is_enclosed(p)
+            return self.act()  # broadcast it first, so that the (gradient, id) order decides
         self.enclosed = bool(self.yield_count) or self.is_enclosed(p)
         if not blocker and self.enclosed:  # my turn, but no way out: let the others go
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
@@ -264,6 +269,30 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         widest = max(float((angles[1:] - angles[:-1]).max()),
                      float(angles[0]) + 2 * math.pi - float(angles[-1]))
         return widest < ENCLOSED_GAP
+
+    def nobody_to_yield_to(self, p: Perception) -> bool:
+        """A wedged robot waits (``yield_count``) for a robot around it to leave first. That
+        wait never ends when every waiting robot around it is itself yielding or enclosed: the
+        enclosed wait for the robots outside them, and the yielding for each other. At small
+        d_cover a jam beside the formation wedges the whole rim this way, and the rest of the
+        swarm stays in the formation for good (K, d_cover 2: 287 robots).
+
+        True when all waiting neighbours within 1.5 d_min broadcast ``enclosed`` and I am on
+        the outside: the stationary robots around me (waiting or arrived: the formation's
+        leader counts) leave a gap wider than ENCLOSED_GAP. A robot inside the formation
+        (around the leader's place) keeps yielding.
+        """
+        waiting = self.waiting_near(p)
+        if len(waiting) == 0 or not p.messages["enclosed"][waiting].all():
+            return False
+        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
+        still = np.flatnonzero(self.stationary(p)[:k])
+        if len(still) < 3:
+            return True
+        angles = np.sort(np.arctan2(p.offsets[still, 1], p.offsets[still, 0]))
+        widest = max(float((angles[1:] - angles[:-1]).max()),
+                     float(angles[0]) + 2 * math.pi - float(angles[-1]))
+        return widest >= ENCLOSED_GAP
 
     def waiting_near(self, p: Perception) -> np.ndarray:
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
@@ -457,8 +486,19 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
         A robot can start from inside a formation that aggregation packed unevenly; pushing
         gets it nowhere, so it waits its turn again and the robots outside it go first.
+
+        While d_cover <= yield_release, a stuck robot outside the target rejoins its formation
+        when a waiting robot of its group is within 1.5 d_min (a formation neighbour), touching
+        or not. At small d_cover movers get pinned just outside the target between the
+        formation's top and arrived robots; still moving, they outrank the formation's rim
+        (their gradient comes from the arrived robots) and every waiting robot's turn chains
+        up to them (K, d_cover 2: 190 robots never left). Back in Detection they wait their
+        turn with the others (and yield_release lets them go again).
         """
-        k = int(np.searchsorted(p.distances, 0.9 * self.p.d_safe, side="right"))
+        reach = 0.9 * self.p.d_safe
+        if self.p.d_cover <= self.p.yield_release:
+            reach = 1.5 * self.p.d_min
+        k = int(np.searchsorted(p.distances, reach, side="right"))
         m = p.messages[:k]
         return bool(((m["status"] == DETECTION) & (m["group"] == self.group)).any())
 
