@@ -27,8 +27,8 @@ def study(tmp_path_factory):
     base = tmp_path_factory.mktemp("study")
     world = base / "crowded.toml"
     world.write_text(CROWDED)
-    setup = StudySetup(world=str(world), robots=60, groups=2, max_ticks=600)
-    result = study_collisions(setup, base / "out", reps=2, workers=1, progress=False)
+    setup = StudySetup(world=str(world), robots=60, groups=2, max_ticks=600, noise=(0.0, 0.05))
+    result = study_collisions(setup, base / "out", reps=1, workers=1, progress=False)
     return setup, base / "out", result
 
 
@@ -46,7 +46,7 @@ def test_study_runs_both_modes_and_counts_contacts_only_when_rigid(study):
         contacts = int(r["collisions_robot_robot"])
         assert (contacts > 0) == (r["mode"] == "rigid"), r["mode"]
     conds = {r["condition"]: r for r in rows_of(out / "conditions.csv")}
-    assert set(conds) == {"ghost", "rigid"}
+    assert set(conds) == {"ghost", "rigid", "ghost, noise 0.05", "rigid, noise 0.05"}
     assert float(conds["ghost"]["contact_robot_ticks_mean"]) == 0
     assert float(conds["rigid"]["contact_robot_ticks_mean"]) > 0
     for run_dir in (out / "runs").iterdir():
@@ -56,10 +56,11 @@ def test_study_runs_both_modes_and_counts_contacts_only_when_rigid(study):
 def test_study_writes_report_and_plot_and_resumes(study):
     setup, out, _ = study
     report = (out / "REPORT.md").read_text()
-    assert "| ghost | 2/2 |" in report and "| rigid | 2/2 |" in report
+    assert "| ghost | 1/1 |" in report and "| rigid, noise 0.05 | 1/1 |" in report
     assert "## Rigid against ghost" in report and "50 % coverage" in report
+    assert "## Noise against ideal robots" in report and "[rigid, noise 0.05]" in report
     assert (out / "collisions.png").stat().st_size > 10_000
-    again = study_collisions(setup, out, reps=2, workers=1, progress=False)
+    again = study_collisions(setup, out, reps=1, workers=1, progress=False)
     assert "0 run now, 4 already there" in again.sweep_line
 
 

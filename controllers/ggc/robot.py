@@ -265,10 +265,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         waiting = self.waiting_near(p)
         if len(waiting) < 3:
             return False
-        angles = np.sort(np.arctan2(p.offsets[waiting, 1], p.offsets[waiting, 0]))
-        widest = max(float((angles[1:] - angles[:-1]).max()),
-                     float(angles[0]) + 2 * math.pi - float(angles[-1]))
-        return widest < ENCLOSED_GAP
+        return widest_gap(p.offsets[waiting]) < ENCLOSED_GAP
 
     def nobody_to_yield_to(self, p: Perception) -> bool:
         """A wedged robot waits (``yield_count``) for a robot around it to leave first. That
@@ -289,10 +286,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         still = np.flatnonzero(self.stationary(p)[:k])
         if len(still) < 3:
             return True
-        angles = np.sort(np.arctan2(p.offsets[still, 1], p.offsets[still, 0]))
-        widest = max(float((angles[1:] - angles[:-1]).max()),
-                     float(angles[0]) + 2 * math.pi - float(angles[-1]))
-        return widest >= ENCLOSED_GAP
+        return widest_gap(p.offsets[still]) >= ENCLOSED_GAP
 
     def waiting_near(self, p: Perception) -> np.ndarray:
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
@@ -561,3 +555,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     # ------------------------------------------------------------------ Arrive
     def arrive(self, p: Perception) -> Action:
         return self.act(sleep=True, wake_range=0.0)
+
+
+def widest_gap(offsets: np.ndarray) -> float:
+    """Widest angle (radians) between the bearings of two or more neighbours (k, 2)."""
+    angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
+    return max(float((angles[1:] - angles[:-1]).max()),
+               float(angles[0]) + 2 * math.pi - float(angles[-1]))

@@ -28,7 +28,7 @@ from swarmsim.experiments.spec import RunSpec
 from swarmsim.experiments.table import Band, mean_band, series, stats
 from swarmsim.output import atomic_write_bytes, atomic_write_text, write_csv
 
-MILESTONES = (0.5, 0.75, 0.9)
+MILESTONES = (0.5, 0.6, 0.7, 0.8, 0.9)
 """Coverage fractions at which the study compares ticks and distance moved."""
 
 NOISE_KEYS = ("speed_noise", "heading_noise", "distance_noise", "bearing_noise")
@@ -124,17 +124,22 @@ class ConditionStats:
     cond: StudyCondition
     summaries: list[dict[str, Any]]
     curves: dict[str, list[tuple[np.ndarray, np.ndarray]]]
-    milestones: dict[float, tuple[list[float | None], list[float | None]]]
+    milestones: dict[float, dict[int, tuple[float, float]]]
+    """Per coverage level: seed -> (first tick at that coverage, total distance by then)."""
     bands: dict[str, Band | None] = field(default_factory=dict)
 
     def field_stats(self, key: str) -> tuple[float | None, float | None, int]:
         return stats(s.get(key) for s in self.summaries)
 
-    def tick_to(self, level: float) -> tuple[float | None, float | None, int]:
-        return stats(self.milestones[level][0])
+    def tick_to(self, level: float, seeds: Sequence[int] | None = None
+                ) -> tuple[float | None, float | None, int]:
+        reached = self.milestones[level]
+        return stats(reached[k][0] for k in (reached if seeds is None else seeds))
 
-    def distance_to(self, level: float) -> tuple[float | None, float | None, int]:
-        return stats(self.milestones[level][1])
+    def distance_to(self, level: float, seeds: Sequence[int] | None = None
+                    ) -> tuple[float | None, float | None, int]:
+        reached = self.milestones[level]
+        return stats(reached[k][1] for k in (reached if seeds is None else seeds))
 
 
 def milestone(rows: list[dict[str, str]], level: float) -> tuple[float | None, float | None]:
@@ -151,7 +156,7 @@ def analyse(sweep: Sweep, conds: Sequence[StudyCondition]) -> list[ConditionStat
     out = []
     for cond in conds:
         summaries, curves = [], {"coverage": [], "total_distance": [], "in_contact": []}
-        marks: dict[float, tuple[list, list]] = {m: ([], []) for m in MILESTONES}
+        marks: dict[float, dict[int, tuple[float, float]]] = {m: {} for m in MILESTONES}
         for run in cond.runs:
             if sweep.store.status(run.run_id) != DONE:
                 continue
@@ -159,10 +164,10 @@ def analyse(sweep: Sweep, conds: Sequence[StudyCondition]) -> list[ConditionStat
             rows = sweep.store.timeseries(run.run_id)
             for metric, found in curves.items():
                 found.append(series(rows, metric))
-            for level, (ticks, dists) in marks.items():
+            for level, reached in marks.items():
                 tick, dist = milestone(rows, level)
-                ticks.append(tick)
-                dists.append(dist)
+                if tick is not None:
+                    reached[run.seed] = (tick, dist)
         out.append(ConditionStats(cond, summaries, curves, marks))
     ends = [float(t[-1]) for s in out for t, _ in s.curves["coverage"] if len(t)]
     for s in out:
@@ -232,30 +237,41 @@ def plot_study(st: Sequence[ConditionStats], out_png: Path, title: str) -> Path:
     return out_png
 
 
+def _reached(s: ConditionStats, level: float) -> str:
+    """Mean first tick at ``level`` coverage, with the share of runs that reached it."""
+    mean, _, n = s.tick_to(level)
+    return _fmt(mean) if n == len(s.summaries) else f"{_fmt(mean)} ({n}/{len(s.summaries)})"
+
+
 def _ratio(a: float | None, b: float | None) -> str:
     return "n/a" if a is None or b is None or b == 0 else f"{a / b:.2f}x"
 
 
-def comparison_lines(st: Sequence[ConditionStats]) -> list[str]:
-    """Rigid against ghost at each noise level: ticks and distance to each milestone."""
+def comparison_lines(st: Sequence[ConditionStats], base: str = "ghost", other: str = "rigid"
+                     ) -> list[str]:
+    """``other`` against ``base`` mode at each noise level: ticks and distance to each coverage
+    milestone, as means over the seeds on which both reached it (paired by seed)."""
     lines = []
     for noise in dict.fromkeys(s.cond.noise for s in st):
         by_mode = {s.cond.mode: s for s in st if s.cond.noise == noise}
-        ghost, rigid = by_mode.get("ghost"), by_mode.get("rigid")
+        ghost, rigid = by_mode.get(base), by_mode.get(other)
         if ghost is None or rigid is None:
             continue
         tag = "" if not noise else f" (noise {noise:g})"
         for level in MILESTONES:
-            tg, tr = ghost.tick_to(level)[0], rigid.tick_to(level)[0]
-            dg, dr = ghost.distance_to(level)[0], rigid.distance_to(level)[0]
-            lines.append(f"- {round(100 * level)} % coverage{tag}: rigid needs {_fmt(tr)} ticks "
-                         f"vs ghost {_fmt(tg)} ({_ratio(tr, tg)}; reached by "
-                         f"{rigid.tick_to(level)[2]}/{len(rigid.summaries)} rigid and "
-                         f"{ghost.tick_to(level)[2]}/{len(ghost.summaries)} ghost runs), "
-                         f"distance moved by then {_fmt(dr)} vs {_fmt(dg)} ({_ratio(dr, dg)})")
+            both = sorted(set(ghost.milestones[level]) & set(rigid.milestones[level]))
+            if not both:
+                continue
+            tg, tr = ghost.tick_to(level, both)[0], rigid.tick_to(level, both)[0]
+            dg, dr = ghost.distance_to(level, both)[0], rigid.distance_to(level, both)[0]
+            lines.append(f"- {round(100 * level)} % coverage{tag}, {len(both)} seeds where both "
+                         f"reached it: {other} {_fmt(tr)} ticks vs {base} {_fmt(tg)} "
+                         f"({_ratio(tr, tg)}), distance moved by then {_fmt(dr)} vs {_fmt(dg)} "
+                         f"({_ratio(dr, dg)})")
         cg, cr = ghost.field_stats("coverage")[0], rigid.field_stats("coverage")[0]
-        lines.append(f"- final coverage{tag}: rigid {_fmt(None if cr is None else 100 * cr, 1)} %"
-                     f" vs ghost {_fmt(None if cg is None else 100 * cg, 1)} %")
+        lines.append(f"- final coverage{tag}: {other} "
+                     f"{_fmt(None if cr is None else 100 * cr, 1)} % vs {base} "
+                     f"{_fmt(None if cg is None else 100 * cg, 1)} %")
     return lines
 
 
@@ -266,11 +282,13 @@ def report_text(setup: StudySetup, reps: int, st: Sequence[ConditionStats]) -> s
             f"{setup.max_ticks or 'default'}"
             + (f", extra settings {dict(setup.extra)}" if setup.extra else "") + ".",
             ("ghost = robots pass through each other (the paper's point robots); rigid = "
-             "pymunk discs that push each other. Values are mean ± sd over finished runs."), "",
+             "pymunk discs that push each other. Values are mean ± sd over finished runs; ticks "
+             "to a coverage level are means over the runs that reached it (how many, if not "
+             "all)."), "",
             "![collisions](collisions.png)", ""]
     rows = []
     for s in st:
-        ticks = " / ".join(_fmt(s.tick_to(m)[0]) for m in MILESTONES)
+        ticks = " / ".join(_reached(s, m) for m in MILESTONES)
         rows.append([s.cond.label, f"{len(s.summaries)}/{len(s.cond.runs)}",
                      _mean_sd(s.field_stats("coverage"), 1, 100.0), ticks,
                      _mean_sd(s.field_stats("total_distance")),
@@ -288,8 +306,30 @@ def report_text(setup: StudySetup, reps: int, st: Sequence[ConditionStats]) -> s
             "settled robots pushed out of place"]
     table = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     table += ["| " + " | ".join(r) + " |" for r in rows]
+    noisy = any(s.cond.noise for s in st)
     return "\n".join(head + table + ["", "## Rigid against ghost", ""]
-                     + (comparison_lines(st) or ["- (needs both modes)"])) + "\n"
+                     + (comparison_lines(st) or ["- (needs both modes)"])
+                     + (["", "## Noise against ideal robots", ""] + _noise_lines(st)
+                        if noisy else [])) + "\n"
+
+
+def _noise_lines(st: Sequence[ConditionStats]) -> list[str]:
+    """Each noise level against ideal robots, per mode (as in comparison_lines)."""
+    lines = []
+    for mode in dict.fromkeys(s.cond.mode for s in st):
+        ideal = [s for s in st if s.cond.mode == mode and not s.cond.noise]
+        for s in st:
+            if s.cond.mode != mode or not s.cond.noise or not ideal:
+                continue
+            pair = [_relabel(ideal[0], "ideal"), _relabel(s, "noisy")]
+            lines += [f"{line} [{mode}, noise {s.cond.noise:g}]"
+                      for line in comparison_lines(pair, "ideal", "noisy")]
+    return lines
+
+
+def _relabel(s: ConditionStats, mode: str) -> ConditionStats:
+    cond = StudyCondition(s.cond.label, mode, 0.0, s.cond.runs)
+    return ConditionStats(cond, s.summaries, s.curves, s.milestones, s.bands)
 
 
 # ----------------------------------------------------------------------------- entry point
