@@ -264,8 +264,8 @@ def comparison_lines(st: Sequence[ConditionStats], base: str = "ghost", other: s
                 continue
             tg, tr = ghost.tick_to(level, both)[0], rigid.tick_to(level, both)[0]
             dg, dr = ghost.distance_to(level, both)[0], rigid.distance_to(level, both)[0]
-            lines.append(f"- {round(100 * level)} % coverage{tag}, {len(both)} seeds where both "
-                         f"reached it: {other} {_fmt(tr)} ticks vs {base} {_fmt(tg)} "
+            lines.append(f"- {round(100 * level)} % coverage{tag}, {len(both)} "
+                         f"seed{'s' if len(both) != 1 else ''} where both reached it: {other} {_fmt(tr)} ticks vs {base} {_fmt(tg)} "
                          f"({_ratio(tr, tg)}), distance moved by then {_fmt(dr)} vs {_fmt(dg)} "
                          f"({_ratio(dr, dg)})")
         cg, cr = ghost.field_stats("coverage")[0], rigid.field_stats("coverage")[0]
