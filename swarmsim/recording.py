@@ -48,6 +48,7 @@ class Recorder:
 
                 raise ConfigError(f"video file must end in .mp4, got {str(self.video_path)!r}",
                                   key="--video")
+            self.video_path.parent.mkdir(parents=True, exist_ok=True)  # as --out does
             self._writer = VideoWriter(self.video_path, fps=self.fps).__enter__()
             self._writer.write(self.renderer.draw(self.sim.snapshot()))
         return self
@@ -64,6 +65,7 @@ class Recorder:
         if exc_type is None and self.snapshot_path is not None:
             from swarmsim.render import save_png
 
+            self.snapshot_path.parent.mkdir(parents=True, exist_ok=True)
             save_png(self.renderer.draw(self.sim.snapshot()), self.snapshot_path)
 
     def write_outputs(self, out_dir: Path, result: RunResult) -> Path:

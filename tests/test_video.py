@@ -14,11 +14,11 @@ from swarmsim.cli import main
 def test_run_video_reads_back_and_summary_unchanged(tmp_path):
     common = ["run", "tiny", "--controller", "dispersion", "--max-ticks", "60", "--seed", "4",
               "--quiet"]
-    video = tmp_path / "run.mp4"
+    video = tmp_path / "vid" / "run.mp4"  # inside the --out folder, made by the run (README)
     assert main(common + ["--out", str(tmp_path / "plain")]) == 0
     assert main(common + ["--out", str(tmp_path / "vid"), "--video", str(video),
                           "--frame-every", "5", "--width", "320",
-                          "--snapshot", str(tmp_path / "last.png")]) == 0
+                          "--snapshot", str(tmp_path / "snaps" / "last.png")]) == 0
     plain = json.loads((tmp_path / "plain" / "summary.json").read_text())
     with_video = json.loads((tmp_path / "vid" / "summary.json").read_text())
     plain.pop("wall_seconds"), with_video.pop("wall_seconds")
@@ -30,7 +30,7 @@ def test_run_video_reads_back_and_summary_unchanged(tmp_path):
                           capture_output=True, text=True, check=False).stderr
     assert "h264" in info and "yuv420p" in info
     assert frames[-1].std() > 5  # real content, not a blank frame
-    assert iio.imread(tmp_path / "last.png").shape[1] == 320
+    assert iio.imread(tmp_path / "snaps" / "last.png").shape[1] == 320
 
 
 def test_sim_render_shows_robots_where_they_are():
