@@ -4,7 +4,7 @@ follows and which movers make it Stop."""
 import numpy as np
 
 from controllers.ggc import GGCParams
-from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, MESSAGE_FIELDS, GGCRobot
+from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, MESSAGE_FIELDS, STOP, GGCRobot
 from swarmsim.controller import Perception, RobotSetup, message_dtype
 
 
@@ -30,12 +30,13 @@ NEIGHBOURS = [((1.0, 0.0), 7, 2, DETECTION),   # another group's formation
               ((3.0, 0.0), 9, 3, ARRIVE)]      # another group's arrived robot
 
 
-def test_movers_follow_every_formation_by_default():
-    assert robot().edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
+def test_with_follow_other_formations_movers_follow_every_formation():
+    r = robot(follow_other_formations=True)  # the paper's rule
+    assert r.edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
 
 
-def test_without_follow_other_formations_other_groups_formations_are_not_edges():
-    r = robot(follow_other_formations=False)
+def test_by_default_other_groups_formations_are_not_edges():
+    r = robot()
     assert r.edge_robots(perception(NEIGHBOURS)).tolist() == [False, True, True]
     # one group: the option changes nothing
     one = robot(groups=1, follow_other_formations=False)
@@ -92,3 +93,19 @@ def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover():
     assert not robot(groups=1, d_cover=6.0).wedged(beside)   # d_cover 6: only when touching
     touching = perception([((0.85, 0.0), 7, 1, DETECTION)])
     assert robot(groups=1, d_cover=6.0).wedged(touching)
+
+
+def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped():
+    """Algorithm 5, line 5: deadlock on the target and a Stop robot near: Arrive."""
+    close = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, STOP)]
+    no_stop = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, COVERAGE)]
+    assert robot().at_covering_distance(perception(close), 0)
+    assert not robot().at_covering_distance(perception(no_stop), 0)
+    # the earlier rule: only at covering distance from the nearest stationary robot
+    spaced = robot(spaced_deadlock_arrive=True)
+    assert not spaced.at_covering_distance(perception(close), 0)
+    far = [((6.0, 0.0), 8, 1, ARRIVE), ((7.0, 0.0), 9, 2, STOP)]
+    assert spaced.at_covering_distance(perception(far), 0)
+    # one group: anywhere
+    assert robot(groups=1).at_covering_distance(perception(no_stop), 0)
+

@@ -469,11 +469,15 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         return False
 
     def at_covering_distance(self, p: Perception, nearest: int) -> bool:
-        """Far enough from the structure to stop here: d_cover - arrive_tolerance from the
-        nearest stationary robot, or any distance in a single group (the one-group rule)."""
+        """May a deadlocked mover on the target stop here? Always in a single group; with
+        groups (Algorithm 5, line 5) when a robot in Stop is within hearing, or with
+        ``spaced_deadlock_arrive`` only at d_cover - arrive_tolerance from the nearest
+        stationary robot."""
         if self.groups == 1:
             return True
-        return bool(p.distances[nearest] >= self.p.d_cover - self.p.arrive_tolerance)
+        if self.p.spaced_deadlock_arrive:
+            return bool(p.distances[nearest] >= self.p.d_cover - self.p.arrive_tolerance)
+        return bool((p.messages["status"] == STOP).any())
 
     def wedged(self, p: Perception) -> bool:
         """Pressed against waiting robots of my group (bodies touching: closer than 0.9 d_safe).
