@@ -3,6 +3,7 @@ and a Perception carries no global position."""
 
 import ast
 import dataclasses
+import re
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +42,21 @@ def test_no_controller_module_names_global_state():
     for f in sorted(CONTROLLERS.rglob("*.py")):
         text = f.read_text()
         for word in ("space", "physics", "positions", "Simulation", "world."):
-            assert f".{word}" not in text.replace("p.offsets", ""), f"{f.name} uses .{word}"
+            assert not names_attribute(text.replace("p.offsets", ""), word), \
+                f"{f.name} uses .{word}"
+
+
+def names_attribute(text: str, word: str) -> bool:
+    """Does ``text`` use the attribute ``.word`` (as a whole name: ``.spaced`` is not
+    ``.space``)?"""
+    end = r"\b" if word[-1].isalnum() else ""
+    return re.search(r"\." + re.escape(word) + end, text) is not None
+
+
+def test_names_attribute_matches_whole_names_only():
+    assert names_attribute("sim.space.step()", "space")
+    assert names_attribute("self.world.target", "world.")
+    assert not names_attribute("self.p.spaced_deadlock_arrive", "space")
 
 
 def test_perception_has_no_global_fields():
