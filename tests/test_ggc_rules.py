@@ -109,3 +109,16 @@ def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped(
     # one group: anywhere
     assert robot(groups=1).at_covering_distance(perception(no_stop), 0)
 
+
+
+def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
+    """Algorithm 7 waits for neighbours of larger gradient; with groups, one in Stop (Section
+    4.3) has left already, and may wait there for another group's mover for good."""
+    from controllers.ggc.robot import BLOCKED_BY_WAITING, NOT_BLOCKED
+
+    p = perception([((3.0, 0.0), 9, 1, STOP)])
+    p.messages["gradient"][0] = 7
+    for groups, expected in ((3, NOT_BLOCKED), (1, BLOCKED_BY_WAITING)):
+        r = robot(groups=groups)
+        r.status, r.grad = DETECTION, 5
+        assert r.blocked(p) == expected, groups

@@ -251,6 +251,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         m = p.messages
         near = (p.distances <= self.p.d_cover) & self.own_group(p) & (m["id"] != NO_SENDER)
         near &= m["status"] != ARRIVE
+        if self.groups > 1:  # a mover in Stop has left already (Section 4.3): not my turn's
+            near &= m["status"] != STOP
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
                                             | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
         if not outranks.any():
