@@ -99,15 +99,15 @@ def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped(
     """Algorithm 5, line 5: deadlock on the target and a Stop robot near: Arrive."""
     close = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, STOP)]
     no_stop = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, COVERAGE)]
-    assert robot().at_covering_distance(perception(close), 0)
-    assert not robot().at_covering_distance(perception(no_stop), 0)
+    assert robot().may_arrive_when_stuck(perception(close), 0)
+    assert not robot().may_arrive_when_stuck(perception(no_stop), 0)
     # the earlier rule: only at covering distance from the nearest stationary robot
     spaced = robot(spaced_deadlock_arrive=True)
-    assert not spaced.at_covering_distance(perception(close), 0)
+    assert not spaced.may_arrive_when_stuck(perception(close), 0)
     far = [((6.0, 0.0), 8, 1, ARRIVE), ((7.0, 0.0), 9, 2, STOP)]
-    assert spaced.at_covering_distance(perception(far), 0)
+    assert spaced.may_arrive_when_stuck(perception(far), 0)
     # one group: anywhere
-    assert robot(groups=1).at_covering_distance(perception(no_stop), 0)
+    assert robot(groups=1).may_arrive_when_stuck(perception(no_stop), 0)
 
 
 

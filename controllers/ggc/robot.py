@@ -319,7 +319,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.step_in(p, nearest)
         self.stepping_in = False
         if self.circling(p, nearest) | self.stuck(p):
-            if p.on_target and self.at_covering_distance(p, nearest):
+            if p.on_target and self.may_arrive_when_stuck(p, nearest):
                 self.set_status(ARRIVE)
                 return self.act()
             self.sense = -self.sense  # a dead end: try the other way round
@@ -470,7 +470,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return True
         return False
 
-    def at_covering_distance(self, p: Perception, nearest: int) -> bool:
+    def may_arrive_when_stuck(self, p: Perception, nearest: int) -> bool:
         """May a deadlocked mover on the target stop here? Always in a single group; with
         groups (Algorithm 5, line 5) when a robot in Stop is within hearing, or with
         ``spaced_deadlock_arrive`` only at d_cover - arrive_tolerance from the nearest
