@@ -136,6 +136,15 @@ def test_larger_d_cover_uses_fewer_robots_and_less_distance(d_cover_runs):
     assert dist[1] < dist[0] and dist[3] < dist[1], dist
 
 
+def test_surplus_robots_stop_once_the_target_is_full(d_cover_runs):
+    # 60 robots, room for ~15 at d_cover 8 and ~10 at 10: the rest stop as Surplus (off the
+    # target) instead of circling, and the run ends with every robot standing still
+    for d in (8, 10):
+        s = d_cover_runs[d]
+        assert set(s["status_counts"]) == {"Arrive", "Surplus"}, (d, s["status_counts"])
+        assert s["stop_reason"] == "stalled" and s["surplus_stops"] > 0, (d, s)
+
+
 def test_lattice_stop_still_covers_the_small_world():
     s = run_small(seed=3, lattice_stop=True)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s

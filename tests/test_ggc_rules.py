@@ -4,7 +4,15 @@ follows and which movers make it Stop."""
 import numpy as np
 
 from controllers.ggc import GGCParams
-from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, MESSAGE_FIELDS, STOP, GGCRobot
+from controllers.ggc.robot import (
+    ARRIVE,
+    COVERAGE,
+    DETECTION,
+    MESSAGE_FIELDS,
+    STOP,
+    SURPLUS,
+    GGCRobot,
+)
 from swarmsim.controller import Perception, RobotSetup, message_dtype
 
 
@@ -122,3 +130,98 @@ def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
         r = robot(groups=groups)
         r.status, r.grad = DETECTION, 5
         assert r.blocked(p) == expected, groups
+
+
+def lap_view(rows, on_target: bool = False, free_outward: bool = False,
+             moved: tuple[float, float] = (0.1, 0.0)) -> Perception:
+    """A mover's view for the surplus rule: ``free_outward`` says what the floor probe finds
+    (target floor beyond the robot, away from the structure, or not)."""
+    p = perception(rows)
+    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
+                      messages=p.messages, on_target=on_target,
+                      probe=lambda offset: free_outward, beacon=None, moved=np.array(moved))
+
+
+ARRIVED_ONLY = [((6.0, 0.0), 40, 1, ARRIVE)]            # away: no waiting robot heard
+BACK_HOME = [((6.0, 0.0), 8, 1, DETECTION)]             # beside my group's formation
+
+
+def mover(**params) -> GGCRobot:
+    r = robot(groups=1, d_cover=8.0, **params)
+    r.set_status(COVERAGE)
+    return r
+
+
+def test_a_mover_back_at_its_formation_after_a_lap_past_no_free_floor_is_surplus():
+    r = mover()
+    r.coverage(lap_view(ARRIVED_ONLY))                  # out of hearing of the formation
+    assert r.away and r.status == COVERAGE
+    action = r.coverage(lap_view(BACK_HOME))
+    assert r.status == SURPLUS and action.message[1] == SURPLUS and r.surplus == 1
+    assert action.velocity == (0.0, 0.0)
+
+
+def test_a_lap_past_free_target_floor_goes_round_again():
+    r = mover()
+    for _ in range(30):  # 3 units on the target with target floor outward: a frontier
+        r.coverage(lap_view(ARRIVED_ONLY, on_target=True, free_outward=True))
+    assert r.frontier > r.p.surplus_frontier
+    r.coverage(lap_view(BACK_HOME))
+    assert r.status == COVERAGE and not r.away and r.frontier == 0.0
+
+
+def test_a_mover_that_never_left_its_formations_hearing_is_not_surplus():
+    r = mover()
+    r.coverage(lap_view(BACK_HOME))
+    assert r.status == COVERAGE and r.surplus == 0
+
+
+def test_after_turning_round_only_the_next_whole_lap_counts():
+    r = mover()
+    r.coverage(lap_view(ARRIVED_ONLY))
+    r.restart_lap(whole=False)  # what a mover does when it turns round at a dead end
+    r.coverage(lap_view(ARRIVED_ONLY))  # retracing its way, out of hearing again
+    r.coverage(lap_view(BACK_HOME))
+    assert r.status == COVERAGE and r.lap_whole  # home early: now a whole lap starts
+    r.coverage(lap_view(ARRIVED_ONLY))
+    r.coverage(lap_view(BACK_HOME))
+    assert r.status == SURPLUS
+
+
+def test_the_news_spreads_through_my_group_only():
+    r = mover()
+    r.coverage(lap_view([((8.0, 0.0), 9, 1, SURPLUS)]))
+    assert r.status == SURPLUS                        # a mover reaching a Surplus robot
+    other = mover()
+    other.coverage(lap_view([((8.0, 0.0), 9, 2, SURPLUS)]))
+    assert other.status == COVERAGE                   # another group's: just an edge
+    waiting = robot(groups=1, d_cover=8.0)
+    waiting.set_status(DETECTION)
+    waiting.detection(lap_view([((1.0, 0.0), 9, 1, SURPLUS)]))
+    assert waiting.status == SURPLUS                  # the formation stays where it is
+    waiting3 = robot(groups=1, d_cover=8.0)
+    waiting3.set_status(DETECTION)
+    waiting3.detection(lap_view([((1.0, 0.0), 9, 2, SURPLUS)]))
+    assert waiting3.status != SURPLUS
+
+
+def test_the_surplus_rule_is_off_when_disabled_at_small_d_cover_or_with_groups():
+    for r in (mover(surplus_stop=False), robot(groups=1, d_cover=4.0),
+              robot(groups=3, d_cover=8.0)):
+        r.set_status(COVERAGE)
+        r.coverage(lap_view(ARRIVED_ONLY))
+        r.coverage(lap_view(BACK_HOME))
+        assert r.status == COVERAGE and r.surplus == 0
+
+
+def test_movers_off_the_target_that_hear_a_surplus_robot_of_their_group_stop():
+    heard = [((3.0, 0.0), 40, 1, ARRIVE), ((12.0, 0.0), 9, 1, SURPLUS)]
+    r = mover()
+    r.coverage(lap_view(heard))
+    assert r.status == SURPLUS
+    on_target = mover()  # on the target a place may be near: carry on
+    on_target.coverage(lap_view(heard, on_target=True))
+    assert on_target.status == COVERAGE
+    no_spread = mover(surplus_spread=False)
+    no_spread.coverage(lap_view(heard))
+    assert no_spread.status == COVERAGE

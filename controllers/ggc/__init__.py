@@ -13,6 +13,7 @@ from swarmsim.controller import register
 from .aggregation import MAX_GROUPS
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot
+from .statuses import SETTLED
 
 
 @register
@@ -22,6 +23,7 @@ class GGC(GGCRobot):
     name = "ggc"
     Params = GGCParams
     STATUSES = STATUSES
+    SETTLED_STATUSES = SETTLED
     MESSAGE_FIELDS = MESSAGE_FIELDS
     default_start = "formation"
     max_groups = MAX_GROUPS
@@ -38,7 +40,8 @@ class GGC(GGCRobot):
         counts = Counter(STATUSES[r.status] for r in robots)
         return {"status_counts": dict(sorted(counts.items())),
                 "deadlocks_detected": sum(r.deadlocks for r in robots),
-                "collision_stops": sum(r.collision_stops for r in robots)}
+                "collision_stops": sum(r.collision_stops for r in robots),
+                "surplus_stops": sum(r.surplus for r in robots)}
 
 
 __all__ = ["GGC", "GGCParams"]

@@ -79,6 +79,29 @@ class GGCParams:
             Stop is within hearing, as the paper's Algorithm 5 says. The paper's rule packs
             some robots closer but clears jams: K, 3 groups, seeds 0-2, coverage at tick
             12,000 0.639, 0.583, 0.637 against 0.600, 0.597, 0.610 with the spacing rule.
+        surplus_stop: surplus robots stop (our addition; False: the paper's robots circle on).
+            A mover that has been out of hearing of its group's waiting robots and comes back
+            beside them (its nearest stationary robot is a waiting robot of its group, within
+            d_cover + arrive_tolerance) has gone round its group's structure. If on the way
+            it walked at most surplus_frontier units on the target with target floor outward
+            too (boundary_probe units away from the structure), there is no place left that
+            it can find: it stops for good, as Surplus (Arrive if on the target). Otherwise
+            it goes round again. Only while d_cover > yield_release: at smaller d_cover movers
+            weave through the formation's jams and come back beside it after short walks
+            (small world, d_cover 1: coverage 0.18 fell to 0.10 with the rule). One group
+            only: with groups, movers come home round other groups' structures and the
+            formations stopped early (K, 3 groups, seed 0, coverage at tick 12,000: 0.613
+            against 0.750 without the rule). A waiting robot of the group that hears a Surplus robot of its group
+            within d_cover + arrive_tolerance stays where it is as Surplus, so the whole
+            formation stops, and movers that reach a Surplus robot of their group stop there
+            too. Turning round at a dead end forgets having been away. Without it, at
+            d_cover 8 and 10 half of K's robots circle until the plateau rule ends the run,
+            and the distance moved grows with d_cover instead of falling as in the paper's
+            Figure 19.
+        surplus_frontier: see surplus_stop (units of path).
+        surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
+            of its group stops as Surplus too, so that the news runs back along the stream of
+            movers round the structure instead of each mover walking home first.
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -108,6 +131,9 @@ class GGCParams:
     boundary_fill: bool = True
     boundary_probe: float = 2.0
     own_edges: bool = False
+    surplus_stop: bool = True
+    surplus_frontier: float = 2.0
+    surplus_spread: bool = True
     yield_release: float = 4.0
     follow_other_formations: bool = False
     stop_ahead_only: bool = False
@@ -127,7 +153,10 @@ class GGCParams:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
             raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
-        if self.theta < 0 or self.arrive_tolerance < 0 or self.h_max < 0 or self.yield_release < 0:
-            raise ValueError("theta, arrive_tolerance, h_max and yield_release must be >= 0")
+        nonnegative = ("theta", "arrive_tolerance", "h_max", "yield_release", "surplus_frontier")
+        for name in nonnegative:
+            if getattr(self, name) < 0:
+                raise ValueError(f"GGC parameter {name} must be >= 0, got "
+                                 f"{getattr(self, name)!r}")
         if self.theta > 2 * self.d_cover:
             raise ValueError(f"theta ({self.theta}) must not exceed 2 * d_cover (Section 4.4)")

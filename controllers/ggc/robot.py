@@ -47,6 +47,7 @@ from .statuses import (  # noqa: F401 (re-exported)
     PEND,
     STATUSES,
     STOP,
+    SURPLUS,
 )
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
@@ -86,6 +87,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.circled = 0.0
         self.last_bearing: float | None = None
         self.deadlocks = 0
+        self.restart_lap()
+        self.surplus = 0
+        self.surplus_rule = (params.surplus_stop and params.d_cover > params.yield_release
+                             and setup.groups == 1)
         self.sense = params.orbit
         self.collision_stops = 0
         self.no_way_in: set[int] = set()
@@ -128,7 +133,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return 1.5 * self.p.d_min
         if self.status == DETECTION:
             return max(self.p.d_cover, 1.5 * self.p.d_min)
-        if self.status == ARRIVE:
+        if self.status in (ARRIVE, SURPLUS):
             return self.p.d_safe
         return min(2 * self.p.d_cover, self.p.R_c)
 
@@ -137,7 +142,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if self.scattered and p.tick < self.selection_ticks:
             return self.select_leaders(p)
         handler = {INITIAL: self.initial, DETECTION: self.detection, COVERAGE: self.coverage,
-                   ARRIVE: self.arrive, STOP: self.stopped}.get(self.status, self.gather)
+                   ARRIVE: self.arrive, STOP: self.stopped,
+                   SURPLUS: self.arrive}.get(self.status, self.gather)
         return handler(p)
 
     # ------------------------------------------------------------------ neighbour views
@@ -157,7 +163,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return still
         m = p.messages
         return still & ((m["group"] == self.group) | (m["status"] == ARRIVE)
-                        | (m["id"] == NO_SENDER))
+                        | (m["status"] == SURPLUS) | (m["id"] == NO_SENDER))
 
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
@@ -220,6 +226,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ Detection
     def detection(self, p: Perception) -> Action:
+        if self.surplus_rule and self.hears_surplus(p):
+            self.set_status(SURPLUS)  # my group's structure is full: stay where I am
+            return self.act(sleep=True, wake_range=0.0)
         grad = self.gradient_from(p, 1.5 * self.p.d_min)
         if grad is not None:
             self.grad = grad
@@ -250,7 +259,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """
         m = p.messages
         near = (p.distances <= self.p.d_cover) & self.own_group(p) & (m["id"] != NO_SENDER)
-        near &= m["status"] != ARRIVE
+        near &= (m["status"] != ARRIVE) & (m["status"] != SURPLUS)
         if self.groups > 1:  # a mover in Stop has left already (Section 4.3): not my turn's
             near &= m["status"] != STOP
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
@@ -296,7 +305,15 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         status = p.messages["status"][:k]
         return np.flatnonzero((status == INITIAL) | (status == DETECTION))
 
+    def hears_surplus(self, p: Perception) -> bool:
+        """A Surplus robot of my group within d_cover + arrive_tolerance."""
+        k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
+                                side="right"))
+        m = p.messages[:k]
+        return bool(((m["status"] == SURPLUS) & (m["group"] == self.group)).any())
+
     def start_coverage(self, p: Perception) -> None:
+        self.restart_lap()
         self.set_status(COVERAGE)
         self.odometer[:] = 0.0
         self.progress_tick = p.tick
@@ -312,6 +329,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if self.should_arrive(p, nearest):
             self.set_status(ARRIVE)
             return self.act()
+        if self.surplus_rule and self.is_surplus(p, nearest):
+            return self.give_up(p)
         self.follow_gradient(p, nearest)
         if self.p.own_edges:
             self.turn_at_junction(p, nearest)
@@ -324,6 +343,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 return self.act()
             self.sense = -self.sense  # a dead end: try the other way round
             self.circled = 0.0
+            self.restart_lap(whole=False)
             if p.on_target:  # Algorithm 6: wait T_s, then resume
                 return self.deadlock_stop(p)
             if self.wedged(p):
@@ -339,6 +359,53 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.act(give_way)
         return self.act(velocity)
 
+    def is_surplus(self, p: Perception, nearest: int) -> bool:
+        """Back beside my group's waiting robots after a lap round the structure that passed
+        no free target floor, or at a Surplus robot of my group (my nearest stationary
+        robot): see GGCParams.surplus_stop."""
+        m = p.messages
+        if not self.away:
+            waiting = (m["status"] == INITIAL) | (m["status"] == DETECTION)
+            self.away = not (waiting & (m["group"] == self.group)).any()
+        if p.on_target and self.frontier <= self.p.surplus_frontier:
+            outward = -p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
+            if p.probe(outward * self.p.boundary_probe):
+                self.frontier += math.hypot(float(p.moved[0]), float(p.moved[1]))
+        if self.p.surplus_spread and not p.on_target and self.hears_group_surplus(p):
+            return True
+        if m["id"][nearest] == NO_SENDER or m["group"][nearest] != self.group:
+            return False
+        status = m["status"][nearest]
+        if status == SURPLUS:
+            return True
+        if not (self.away and status in (INITIAL, DETECTION)):
+            return False
+        if p.distances[nearest] > self.p.d_cover + self.p.arrive_tolerance:
+            return False
+        if self.lap_whole and self.frontier <= self.p.surplus_frontier:
+            return True
+        self.restart_lap()  # the lap passed free floor, or I turned round: go round again
+        return False
+
+    def restart_lap(self, whole: bool = True) -> None:
+        """Start a new lap (see GGCParams.surplus_stop). A robot that turns round starts one
+        that is not whole (``whole=False``): retracing its way it comes back home early."""
+        self.away = False
+        self.frontier = 0.0
+        self.lap_whole = whole
+
+    def hears_group_surplus(self, p: Perception) -> bool:
+        """A Surplus robot of my group within hearing."""
+        m = p.messages
+        return bool(((m["status"] == SURPLUS) & (m["group"] == self.group)).any())
+
+    def give_up(self, p: Perception) -> Action:
+        """No place left: stop for good, as Arrive on the target (covering what is here),
+        else as Surplus."""
+        self.surplus += 1
+        self.set_status(ARRIVE if p.on_target else SURPLUS)
+        return self.act()
+
     def turn_at_junction(self, p: Perception, nearest: int) -> None:
         """With ``own_edges``: off the target, reaching another group's structure (my nearest
         stationary robot is another group's) turns me back, once per such robot."""
@@ -349,6 +416,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             self.turned_at = int(m["id"])
             self.sense = -self.sense
             self.circled = 0.0
+            self.restart_lap(whole=False)
 
     def edge_velocity(self, p: Perception, structure: np.ndarray) -> np.ndarray:
         """Follow the edge of the stationary robots (Algorithm 2), or a valley between two."""
