@@ -205,8 +205,8 @@ class RunMetrics:
         self.total_impulse = 0.0
         self.contact_robot_ticks = 0
         self.plateau_tick = 0
-        self.settle_distance = 0.0
         self.completion_distance = 0.0
+        self._rises: list[tuple[float, int, float]] = []  # (coverage, tick, distance) at new highs
         self._plateau_ref = -1.0
         self.last_change_tick = 0
         self.rows: list[dict] = []
@@ -233,7 +233,8 @@ class RunMetrics:
         if self.coverage > self._plateau_ref + self.config.plateau_delta:
             self._plateau_ref = self.coverage
             self.plateau_tick = tick
-            self.settle_distance = self.total_distance
+        if not self._rises or self.coverage > self._rises[-1][0]:
+            self._rises.append((self.coverage, tick, self.total_distance))
         self._observe_contacts()
         self.settled.observe(positions, messages)
         self._state.update({"on_target": int(on_target.sum()),
@@ -274,20 +275,17 @@ class RunMetrics:
     def summary(self, positions: np.ndarray, on_target: np.ndarray) -> dict:
         """Summary fields for summary.json.
 
-        ``settle_tick`` is the completion tick, or else the last tick at which coverage rose by
-        plateau_delta (the coverage the run ends with was reached then), and
-        ``distance_at_settle`` the total distance moved by then (units): unlike total_distance
-        it leaves out the walking of robots that can no longer add coverage (surplus robots
-        circle until the plateau stop).
+        ``settle_tick`` is the completion tick, or else the first tick at which coverage came
+        within plateau_delta of the coverage the run ends with, and ``distance_at_settle`` the
+        total distance moved by then (units): unlike total_distance it leaves out the walking
+        of robots that could no longer add coverage (surplus robots looking for a place).
         """
         c = self.physics.contacts
-        done = self.completion_tick
         spacing = nearest_neighbour_spacing(positions[on_target])
+        settle_tick, settle_distance = self.settled_at()
         return {"coverage": round(self.coverage, 6), "completion_tick": self.completion_tick,
                 "total_distance": round(self.total_distance, 3),
-                "settle_tick": self.plateau_tick if done is None else done,
-                "distance_at_settle": round(self.settle_distance if done is None
-                                            else self.completion_distance, 3),
+                "settle_tick": settle_tick, "distance_at_settle": round(settle_distance, 3),
                 "robots_on_target": int(on_target.sum()),
                 "collisions_robot_robot": c.robot_robot, "collisions_robot_wall": c.robot_wall,
                 "max_overlap": round(self.max_overlap, 6),
@@ -295,6 +293,15 @@ class RunMetrics:
                 "contact_robot_ticks": self.contact_robot_ticks,
                 **self._collision_summary(),
                 "spacing_mean": spacing[0], "spacing_std": spacing[1], "spacing_cv": spacing[2]}
+
+    def settled_at(self) -> tuple[int, float]:
+        """(tick, total distance in units) when coverage settled: the completion tick, or the
+        first tick coverage came within plateau_delta of its current value. (Robots passing
+        over uncovered floor make coverage flicker by a few tenths of a percent; the last rise
+        would count their walking.)"""
+        if self.completion_tick is not None:
+            return self.completion_tick, self.completion_distance
+        return first_within(self._rises, self.coverage - self.config.plateau_delta)
 
     def _collision_summary(self) -> dict:
         """Collision-realism figures: per-robot contacts, overlap, impulse, pushed robots."""
@@ -331,3 +338,12 @@ def nearest_neighbour_spacing(positions: np.ndarray) -> tuple[float | None, ...]
     nn = d[:, 1]
     mean, std = float(nn.mean()), float(nn.std())
     return (round(mean, 4), round(std, 4), round(std / mean, 4) if mean > 0 else None)
+
+
+def first_within(rises: list[tuple[float, int, float]], floor: float) -> tuple[int, float]:
+    """(tick, distance) of the first of the coverage highs ``rises`` (coverage, tick,
+    distance), in tick order, whose coverage is at least ``floor``; (0, 0.0) if none is."""
+    for coverage, tick, distance in rises:
+        if coverage >= floor:
+            return tick, distance
+    return 0, 0.0

@@ -58,3 +58,21 @@ def test_incremental_coverage_equals_direct_computation():
         movers = rng.random(30) < 0.3
         pos[movers] += rng.normal(0, 1.5, size=(movers.sum(), 2))
         assert inc.update(pos) == grid.coverage(pos)
+
+
+def test_settle_point_ignores_the_flicker_of_robots_passing_by():
+    from types import SimpleNamespace
+
+    from swarmsim.metrics import RunMetrics, first_within
+
+    # coverage reaches 0.842 at tick 300; passing robots lift it to 0.8445 later; it ends at
+    # 0.8439: it settled at tick 300 (within plateau_delta 0.002), not at the last rise
+    rises = [(0.5, 100, 10.0), (0.842, 300, 50.0), (0.843, 700, 90.0), (0.8445, 900, 120.0)]
+    assert first_within(rises, 0.8439 - 0.002) == (300, 50.0)
+    assert first_within(rises, 0.9) == (0, 0.0)
+    metrics = RunMetrics.__new__(RunMetrics)
+    metrics.config = SimpleNamespace(plateau_delta=0.002)
+    metrics.completion_tick, metrics.coverage, metrics._rises = None, 0.8439, rises
+    assert metrics.settled_at() == (300, 50.0)
+    metrics.completion_tick, metrics.completion_distance = 950, 130.0
+    assert metrics.settled_at() == (950, 130.0)
