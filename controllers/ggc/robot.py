@@ -200,7 +200,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         m = p.messages
         ok = (p.distances <= 1.5 * self.p.d_min) & self.own_group(p) & (m["id"] != NO_SENDER)
         ok &= (m["gradient"] == self.grad - 1) & self.stationary(p)
-        return m[np.flatnonzero(ok)[0]]
+        return m[ok.nonzero()[0][0]]
 
     def touching(self, p: Perception) -> bool:
         """Has the formation's front touched the target? (own floor sensor or a neighbour's)"""
@@ -294,7 +294,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if len(waiting) == 0 or not p.messages["enclosed"][waiting].all():
             return False
         k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
-        still = np.flatnonzero(self.stationary(p)[:k])
+        still = self.stationary(p)[:k].nonzero()[0]
         if len(still) < 3:
             return True
         return widest_gap(p.offsets[still]) >= ENCLOSED_GAP
@@ -303,14 +303,13 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
         k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
         status = p.messages["status"][:k]
-        return np.flatnonzero((status == INITIAL) | (status == DETECTION))
+        return ((status == INITIAL) | (status == DETECTION)).nonzero()[0]
 
     def hears_surplus(self, p: Perception) -> bool:
         """A Surplus robot of my group within d_cover + arrive_tolerance."""
         k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
                                 side="right"))
-        m = p.messages[:k]
-        return bool(((m["status"] == SURPLUS) & (m["group"] == self.group)).any())
+        return self.group_surplus_in(p.messages[:k])
 
     def start_coverage(self, p: Perception) -> None:
         self.restart_lap()
@@ -320,7 +319,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ Coverage
     def coverage(self, p: Perception) -> Action:
-        structure = np.flatnonzero(self.edge_robots(p))
+        structure = self.edge_robots(p).nonzero()[0]
         if len(structure) == 0:
             return self.wander(p)
         nearest = structure[0]
@@ -365,7 +364,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         robot): see GGCParams.surplus_stop."""
         m = p.messages
         if not self.away:
-            waiting = (m["status"] == INITIAL) | (m["status"] == DETECTION)
+            status = m["status"]
+            waiting = (status == INITIAL) | (status == DETECTION)
             self.away = not (waiting & (m["group"] == self.group)).any()
         if p.on_target and self.frontier <= self.p.surplus_frontier:
             outward = -p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
@@ -396,8 +396,12 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def hears_group_surplus(self, p: Perception) -> bool:
         """A Surplus robot of my group within hearing."""
-        m = p.messages
-        return bool(((m["status"] == SURPLUS) & (m["group"] == self.group)).any())
+        return self.group_surplus_in(p.messages)
+
+    def group_surplus_in(self, m: np.ndarray) -> bool:
+        """Is a Surplus robot of my group among these messages?"""
+        surplus = m["status"] == SURPLUS
+        return bool(surplus.any() and (surplus & (m["group"] == self.group)).any())
 
     def give_up(self, p: Perception) -> Action:
         """No place left: stop for good, as Arrive on the target (covering what is here),
@@ -446,10 +450,14 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
         """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
-        radial = offset / max(dist, 1e-9)
-        tangent = np.array([radial[1], -radial[0]]) * self.sense
+        scale = max(dist, 1e-9)  # in scalars: the same arithmetic as arrays, faster
+        rx, ry = offset[0] / scale, offset[1] / scale
         error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
-        return unit(tangent + error * radial) * self.p.v
+        vx, vy = ry * self.sense + error * rx, -rx * self.sense + error * ry
+        norm = math.hypot(float(vx), float(vy))
+        if norm <= 1e-12:
+            return np.zeros(2)
+        return np.array([vx / norm * self.p.v, vy / norm * self.p.v])
 
     def target_inward(self, p: Perception, nearest: int) -> bool:
         """Outside the target, beside an arrived robot, with target floor toward it.
@@ -457,8 +465,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         Then the strip between the structure and the boundary is wider than coverage reaches
         (our addition to Algorithm 2: the paper leaves it uncovered).
         """
+        if p.on_target:
+            return False
         m = p.messages[nearest]
-        if p.on_target or m["status"] != ARRIVE or int(m["id"]) in self.no_way_in:
+        if m["status"] != ARRIVE or int(m["id"]) in self.no_way_in:
             return False
         if m["stepped"] or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
             return False  # next to a robot that stepped in itself: the strip is covered
@@ -486,8 +496,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """
         m = p.messages
         if m["group"][nearest] != self.group:
-            mine = np.flatnonzero(self.stationary(p) & self.own_group(p)
-                                  & (p.distances <= 1.5 * self.p.d_cover))
+            mine = (self.stationary(p) & self.own_group(p)
+                    & (p.distances <= 1.5 * self.p.d_cover)).nonzero()[0]
             if len(mine) == 0:
                 return
             nearest = mine[0]
@@ -577,6 +587,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def other_group_mover(self, p: Perception) -> bool:
         """A robot of another group in Coverage within d_cover, with priority (larger id)."""
+        if self.groups == 1:
+            return False
         k = int(np.searchsorted(p.distances, self.p.d_cover, side="right"))
         m = p.messages[:k]  # distances are sorted: the first k are within d_cover
         others = m["group"] != self.group
@@ -605,7 +617,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """
         k = int(np.searchsorted(p.distances, self.p.yield_distance, side="right"))
         m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
-        ahead = np.flatnonzero(m["moving"] & (m["id"] > self.id))
+        moving = m["moving"]
+        if not moving.any():
+            return None
+        ahead = (moving & (m["id"] > self.id)).nonzero()[0]
         ahead = ahead[p.offsets[ahead] @ velocity > 0]
         if len(ahead) == 0:
             return None
