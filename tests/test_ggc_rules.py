@@ -133,13 +133,16 @@ def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
 
 
 def lap_view(rows, on_target: bool = False, free_outward: bool = False,
-             moved: tuple[float, float] = (0.1, 0.0)) -> Perception:
+             moved: tuple[float, float] = (0.1, 0.0),
+             beacon_deg: float | None = None) -> Perception:
     """A mover's view for the surplus rule: ``free_outward`` says what the floor probe finds
     (target floor beyond the robot, away from the structure, or not)."""
     p = perception(rows)
     return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
                       messages=p.messages, on_target=on_target,
-                      probe=lambda offset: free_outward, beacon=None, moved=np.array(moved))
+                      probe=lambda offset: free_outward, moved=np.array(moved),
+                      beacon=None if beacon_deg is None else
+                      np.array([np.cos(np.radians(beacon_deg)), np.sin(np.radians(beacon_deg))]))
 
 
 ARRIVED_ONLY = [((6.0, 0.0), 40, 1, ARRIVE)]            # away: no waiting robot heard
@@ -225,3 +228,20 @@ def test_movers_off_the_target_that_hear_a_surplus_robot_of_their_group_stop():
     no_spread = mover(surplus_spread=False)
     no_spread.coverage(lap_view(heard))
     assert no_spread.status == COVERAGE
+
+
+def test_a_lap_counts_only_if_it_went_round_the_beacon():
+    # into a bay of the structure's edge and back out beside the formation: the bearing to
+    # the beacon swung by 90 degrees and back, so the lap did not go round the structure
+    bay = mover()
+    for deg in [*range(0, 91, 10), *range(90, -1, -10)]:
+        bay.coverage(lap_view(ARRIVED_ONLY, beacon_deg=deg))
+    bay.coverage(lap_view(BACK_HOME, beacon_deg=0))
+    assert bay.status == COVERAGE and bay.surplus == 0 and not bay.away
+    # all the way round (bearing turned 300 degrees, past surplus_winding = 270)
+    lap = mover()
+    for deg in range(0, 301, 20):
+        lap.coverage(lap_view(ARRIVED_ONLY, beacon_deg=deg))
+    assert abs(np.degrees(lap.winding) - 300) < 1e-6
+    lap.coverage(lap_view(BACK_HOME, beacon_deg=300))
+    assert lap.status == SURPLUS

@@ -99,6 +99,12 @@ class GGCParams:
             and the distance moved grows with d_cover instead of falling as in the paper's
             Figure 19.
         surplus_frontier: see surplus_stop (units of path).
+        surplus_winding: with surplus_stop, a lap counts only if the bearing to the beacon
+            turned by at least this much on the way (degrees): the lap went round the
+            structure, which holds the beacon once the target is full, not just into a bay
+            of its edge and back out beside the formation (K, d_cover 8, seed 3: a formation
+            at the mouth of the bay under K's leg stopped at coverage 0.34, 100 robots on the
+            target, after a 63-unit "lap"). Not checked in worlds without a beacon.
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
             of its group stops as Surplus too, so that the news runs back along the stream of
             movers round the structure instead of each mover walking home first.
@@ -133,6 +139,7 @@ class GGCParams:
     own_edges: bool = False
     surplus_stop: bool = True
     surplus_frontier: float = 2.0
+    surplus_winding: float = 270.0
     surplus_spread: bool = True
     yield_release: float = 4.0
     follow_other_formations: bool = False
@@ -153,7 +160,8 @@ class GGCParams:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
             raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
-        nonnegative = ("theta", "arrive_tolerance", "h_max", "yield_release", "surplus_frontier")
+        nonnegative = ("theta", "arrive_tolerance", "h_max", "yield_release", "surplus_frontier",
+                       "surplus_winding")
         for name in nonnegative:
             if getattr(self, name) < 0:
                 raise ValueError(f"GGC parameter {name} must be >= 0, got "

@@ -325,6 +325,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         nearest = structure[0]
         velocity = self.edge_velocity(p, structure)
         self.heading = unit(velocity)
+        if self.surplus_rule:
+            self.track_winding(p)
         if self.should_arrive(p, nearest):
             self.set_status(ARRIVE)
             return self.act()
@@ -382,7 +384,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return False
         if p.distances[nearest] > self.p.d_cover + self.p.arrive_tolerance:
             return False
-        if self.lap_whole and self.frontier <= self.p.surplus_frontier:
+        if self.lap_whole and self.frontier <= self.p.surplus_frontier and self.went_round():
             return True
         self.restart_lap()  # the lap passed free floor, or I turned round: go round again
         return False
@@ -393,6 +395,24 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.away = False
         self.frontier = 0.0
         self.lap_whole = whole
+        self.winding = 0.0
+        self.beacon_angle: float | None = None
+
+    def track_winding(self, p: Perception) -> None:
+        """Add up how far the bearing to the beacon has turned this lap (radians)."""
+        if p.beacon is None:
+            return
+        angle = math.atan2(float(p.beacon[1]), float(p.beacon[0]))
+        if self.beacon_angle is not None:
+            self.winding += (angle - self.beacon_angle + math.pi) % (2 * math.pi) - math.pi
+        self.beacon_angle = angle
+
+    def went_round(self) -> bool:
+        """Did this lap go round the beacon (see GGCParams.surplus_winding)? True without a
+        beacon."""
+        if self.beacon_angle is None:
+            return True
+        return abs(self.winding) >= math.radians(self.p.surplus_winding)
 
     def hears_group_surplus(self, p: Perception) -> bool:
         """A Surplus robot of my group within hearing."""
