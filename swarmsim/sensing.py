@@ -92,7 +92,7 @@ class NeighbourSearch:
         if len(robots) == 0:
             return [], [], []
         pos = self.positions
-        lists = self.tree.query_ball_point(pos[robots], radius)
+        lists = self.tree.query_ball_point(pos[robots], radius, return_sorted=True)
         counts = np.fromiter(map(len, lists), dtype=np.intp, count=len(lists))
         flat = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.intp,
                            count=int(counts.sum()))
@@ -104,7 +104,7 @@ class NeighbourSearch:
         if perturb is not None:
             offsets = perturb(offsets)
         d2 = offsets[:, 0] ** 2 + offsets[:, 1] ** 2
-        order = np.lexsort((flat, d2, segment))
+        order = by_segment_then_distance(segment, d2)
         flat, offsets = flat[order], offsets[order]
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
         bounds = split_bounds(np.bincount(segment, minlength=len(robots)))
@@ -123,6 +123,19 @@ class NeighbourSearch:
     def pairs(self, radius: float) -> np.ndarray:
         """(P, 2) unique index pairs i < j closer than ``radius``."""
         return self.tree.query_pairs(radius, output_type="ndarray")
+
+
+def by_segment_then_distance(segment: np.ndarray, d2: np.ndarray) -> np.ndarray:
+    """The order that sorts entries by segment, then squared distance, then position.
+
+    ``np.lexsort((position, d2, segment))`` in two stable passes: by d2, then by segment (a
+    radix sort on 16-bit keys), several times faster. Entries come from ``query_ball_point``
+    with sorted indices, so position order is index order: ties go to the smaller index.
+    """
+    if len(segment) and segment[-1] >= np.iinfo(np.int16).max:
+        return np.lexsort((np.arange(len(d2)), d2, segment))
+    by_distance = np.argsort(d2, kind="stable")
+    return by_distance[np.argsort(segment.astype(np.int16)[by_distance], kind="stable")]
 
 
 def split_bounds(counts: np.ndarray) -> list[tuple[int, int]]:

@@ -62,3 +62,25 @@ def test_neighbourhoods_match_neighbours_and_relative_view():
         np.testing.assert_array_equal(offsets[k], off)
         np.testing.assert_array_equal(dists[k], d)
     assert len(idx[1]) == 0 and offsets[1].shape == (0, 2)
+
+
+def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
+    from swarmsim.sensing import by_segment_then_distance
+
+    rng = np.random.default_rng(4)
+    rows, cols = np.meshgrid(np.arange(30), np.arange(30), indexing="ij")
+    pos = np.stack([cols + 0.5 * (rows % 2), rows * np.sqrt(3) / 2], axis=-1).reshape(-1, 2)
+    robots = rng.permutation(len(pos))[:300]
+    idx, _, dists = NeighbourSearch(pos).neighbourhoods(robots, 3.0)
+    search = NeighbourSearch(pos)
+    for k, i in enumerate(robots):  # nearest first; equal distances by index
+        np.testing.assert_array_equal(idx[k], search.neighbours(np.array([i]), 3.0)[0])
+        assert np.all(np.diff(dists[k]) >= -1e-12)
+    segment = np.repeat(np.arange(50), 40)
+    d2 = rng.integers(0, 5, len(segment)).astype(float)  # many exact ties
+    np.testing.assert_array_equal(by_segment_then_distance(segment, d2),
+                                  np.lexsort((np.arange(len(d2)), d2, segment)))
+    big = np.repeat(np.arange(40000), 1)  # too many segments for 16-bit keys
+    d2 = rng.random(len(big))
+    np.testing.assert_array_equal(by_segment_then_distance(big, d2),
+                                  np.lexsort((np.arange(len(d2)), d2, big)))

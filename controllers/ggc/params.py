@@ -91,10 +91,11 @@ class GGCParams:
             (small world, d_cover 1: coverage 0.18 fell to 0.10 with the rule). One group
             only: with groups, movers come home round other groups' structures and the
             formations stopped early (K, 3 groups, seed 0, coverage at tick 12,000: 0.613
-            against 0.750 without the rule). A waiting robot of the group that hears a Surplus robot of its group
-            within d_cover + arrive_tolerance stays where it is as Surplus, so the whole
-            formation stops, and movers that reach a Surplus robot of their group stop there
-            too. Turning round at a dead end forgets having been away. Without it, at
+            against 0.750 without the rule). A waiting robot of the group that hears a
+            Surplus robot of its group within d_cover + arrive_tolerance stays where it is
+            as Surplus, so the whole formation stops, and movers that reach a Surplus robot
+            of their group stop there too. The lap must also go round the beacon
+            (surplus_winding). Turning round at a dead end forgets having been away. Without it, at
             d_cover 8 and 10 half of K's robots circle until the plateau rule ends the run,
             and the distance moved grows with d_cover instead of falling as in the paper's
             Figure 19.
