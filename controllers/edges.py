@@ -12,6 +12,11 @@ if TYPE_CHECKING:
     import numpy as np
 
 
+def turn_between(before: float, after: float) -> float:
+    """Signed turn (radians, in [-pi, pi)) from bearing ``before`` to bearing ``after``."""
+    return (after - before + math.pi) % (2 * math.pi) - math.pi
+
+
 class CirclingWatch:
     """Mixin: counts how far a robot has gone round the neighbour it follows.
 
@@ -30,8 +35,7 @@ class CirclingWatch:
         if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
             self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
             return False
-        turn = (bearing - self.last_bearing + math.pi) % (2 * math.pi) - math.pi
-        self.circled += turn
+        self.circled += turn_between(self.last_bearing, bearing)
         self.last_bearing = bearing
         return abs(self.circled) > 2 * math.pi
 

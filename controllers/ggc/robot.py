@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from controllers.edges import CirclingWatch, ProgressWatch
+from controllers.edges import CirclingWatch, ProgressWatch, turn_between
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
@@ -404,7 +404,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return
         angle = math.atan2(float(p.beacon[1]), float(p.beacon[0]))
         if self.beacon_angle is not None:
-            self.winding += (angle - self.beacon_angle + math.pi) % (2 * math.pi) - math.pi
+            self.winding += turn_between(self.beacon_angle, angle)
         self.beacon_angle = angle
 
     def went_round(self) -> bool:
