@@ -245,3 +245,45 @@ def test_a_lap_counts_only_if_it_went_round_the_beacon():
     assert abs(np.degrees(lap.winding) - 300) < 1e-6
     lap.coverage(lap_view(BACK_HOME, beacon_deg=300))
     assert lap.status == SURPLUS
+
+
+def _travel_then_leave(r: GGCRobot, vx: float, vy: float) -> None:
+    """Drive ``r`` through its formation's travel (its parent broadcasts TRAVEL (vx, vy), then
+    HALT) and on into Coverage."""
+    from controllers.ggc.robot import CMD_HALT, CMD_TRAVEL, INITIAL
+
+    for cmd in (CMD_TRAVEL, CMD_HALT):
+        p = perception([((1.0, 0.0), 0, r.group, INITIAL)])   # my gradient parent: the leader
+        p.messages["gradient"], p.messages["cmd"] = 0, cmd
+        p.messages["vx"], p.messages["vy"] = vx, vy
+        r.initial(p)
+    assert r.status == DETECTION
+    r.start_coverage(perception([((1.0, 0.0), 0, r.group, ARRIVE)]))
+
+
+def test_each_group_orbits_away_from_the_beacon_side_it_came_from():
+    senses = {}
+    for vx in (0.05, -0.05):
+        r = robot(groups=3)
+        _travel_then_leave(r, vx, 0.087)             # up toward the beacon, from its left/right
+        senses[vx] = r.sense
+    assert senses == {0.05: -1, -0.05: 1}          # came from the left: clockwise, heads left
+    r = robot(groups=3)
+    _travel_then_leave(r, 0.05, -0.087)             # from above-left: counter-clockwise
+    assert r.sense == 1
+
+
+def test_group_orbit_same_alternate_and_one_group_keep_their_rules():
+    for groups, rule, group, expected in [(1, "away", 1, 1), (3, "same", 1, 1),
+                                          (3, "alternate", 1, 1), (3, "alternate", 2, -1)]:
+        r = robot(groups=groups, group_orbit=rule)
+        r.group = group
+        _travel_then_leave(r, 0.05, 0.087)
+        assert r.sense == expected, (groups, rule, group)
+
+
+def test_group_orbit_must_be_a_known_rule():
+    import pytest
+
+    with pytest.raises(ValueError, match="group_orbit"):
+        GGCParams(group_orbit="left")

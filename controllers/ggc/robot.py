@@ -92,6 +92,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.surplus_rule = (params.surplus_stop and params.d_cover > params.yield_release
                              and setup.groups == 1)
         self.sense = params.orbit
+        self.route: tuple[float, float] | None = None  # the travel my formation followed
+        self.orbit_chosen = False
         self.collision_stops = 0
         self.no_way_in: set[int] = set()
         self.stepping_in = False
@@ -189,6 +191,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         parent = self.parent(p)
         self.cmd = int(parent["cmd"])
         self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
+        self.remember_route()
         if self.cmd == CMD_HALT:
             self.travel[:] = 0.0
             self.set_status(DETECTION)
@@ -222,7 +225,24 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.act()
         self.cmd = CMD_TRAVEL
         self.travel = p.beacon * self.p.v
+        self.remember_route()
         return self.act(self.travel)
+
+    def remember_route(self) -> None:
+        """Keep the formation's travel vector for group_orbit (see GGCParams)."""
+        if self.cmd == CMD_TRAVEL and (self.travel[0] or self.travel[1]):
+            self.route = (float(self.travel[0]), float(self.travel[1]))
+
+    def choose_orbit(self) -> None:
+        """With groups, pick my group's orbit sense once, as I first leave (GGCParams.group_orbit)."""
+        if self.orbit_chosen or self.groups == 1:
+            return
+        self.orbit_chosen = True
+        rule, orbit = self.p.group_orbit, self.p.orbit
+        if rule == "alternate":
+            self.sense = orbit if self.group % 2 else -orbit
+        elif rule == "away" and self.route is not None:
+            self.sense = -orbit if self.route[0] * self.route[1] > 0 else orbit
 
     # ------------------------------------------------------------------ Detection
     def detection(self, p: Perception) -> Action:
@@ -312,6 +332,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         return self.group_surplus_in(p.messages[:k])
 
     def start_coverage(self, p: Perception) -> None:
+        self.choose_orbit()
         self.restart_lap()
         self.set_status(COVERAGE)
         self.odometer[:] = 0.0
