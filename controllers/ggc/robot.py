@@ -234,7 +234,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             self.route = (float(self.travel[0]), float(self.travel[1]))
 
     def choose_orbit(self) -> None:
-        """With groups, pick my group's orbit sense once, as I first leave (GGCParams.group_orbit)."""
+        """With groups, pick my group's orbit sense once, as I first leave (see
+        GGCParams.group_orbit)."""
         if self.orbit_chosen or self.groups == 1:
             return
         self.orbit_chosen = True
