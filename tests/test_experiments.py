@@ -393,3 +393,33 @@ def test_world_may_be_given_only_as_a_grid_key(tmp_path):
     path = write_spec(tmp_path, 'controller = "dispersion"\n[grid]\nworld = ["tiny", "corridor"]\n')
     runs = load_spec(path).runs()
     assert [r.world for r in runs] == ["tiny", "corridor"]
+
+
+def _distance_stats(d_cover: float, at_settle: float, final: float) -> rp.CondStats:
+    cond = rp.Condition(f"d_cover = {d_cover}", d_cover, "ggc", {})
+    one = (None, None, 0)
+    return rp.CondStats(cond, 1, 1, 0, one, (final, 0.0, 1), one, one, one, {}, {}, [],
+                        distance_at_settle=(at_settle, 0.0, 1))
+
+
+@dataclass
+class _FakeContext:
+    setup: rp.PaperSetup
+    conditions: list
+
+    def stats(self, key: str, index: int = 0, require_done: bool = False):
+        return self.conditions
+
+
+def test_distance_claim_is_judged_where_robots_suffice_on_distance_to_final_coverage():
+    # K's measured means (one group, seeds 0-4): d_cover 4 lacks robots (a lattice needs
+    # ~958, K has 603); 6 completes and stops, 8 and 10 walk their surplus robots until
+    # every robot stands, so their final totals are not comparable with 6's.
+    ctx = _FakeContext(rp.PaperSetup(world="K"), [
+        _distance_stats(4, 160_050, 175_724), _distance_stats(6, 218_766, 218_766),
+        _distance_stats(8, 156_401, 230_662), _distance_stats(10, 99_657, 150_315)])
+    claim, note = rp._dcover_distance_claims(ctx, "fig19")[:2]
+    assert claim.verdict == rp.CONSISTENT and "judged on d_cover 6, 8, 10" in claim.measured
+    assert "8: 156401" in claim.measured and note.verdict != rp.CONSISTENT
+    ctx.conditions[2] = _distance_stats(8, 230_000, 230_662)  # 8 moves more than 6
+    assert rp._dcover_distance_claims(ctx, "fig19")[0].verdict != rp.CONSISTENT
