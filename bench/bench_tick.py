@@ -25,9 +25,14 @@ from swarmsim.world import World, world_from_dict
 
 
 def square_world(robots: int) -> World:
-    """A square target holding ~70 % of the robots at d_cover 6, spawn band below it."""
+    """A square target holding ~70 % of the robots at d_cover 6, spawn band below it.
+
+    The band is deep enough for a random start at spacing ~2 and for one hexagonal formation
+    of all the robots at spacing 1 (radius ~sqrt(0.866 n / pi) + 1), GGC's start.
+    """
     side = math.sqrt(0.7 * robots * 0.866 * 36)
-    band = max(20.0, 2.2 * robots / side)  # random start at spacing ~2
+    formation_radius = math.sqrt(0.866 * robots / math.pi) + 1.0
+    band = max(20.0, 2.2 * robots / side, 2 * formation_radius + 4.0)
     return world_from_dict({
         "name": f"square{robots}",
         "target": {"outline": [[0, 0], [side, 0], [side, side], [0, side]]},

@@ -118,9 +118,37 @@ def formation_layout(world: World, n: int, k: int, spacing: float, rng: np.rando
             raise ConfigError(f"{k} formations of {sizes[g]} robots do not fit apart in the "
                               "spawn areas", source=world.source, key="groups")
     slots = np.vstack(pos)
+    check_formation_floor(world, slots, n, k, spacing)
     slot_group = np.concatenate([np.full(size, g + 1) for g, size in enumerate(sizes)])
     centre_slots = np.cumsum([0] + sizes[:-1])
     order = rng.permutation(n)  # robot i stands at slot order[i]
     robot_at = np.empty(n, dtype=np.intp)
     robot_at[order] = np.arange(n)
     return slots[order], slot_group[order], robot_at[centre_slots]
+
+
+def check_formation_floor(world: World, slots: np.ndarray, n: int, k: int, spacing: float
+                          ) -> None:
+    """Refuse formations that would put robots where no robot can start.
+
+    A formation larger than the spawn areas spills over onto the floor beside them, which is
+    fine; but a robot behind the arena's walls, inside an obstacle or already on the target
+    would make a silently wrong run. ``slots`` (n, 2) are the robots' places, spacing in units.
+    """
+    x0, y0, x1, y1 = world.arena
+    half = spacing / 2
+    xs, ys = slots[:, 0], slots[:, 1]
+    outside = int(np.count_nonzero((xs <= x0 + half) | (xs >= x1 - half)
+                                   | (ys <= y0 + half) | (ys >= y1 - half)))
+    on_target = int(np.count_nonzero(shapely.contains_xy(world.target, xs, ys)))
+    blocked = sum(int(np.count_nonzero(shapely.contains_xy(o.buffer(half), xs, ys)))
+                  for o in world.obstacles)
+    problems = [f"{c} behind the arena walls" if what == "walls" else f"{c} {what}"
+                for what, c in (("walls", outside), ("on the target", on_target),
+                                ("in obstacles", blocked)) if c]
+    if problems:
+        raise ConfigError(
+            f"{k} formation(s) of {n} robots at spacing {spacing:g} do not fit the spawn "
+            f"areas (total area {world.spawn_area:.0f}): {', '.join(problems)}; use fewer "
+            "robots or more groups, larger spawn areas, or start=random",
+            source=world.source, key="robots")

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+import shapely
 
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
@@ -135,3 +136,19 @@ def test_python_api_example_runs():
     sim = Simulation(load_world("tiny"), controller="dispersion", seed=1, max_ticks=50)
     res = sim.run()
     assert res.summary["ticks"] == 50 and res.timeseries[-1]["tick"] == 50
+
+
+def test_a_formation_that_does_not_fit_is_an_error_not_robots_behind_walls():
+    # A formation of n robots at spacing 1 has radius ~sqrt(0.866 n / pi): 23.5 for 2,000,
+    # 16.6 for 1,000. Its centre lies in the 20 x 20 spawn square; such robots used to stand
+    # behind the walls (10 units beyond the spawn) or on the target (2 units above it).
+    with pytest.raises(ConfigError, match=r"key 'robots'.*2000 robots.*behind the arena walls"):
+        Simulation(square_world(margin=10.0), controller="ggc", robots=2000, groups=1)
+    with pytest.raises(ConfigError, match=r"\d+ on the target"):
+        Simulation(square_world(gap=2.0, margin=40.0), controller="ggc", robots=1000, groups=1)
+    world = square_world(margin=10.0)
+    sim = Simulation(world, controller="ggc", robots=600, groups=1)  # spills onto open floor
+    x0, y0, x1, y1 = world.arena
+    pos = sim.snapshot().positions
+    assert ((pos > (x0, y0)) & (pos < (x1, y1))).all()
+    assert not shapely.contains_xy(world.target, pos[:, 0], pos[:, 1]).any()
