@@ -49,6 +49,10 @@ class FloorSensor:
         return probe
 
 
+NEIGHBOURHOOD_CHUNK = 2048
+"""Robots per chunk of the neighbourhood pass (see NeighbourSearch.neighbourhoods)."""
+
+
 class NeighbourSearch:
     """A k-d tree over all robot centres, built once per tick (scipy's cKDTree).
 
@@ -88,14 +92,30 @@ class NeighbourSearch:
         distances (k,), in units. The same values as :meth:`neighbours` + :func:`relative_view`.
         ``perturb`` (sensing noise) maps all true offsets (P, 2) to sensed ones before sorting,
         so neighbours come sorted by sensed distance.
+
+        Robots are taken ``NEIGHBOURHOOD_CHUNK`` at a time, which bounds the temporary arrays
+        (a robot of a 10,000-robot formation listening at R_c = 15 has ~800 neighbours); the
+        result is the same to the bit, ``perturb`` included (it is called on the chunks'
+        offsets in order, and a numpy Generator's draws do not depend on how they are split).
         """
-        if len(robots) == 0:
-            return [], [], []
+        radii = np.broadcast_to(np.asarray(radius, dtype=float), (len(robots),))
+        views: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]] = ([], [], [])
+        for a in range(0, len(robots), NEIGHBOURHOOD_CHUNK):
+            chunk = slice(a, a + NEIGHBOURHOOD_CHUNK)
+            for out, part in zip(views, self._neighbourhood_chunk(robots[chunk], radii[chunk],
+                                                                  perturb), strict=True):
+                out.extend(part)
+        return views
+
+    def _neighbourhood_chunk(self, robots: np.ndarray, radii: np.ndarray,
+                             perturb: Callable[[np.ndarray], np.ndarray] | None
+                             ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
         pos = self.positions
-        lists = self.tree.query_ball_point(pos[robots], radius, return_sorted=True)
+        lists = self.tree.query_ball_point(pos[robots], radii, return_sorted=True)
         counts = np.fromiter(map(len, lists), dtype=np.intp, count=len(lists))
         flat = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.intp,
                            count=int(counts.sum()))
+        del lists
         segment = np.repeat(np.arange(len(robots)), counts)
         src = robots[segment]
         keep = flat != src

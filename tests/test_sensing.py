@@ -84,3 +84,30 @@ def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
     d2 = rng.random(len(big))
     np.testing.assert_array_equal(by_segment_then_distance(big, d2),
                                   np.lexsort((np.arange(len(d2)), d2, big)))
+
+
+def test_neighbourhoods_in_chunks_equal_one_pass_noise_included(monkeypatch):
+    from swarmsim import sensing
+
+    rng = np.random.default_rng(5)
+    rows, cols = np.meshgrid(np.arange(40), np.arange(40), indexing="ij")
+    pos = np.stack([cols + 0.5 * (rows % 2), rows * np.sqrt(3) / 2], axis=-1).reshape(-1, 2)
+    robots = rng.permutation(len(pos))[:500]
+    radii = rng.uniform(0.5, 6.0, len(robots))
+    search = NeighbourSearch(pos)
+
+    def noisy(seed):  # sensing noise draws from one Generator, in order
+        gen = np.random.default_rng(seed)
+        return lambda off: off * (1 + 0.05 * gen.standard_normal(off.shape))
+
+    monkeypatch.setattr(sensing, "NEIGHBOURHOOD_CHUNK", 10**9)
+    whole = search.neighbourhoods(robots, radii, perturb=noisy(1))
+    monkeypatch.setattr(sensing, "NEIGHBOURHOOD_CHUNK", 7)
+    chunked = search.neighbourhoods(robots, radii, perturb=noisy(1))
+    assert sum(len(x) for x in whole[0]) > 10_000
+    for a, b in zip(whole, chunked, strict=True):
+        assert len(a) == len(b) == len(robots)
+        for x, y in zip(a, b, strict=True):
+            np.testing.assert_array_equal(x, y)
+    scalar = search.neighbourhoods(robots, 3.0)  # one radius for all, also chunked
+    np.testing.assert_array_equal(scalar[0][3], search.neighbours(robots[3:4], 3.0)[0])
