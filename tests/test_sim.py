@@ -42,6 +42,27 @@ def test_shuffled_decision_order_changes_nothing():
     assert np.array_equal(sa.positions, sb.positions)
 
 
+def test_deciding_in_chunks_changes_nothing(monkeypatch):
+    """Sensing and deciding a few awake robots at a time (to bound memory) is the same run,
+    with sensing noise and message loss drawn in pieces."""
+    import swarmsim.sim as sim_module
+
+    def fingerprint():
+        sim = Simulation(square_world(), controller="ggc", robots=60, groups=2, seed=5,
+                         settings={"distance_noise": 0.05, "bearing_noise": 0.05,
+                                   "message_loss": 0.1})
+        for _ in range(300):
+            sim.step()
+        return sim.positions.copy(), sim.messages.copy(), sim.metrics.rows[-1]
+
+    monkeypatch.setattr(sim_module, "DECIDE_CHUNK", 10**9)
+    whole = fingerprint()
+    monkeypatch.setattr(sim_module, "DECIDE_CHUNK", 7)
+    chunked = fingerprint()
+    assert np.array_equal(whole[0], chunked[0]) and np.array_equal(whole[1], chunked[1])
+    assert whole[2] == chunked[2] and whole[2]["awake"] > 7  # several chunks were decided
+
+
 def test_sleeping_changes_nothing_but_saves_work():
     """Robots that sleep must act exactly as if they had been asked every tick."""
     def settle(allow_sleep):
