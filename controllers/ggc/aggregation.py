@@ -32,6 +32,7 @@ import math
 
 import numpy as np
 
+from controllers.views import any_of, within
 from swarmsim.controller import NO_SENDER, Action, Perception
 
 from .statuses import APPROACH, FORMED
@@ -91,7 +92,7 @@ class Aggregation:
             if p.tick % self.p.T_settle == 0:
                 self.lepoch[k] += 1  # refresh: the field follows the leader's moves
             self.ldist[k] = 0.0
-        if not ok.any():
+        if not any_of(ok):
             return
         g = self.groups  # fields of groups that do not exist stay FAR at epoch 0
         epochs = m["lepoch"][ok, :g]
@@ -138,7 +139,7 @@ class Aggregation:
         ok = (m["id"] != NO_SENDER) & ~m["leader"] & (m["handover"] == NO_SENDER)
         ok &= p.distances <= self.p.handover_reach
         self.h -= 1
-        if not others or not ok.any() or mine >= FAR:
+        if not others or not any_of(ok) or mine >= FAR:
             return
         scores = np.where(ok, m["ldist"][:, others].astype(float).sum(axis=1), -1.0)
         best = int(np.argmax(scores))
@@ -207,12 +208,12 @@ class Aggregation:
         ahead."""
         from .statuses import GATHERING
 
-        k = int(np.searchsorted(p.distances, 1.2 * self.p.d_min, side="right"))
+        k = within(p.distances, 1.2 * self.p.d_min)
         m = p.messages[:k]
         ahead = (m["group"] == self.group) & status_in(m["status"], GATHERING)
         ahead &= m["ldist"][:, self.group - 1] < self.ldist[self.group - 1]
         ahead &= p.offsets[:k] @ velocity > 0.5 * self.p.v * p.distances[:k]
-        return bool(ahead.any())
+        return any_of(ahead)
 
     def join(self, p: Perception, formed: np.ndarray) -> Action:
         """Circle the formation at d_min until two formed robots are at d_min: Formed."""
@@ -238,14 +239,14 @@ class Aggregation:
         from .statuses import GATHERING, INITIAL
 
         m = p.messages
-        if self.own(p, GATHERING).any():
+        if any_of(self.own(p, GATHERING)):
             self.quiet = 0
         else:
             peers = self.own(p, (self.status,))
-            below = int(m["quiet"][peers].min()) if peers.any() else self.quiet
+            below = int(m["quiet"][peers].min()) if any_of(peers) else self.quiet
             self.quiet = min(QUIET_CAP, min(below, self.quiet) + 1)
         near = (p.distances <= 1.5 * self.p.d_min) & self.own(p, (INITIAL,))
-        if (self.leader and self.quiet >= self.p.T_quiet) or near.any():
+        if (self.leader and self.quiet >= self.p.T_quiet) or any_of(near):
             self.depart(p)
             return self.initial(p)
         return self.act()

@@ -27,6 +27,7 @@ import math
 import numpy as np
 
 from controllers.edges import CirclingWatch, ProgressWatch, turn_between
+from controllers.views import any_of, within
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
@@ -173,7 +174,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         ok = (p.distances <= reach) & self.stationary(p) & self.own_group(p)
         ok &= (m["id"] != NO_SENDER) & (m["gradient"] < INF_GRADIENT)
         ok &= m["status"] != COVERAGE
-        if not ok.any():
+        if not any_of(ok):
             return None
         return int(m["gradient"][ok].min()) + 1
 
@@ -210,7 +211,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if p.on_target:
             return True
         near = (p.distances <= 1.5 * self.p.d_min) & self.own_group(p)
-        return bool((near & p.messages["touch"]).any())
+        return any_of(near & p.messages["touch"])
 
     def lead(self, p: Perception) -> Action:
         """The leader heads for the beacon until the formation's front touches the target.
@@ -285,7 +286,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             near &= m["status"] != STOP
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
                                             | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
-        if not outranks.any():
+        if not any_of(outranks):
             return NOT_BLOCKED
         return BLOCKED_BY_MOVER if m["moving"][outranks].all() else BLOCKED_BY_WAITING
 
@@ -314,7 +315,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         waiting = self.waiting_near(p)
         if len(waiting) == 0 or not p.messages["enclosed"][waiting].all():
             return False
-        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
+        k = within(p.distances, 1.5 * self.p.d_min)
         still = self.stationary(p)[:k].nonzero()[0]
         if len(still) < 3:
             return True
@@ -322,14 +323,13 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def waiting_near(self, p: Perception) -> np.ndarray:
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
-        k = int(np.searchsorted(p.distances, 1.5 * self.p.d_min, side="right"))
+        k = within(p.distances, 1.5 * self.p.d_min)
         status = p.messages["status"][:k]
         return ((status == INITIAL) | (status == DETECTION)).nonzero()[0]
 
     def hears_surplus(self, p: Perception) -> bool:
         """A Surplus robot of my group within d_cover + arrive_tolerance."""
-        k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
-                                side="right"))
+        k = within(p.distances, self.p.d_cover + self.p.arrive_tolerance)
         return self.group_surplus_in(p.messages[:k])
 
     def start_coverage(self, p: Perception) -> None:
@@ -390,7 +390,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if not self.away:
             status = m["status"]
             waiting = (status == INITIAL) | (status == DETECTION)
-            self.away = not (waiting & (m["group"] == self.group)).any()
+            self.away = not any_of(waiting & (m["group"] == self.group))
         if p.on_target and self.frontier <= self.p.surplus_frontier:
             outward = -p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
             if p.probe(outward * self.p.boundary_probe):
@@ -443,7 +443,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     def group_surplus_in(self, m: np.ndarray) -> bool:
         """Is a Surplus robot of my group among these messages?"""
         surplus = m["status"] == SURPLUS
-        return bool(surplus.any() and (surplus & (m["group"] == self.group)).any())
+        return any_of(surplus) and any_of(surplus & (m["group"] == self.group))
 
     def give_up(self, p: Perception) -> Action:
         """No place left: stop for good, as Arrive on the target (covering what is here),
@@ -484,7 +484,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return None
         axis = unit(ra - rb)
         along = np.array([axis[1], -axis[0]])
-        reference = self.heading if self.heading.any() else np.array([ra[1], -ra[0]]) * self.sense
+        reference = self.heading if any_of(self.heading) else np.array([ra[1], -ra[0]]) * self.sense
         if along @ reference < 0:
             along = -along
         centring = max(-1.0, min(1.0, (p.distances[a] - p.distances[b]) * self.p.radial_gain))
@@ -561,7 +561,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return True
         if p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
             return False
-        if self.heading.any() and not p.probe(self.heading * self.p.probe_distance):
+        if any_of(self.heading) and not p.probe(self.heading * self.p.probe_distance):
             return True
         m = p.messages[nearest]
         if m["id"] == NO_SENDER or m["status"] != ARRIVE:
@@ -578,8 +578,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Two arrived robots within d_cover + arrive_tolerance: stopping here closes a
         triangle whose sides are at most that long, which discs of radius r cover when
         d_cover + arrive_tolerance <= r * sqrt(3)."""
-        k = int(np.searchsorted(p.distances, self.p.d_cover + self.p.arrive_tolerance,
-                                side="right"))
+        k = within(p.distances, self.p.d_cover + self.p.arrive_tolerance)
         return int((p.messages["status"][:k] == ARRIVE).sum()) >= 2
 
     def stuck(self, p: Perception) -> bool:
@@ -599,7 +598,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return True
         if self.p.spaced_deadlock_arrive:
             return bool(p.distances[nearest] >= self.p.d_cover - self.p.arrive_tolerance)
-        return bool((p.messages["status"] == STOP).any())
+        return any_of(p.messages["status"] == STOP)
 
     def wedged(self, p: Perception) -> bool:
         """Pressed against waiting robots of my group (bodies touching: closer than 0.9 d_safe).
@@ -618,9 +617,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         reach = 0.9 * self.p.d_safe
         if self.p.d_cover <= self.p.yield_release:
             reach = 1.5 * self.p.d_min
-        k = int(np.searchsorted(p.distances, reach, side="right"))
+        k = within(p.distances, reach)
         m = p.messages[:k]
-        return bool(((m["status"] == DETECTION) & (m["group"] == self.group)).any())
+        return any_of((m["status"] == DETECTION) & (m["group"] == self.group))
 
     def deadlock_stop(self, p: Perception) -> Action:
         self.set_status(STOP)
@@ -631,15 +630,15 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """A robot of another group in Coverage within d_cover, with priority (larger id)."""
         if self.groups == 1:
             return False
-        k = int(np.searchsorted(p.distances, self.p.d_cover, side="right"))
+        k = within(p.distances, self.p.d_cover)
         m = p.messages[:k]  # distances are sorted: the first k are within d_cover
         others = m["group"] != self.group
-        if not others.any():
+        if not any_of(others):
             return False
         others &= (m["id"] > self.id) & (m["status"] == COVERAGE)
-        if self.p.stop_ahead_only and self.heading.any():
+        if self.p.stop_ahead_only and any_of(self.heading):
             others &= p.offsets[:k] @ self.heading > 0
-        return bool(others.any())
+        return any_of(others)
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
@@ -657,10 +656,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         If it is coming toward us, back away from it so that it can pass; if it goes our
         way, wait. Returns the velocity to use instead, or None to carry on.
         """
-        k = int(np.searchsorted(p.distances, self.p.yield_distance, side="right"))
+        k = within(p.distances, self.p.yield_distance)
         m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
         moving = m["moving"]
-        if not moving.any():
+        if not any_of(moving):
             return None
         ahead = (moving & (m["id"] > self.id)).nonzero()[0]
         ahead = ahead[p.offsets[ahead] @ velocity > 0]
@@ -675,7 +674,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """No stationary robot in range: head for the beacon (or keep going)."""
         if p.beacon is not None and not p.on_target:
             self.heading = p.beacon
-        if not self.heading.any():
+        if not any_of(self.heading):
             angle = self.rng.uniform(0, 2 * math.pi)
             self.heading = np.array([math.cos(angle), math.sin(angle)])
         if p.on_target and not p.probe(self.heading * self.p.probe_distance):
