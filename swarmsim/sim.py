@@ -40,7 +40,8 @@ PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
 DECIDE_CHUNK = 1024
-"""Awake robots sensed and decided together (bounds the memory of a tick; see step)."""
+"""Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's
+memory (see Simulation._sense_and_decide) without changing its result."""
 
 
 @dataclass(frozen=True)
