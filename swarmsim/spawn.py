@@ -143,12 +143,12 @@ def check_formation_floor(world: World, slots: np.ndarray, n: int, k: int, spaci
     on_target = int(np.count_nonzero(shapely.contains_xy(world.target, xs, ys)))
     blocked = sum(int(np.count_nonzero(shapely.contains_xy(o.buffer(half), xs, ys)))
                   for o in world.obstacles)
-    problems = [f"{c} behind the arena walls" if what == "walls" else f"{c} {what}"
-                for what, c in (("walls", outside), ("on the target", on_target),
-                                ("in obstacles", blocked)) if c]
+    problems = [f"{count} {where}" for where, count in (
+        ("behind the arena walls", outside), ("on the target", on_target),
+        ("in obstacles", blocked)) if count]
     if problems:
+        formations = "one formation" if k == 1 else f"{k} formations"
         raise ConfigError(
-            f"{k} formation(s) of {n} robots at spacing {spacing:g} do not fit the spawn "
-            f"areas (total area {world.spawn_area:.0f}): {', '.join(problems)}; use fewer "
-            "robots or more groups, larger spawn areas, or start=random",
-            source=world.source, key="robots")
+            f"{n} robots in {formations} at spacing {spacing:g} do not fit the spawn areas "
+            f"(total area {world.spawn_area:.0f}): {', '.join(problems)}; use fewer robots or "
+            "more groups, larger spawn areas, or start=random", source=world.source, key="robots")
