@@ -8,7 +8,6 @@ gives a controller a global position.
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -111,25 +110,43 @@ class NeighbourSearch:
                              perturb: Callable[[np.ndarray], np.ndarray] | None
                              ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
         pos = self.positions
-        lists = self.tree.query_ball_point(pos[robots], radii, return_sorted=True)
-        counts = np.fromiter(map(len, lists), dtype=np.intp, count=len(lists))
-        flat = np.fromiter(itertools.chain.from_iterable(lists), dtype=np.intp,
-                           count=int(counts.sum()))
-        del lists
-        segment = np.repeat(np.arange(len(robots)), counts)
+        segment, flat = self._pairs_within(robots, radii)
         src = robots[segment]
-        keep = flat != src
-        flat, src, segment = flat[keep], src[keep], segment[keep]
-        offsets = pos[flat] - pos[src]
+        offsets = rows(pos, flat) - rows(pos, src)
         if perturb is not None:
             offsets = perturb(offsets)
         d2 = offsets[:, 0] ** 2 + offsets[:, 1] ** 2
         order = by_segment_then_distance(segment, d2)
-        flat, offsets = flat[order], offsets[order]
+        flat, offsets = flat[order], rows(offsets, order)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
         bounds = split_bounds(np.bincount(segment, minlength=len(robots)))
         return ([flat[a:b] for a, b in bounds], [offsets[a:b] for a, b in bounds],
                 [distances[a:b] for a, b in bounds])
+
+    def _pairs_within(self, robots: np.ndarray, radii: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """(segment, neighbour) pairs: for each ``robots[segment]``, every other robot within
+        its radius, ordered by segment, then neighbour index (query_ball_point's order).
+
+        One dual-tree pass at the largest radius (scipy's sparse_distance_matrix, arrays all
+        the way; query_ball_point builds a Python list per robot), then each robot's own
+        radius on the same squared distances the tree compares.
+        """
+        pos = self.positions
+        if len(robots) == 0:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        pairs = cKDTree(pos[robots]).sparse_distance_matrix(
+            self.tree, float(radii.max()), output_type="ndarray")
+        segment = pairs["i"].astype(np.intp)
+        flat = pairs["j"].astype(np.intp)
+        src = robots[segment]
+        offsets = rows(pos, flat) - rows(pos, src)
+        keep = (offsets[:, 0] ** 2 + offsets[:, 1] ** 2 <= radii[segment] ** 2) & (flat != src)
+        segment, flat = segment[keep], flat[keep]
+        order = stable_radix_order(flat.astype(np.uint64), bits=32)  # < 2**32 robots
+        order = stable_radix_order(segment.astype(np.uint64), 16 if len(robots) <= 1 << 16 else 32,
+                                   order)
+        return segment[order], flat[order]
 
     def near_any(self, points: np.ndarray, radius: float) -> np.ndarray:
         """Sorted unique indices of robots within ``radius`` of any of ``points`` (M, 2)."""
@@ -145,17 +162,38 @@ class NeighbourSearch:
         return self.tree.query_pairs(radius, output_type="ndarray")
 
 
+def stable_radix_order(keys: np.ndarray, bits: int, order: np.ndarray | None = None
+                       ) -> np.ndarray:
+    """Stable sort of ``keys[order]`` (unsigned 64-bit) on their lowest ``bits`` bits.
+
+    LSD radix sort, 16 bits a pass (numpy's stable argsort is a radix sort on 16-bit keys).
+    Returns the indices into ``keys``; ``order`` (default: 0..n-1) breaks ties.
+    """
+    order = np.arange(len(keys)) if order is None else order
+    for shift in range(0, bits, 16):
+        digit = (keys[order] >> np.uint64(shift)).astype(np.uint16)  # wraps: the low 16 bits
+        order = order[np.argsort(digit, kind="stable")]
+    return order
+
+
 def by_segment_then_distance(segment: np.ndarray, d2: np.ndarray) -> np.ndarray:
     """The order that sorts entries by segment, then squared distance, then position.
 
-    ``np.lexsort((position, d2, segment))`` in two stable passes: by d2, then by segment (a
-    radix sort on 16-bit keys), several times faster. Entries come from ``query_ball_point``
-    with sorted indices, so position order is index order: ties go to the smaller index.
+    ``np.lexsort((position, d2, segment))`` as five stable 16-bit radix passes, 2-3x faster
+    than a stable sort of the floats: four on the bits of ``d2`` (non-negative doubles sort
+    like their bit patterns read as unsigned integers), then one on the segment. Entries come
+    ordered by neighbour index within a segment, so ties go to the smaller index.
     """
-    if len(segment) and segment[-1] >= np.iinfo(np.int16).max:
+    if len(segment) and segment.max() >= 1 << 16:
         return np.lexsort((np.arange(len(d2)), d2, segment))
-    by_distance = np.argsort(d2, kind="stable")
-    return by_distance[np.argsort(segment.astype(np.int16)[by_distance], kind="stable")]
+    order = stable_radix_order(np.ascontiguousarray(d2, dtype=np.float64).view(np.uint64), 64)
+    return stable_radix_order(segment.astype(np.uint64), 16, order)
+
+
+def rows(a: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``a[index]`` for a 2-D array and an integer index: the same rows, ~10x faster (numpy
+    2.x gathers whole rows with ``take`` far faster than with fancy indexing)."""
+    return np.take(a, index, axis=0)
 
 
 def split_bounds(counts: np.ndarray) -> list[tuple[int, int]]:

@@ -80,6 +80,11 @@ def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
     d2 = rng.integers(0, 5, len(segment)).astype(float)  # many exact ties
     np.testing.assert_array_equal(by_segment_then_distance(segment, d2),
                                   np.lexsort((np.arange(len(d2)), d2, segment)))
+    d2 = rng.random(len(segment)) * 225.0  # every bit of the doubles counts
+    d2[::3] = np.nextafter(d2[1::3][: len(d2[::3])], np.inf)  # one ulp from a neighbour's
+    d2[::17] = 0.0
+    np.testing.assert_array_equal(by_segment_then_distance(segment, d2),
+                                  np.lexsort((np.arange(len(d2)), d2, segment)))
     big = np.repeat(np.arange(40000), 1)  # too many segments for 16-bit keys
     d2 = rng.random(len(big))
     np.testing.assert_array_equal(by_segment_then_distance(big, d2),
@@ -111,3 +116,25 @@ def test_neighbourhoods_in_chunks_equal_one_pass_noise_included(monkeypatch):
             np.testing.assert_array_equal(x, y)
     scalar = search.neighbourhoods(robots, 3.0)  # one radius for all, also chunked
     np.testing.assert_array_equal(scalar[0][3], search.neighbours(robots[3:4], 3.0)[0])
+
+
+def test_neighbourhoods_keep_exactly_the_robots_within_each_robots_own_radius():
+    """Mixed radii (one dual-tree pass at the largest, then each robot's own) on robots at the
+    radius, one ulp inside and one ulp outside it: the same sets as query_ball_point."""
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng(8)
+    centres = rng.uniform(0, 100, (40, 2))
+    radii = rng.choice([1.5, 6.0, 12.0, 15.0], len(centres))
+    ring = []
+    for c, r in zip(centres, radii, strict=True):
+        for angle in rng.uniform(0, 2 * np.pi, 6):
+            for dist in (np.nextafter(r, 0), r, np.nextafter(r, np.inf)):
+                ring.append(c + dist * np.array([np.cos(angle), np.sin(angle)]))
+    pos = np.vstack([centres, ring, rng.uniform(0, 100, (300, 2))])
+    robots = np.arange(len(centres))
+    idx, _, _ = NeighbourSearch(pos).neighbourhoods(robots, radii)
+    reference = cKDTree(pos).query_ball_point(pos[robots], radii)
+    for k, i in enumerate(robots):
+        assert sorted(idx[k].tolist()) == sorted(set(reference[k]) - {int(i)}), f"robot {i}"
+    assert sum(map(len, idx)) > 6 * len(centres)
