@@ -59,7 +59,8 @@ class Simulation:
 
     Args:
         world: a World or the name/path of a world file.
-        controller: registered controller name (e.g. "ggc", "dispersion") or "module:Class".
+        controller: registered controller name (default "ggc", the paper's method, as on the
+            command line; e.g. "dispersion", "kilobot") or "module:Class".
         robots: number of robots (default: the world's ``defaults.robots``).
         groups: number of groups K (default: the world's ``defaults.groups``, else 1).
         seed: the one seed that decides the run.
@@ -69,7 +70,7 @@ class Simulation:
             ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
     """
 
-    def __init__(self, world: World | str, controller: str = "dispersion",
+    def __init__(self, world: World | str, controller: str = "ggc",
                  robots: int | None = None, groups: int | None = None, seed: int = 0,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):

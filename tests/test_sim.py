@@ -173,3 +173,12 @@ def test_a_formation_that_does_not_fit_is_an_error_not_robots_behind_walls():
     pos = sim.snapshot().positions
     assert ((pos > (x0, y0)) & (pos < (x1, y1))).all()
     assert not shapely.contains_xy(world.target, pos[:, 0], pos[:, 1]).any()
+
+
+def test_the_python_api_and_the_command_line_run_the_same_controller_by_default():
+    from swarmsim.cli import build_parser
+
+    cli_default = build_parser().parse_args(["run", "tiny"]).controller
+    sim = Simulation("tiny", max_ticks=1)
+    assert sim.controller_name == cli_default == "ggc"
+    assert type(sim.controllers[0]).__module__.startswith("controllers.ggc")
