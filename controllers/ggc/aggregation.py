@@ -75,7 +75,7 @@ class Aggregation:
         self.quiet = 0
 
     def aggregation_message(self) -> tuple:
-        return (self.h, self.handover, self.ldist.astype(np.float32), self.lepoch, self.quiet)
+        return (self.h, self.handover, self.ldist, self.lepoch, self.quiet)  # ldist: f8 -> f4
 
     @property
     def selection_ticks(self) -> int:

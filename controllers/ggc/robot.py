@@ -107,6 +107,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.yield_count = 0
         self.initial_since = 0
         self.init_aggregation()
+        self.handlers = {INITIAL: self.initial, DETECTION: self.detection,
+                         COVERAGE: self.coverage, ARRIVE: self.arrive, STOP: self.stopped,
+                         SURPLUS: self.arrive}  # by status; the others gather (aggregation.py)
         if self.scattered:
             self.status = FORMED if self.leader else APPROACH
             self.history = [self.status]
@@ -144,10 +147,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.odometer += p.moved
         if self.scattered and p.tick < self.selection_ticks:
             return self.select_leaders(p)
-        handler = {INITIAL: self.initial, DETECTION: self.detection, COVERAGE: self.coverage,
-                   ARRIVE: self.arrive, STOP: self.stopped,
-                   SURPLUS: self.arrive}.get(self.status, self.gather)
-        return handler(p)
+        return self.handlers.get(self.status, self.gather)(p)
 
     # ------------------------------------------------------------------ neighbour views
     def own_group(self, p: Perception) -> np.ndarray:
