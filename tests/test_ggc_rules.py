@@ -287,3 +287,12 @@ def test_group_orbit_must_be_a_known_rule():
 
     with pytest.raises(ValueError, match="group_orbit"):
         GGCParams(group_orbit="left")
+
+
+def test_with_stop_on_target_only_a_mover_off_the_target_does_not_stop_for_other_groups():
+    rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
+    for flag, expected in ((False, STOP), (True, COVERAGE)):
+        r = robot(stop_on_target_only=flag)
+        r.status = COVERAGE
+        r.coverage(perception(rows))  # off the target (perception's floor sensor says so)
+        assert r.status == expected, flag

@@ -373,7 +373,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.set_status(DETECTION)  # wait until the robots around me have gone
                 self.yield_count = len(self.waiting_near(p))
                 return self.act()
-        if self.other_group_mover(p):
+        if (p.on_target or not self.p.stop_on_target_only) and self.other_group_mover(p):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
             self.collision_stops += 1
             return self.act()
