@@ -51,6 +51,10 @@ class FloorSensor:
 NEIGHBOURHOOD_CHUNK = 2048
 """Robots per chunk of the neighbourhood pass (see NeighbourSearch.neighbourhoods)."""
 
+RADIUS_SPREAD = 2.0
+"""Robots whose listening radii differ by more than this factor are searched in separate
+passes (see NeighbourSearch._pairs_within)."""
+
 
 class NeighbourSearch:
     """A k-d tree over all robot centres, built once per tick (scipy's cKDTree).
@@ -128,17 +132,26 @@ class NeighbourSearch:
         """(segment, neighbour) pairs: for each ``robots[segment]``, every other robot within
         its radius, ordered by segment, then neighbour index (query_ball_point's order).
 
-        One dual-tree pass at the largest radius (scipy's sparse_distance_matrix, arrays all
-        the way; query_ball_point builds a Python list per robot), then each robot's own
-        radius on the same squared distances the tree compares.
+        Dual-tree passes (scipy's sparse_distance_matrix, arrays all the way; query_ball_point
+        builds a Python list per robot), then each robot's own radius on the same squared
+        distances the tree compares. One pass at the largest radius while the radii are
+        within RADIUS_SPREAD of each other, else one pass per distinct radius, so that a few
+        robots listening far do not make every robot's query that wide.
         """
         pos = self.positions
         if len(robots) == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
-        pairs = cKDTree(pos[robots]).sparse_distance_matrix(
-            self.tree, float(radii.max()), output_type="ndarray")
-        segment = pairs["i"].astype(np.intp)
-        flat = pairs["j"].astype(np.intp)
+        if radii.max() <= RADIUS_SPREAD * radii.min():
+            passes = [np.arange(len(robots))]
+        else:
+            passes = [np.flatnonzero(radii == r) for r in np.unique(radii)]
+        found = []
+        for members in passes:
+            pairs = cKDTree(pos[robots[members]]).sparse_distance_matrix(
+                self.tree, float(radii[members].max()), output_type="ndarray")
+            found.append((members[pairs["i"]], pairs["j"].astype(np.intp)))
+        segment = np.concatenate([f[0] for f in found])
+        flat = np.concatenate([f[1] for f in found])
         src = robots[segment]
         offsets = rows(pos, flat) - rows(pos, src)
         keep = (offsets[:, 0] ** 2 + offsets[:, 1] ** 2 <= radii[segment] ** 2) & (flat != src)

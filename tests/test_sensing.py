@@ -118,10 +118,16 @@ def test_neighbourhoods_in_chunks_equal_one_pass_noise_included(monkeypatch):
     np.testing.assert_array_equal(scalar[0][3], search.neighbours(robots[3:4], 3.0)[0])
 
 
-def test_neighbourhoods_keep_exactly_the_robots_within_each_robots_own_radius():
-    """Mixed radii (one dual-tree pass at the largest, then each robot's own) on robots at the
-    radius, one ulp inside and one ulp outside it: the same sets as query_ball_point."""
+@pytest.mark.parametrize("spread", [1e9, 2.0])  # one pass at the largest radius; per radius
+def test_neighbourhoods_keep_exactly_the_robots_within_each_robots_own_radius(spread,
+                                                                             monkeypatch):
+    """Mixed radii (dual-tree passes, then each robot's own radius) on robots at the radius,
+    one ulp inside and one ulp outside it: the same sets as query_ball_point."""
     from scipy.spatial import cKDTree
+
+    from swarmsim import sensing
+
+    monkeypatch.setattr(sensing, "RADIUS_SPREAD", spread)
 
     rng = np.random.default_rng(8)
     centres = rng.uniform(0, 100, (40, 2))
