@@ -161,6 +161,15 @@ class NeighbourSearch:
                                    order)
         return segment[order], flat[order]
 
+    def pairs_near(self, robots: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+        """(robot, other) index pairs closer than ``radius`` (units) to each of ``robots``,
+        each robot paired with itself too; unordered. One dual-tree pass, arrays only."""
+        if len(robots) == 0:
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        pairs = cKDTree(self.positions[robots]).sparse_distance_matrix(
+            self.tree, float(radius), output_type="ndarray")
+        return robots[pairs["i"]], pairs["j"].astype(np.intp)
+
     def near_any(self, points: np.ndarray, radius: float) -> np.ndarray:
         """Sorted unique indices of robots within ``radius`` of any of ``points`` (M, 2)."""
         if len(points) == 0:

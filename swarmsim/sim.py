@@ -243,13 +243,9 @@ class Simulation:
         reach = float(self.wake_range.max()) + margin
         for start in range(0, len(changed), DECIDE_CHUNK):  # bounded memory, same result
             sources = changed[start:start + DECIDE_CHUNK]
-            lists = search.tree.query_ball_point(self.positions[sources], reach)
-            counts = np.fromiter((len(x) for x in lists), dtype=np.intp, count=len(lists))
-            if counts.sum() == 0:
-                continue
-            near = np.concatenate([np.asarray(x, dtype=np.intp) for x in lists])
-            src = np.repeat(sources, counts)
-            d = np.hypot(*(self.positions[near] - self.positions[src]).T)
+            src, near = search.pairs_near(sources, reach)  # each source itself included
+            offsets = np.take(self.positions, near, axis=0) - np.take(self.positions, src, axis=0)
+            d = np.hypot(offsets[:, 0], offsets[:, 1])
             hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
             hit &= self.wake_on_motion[near] | by_message[src]
             self.asleep[near[hit]] = False

@@ -144,3 +144,19 @@ def test_neighbourhoods_keep_exactly_the_robots_within_each_robots_own_radius(sp
     for k, i in enumerate(robots):
         assert sorted(idx[k].tolist()) == sorted(set(reference[k]) - {int(i)}), f"robot {i}"
     assert sum(map(len, idx)) > 6 * len(centres)
+
+
+def test_pairs_near_equals_query_ball_point_self_included():
+    from scipy.spatial import cKDTree
+
+    rng = np.random.default_rng(9)
+    pos = rng.uniform(0, 40, (400, 2))
+    pos[1] = pos[0] + [2.5, 0.0]  # exactly at the radius
+    robots = np.array([0, 5, 17, 399])
+    src, near = NeighbourSearch(pos).pairs_near(robots, 2.5)
+    reference = cKDTree(pos).query_ball_point(pos[robots], 2.5)
+    for i, expected in zip(robots, reference, strict=True):
+        assert sorted(near[src == i].tolist()) == sorted(expected)
+    assert 1 in near[src == 0] and 0 in near[src == 0]
+    empty = NeighbourSearch(pos).pairs_near(np.zeros(0, dtype=np.intp), 2.5)
+    assert len(empty[0]) == len(empty[1]) == 0
