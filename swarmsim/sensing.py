@@ -113,10 +113,7 @@ class NeighbourSearch:
     def _neighbourhood_chunk(self, robots: np.ndarray, radii: np.ndarray,
                              perturb: Callable[[np.ndarray], np.ndarray] | None
                              ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
-        pos = self.positions
-        segment, flat = self._pairs_within(robots, radii)
-        src = robots[segment]
-        offsets = rows(pos, flat) - rows(pos, src)
+        segment, flat, offsets = self._pairs_within(robots, radii)
         if perturb is not None:
             offsets = perturb(offsets)
         d2 = offsets[:, 0] ** 2 + offsets[:, 1] ** 2
@@ -128,9 +125,10 @@ class NeighbourSearch:
                 [distances[a:b] for a, b in bounds])
 
     def _pairs_within(self, robots: np.ndarray, radii: np.ndarray
-                      ) -> tuple[np.ndarray, np.ndarray]:
-        """(segment, neighbour) pairs: for each ``robots[segment]``, every other robot within
-        its radius, ordered by segment, then neighbour index (query_ball_point's order).
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(segment, neighbour, offset) of every other robot within the radius of
+        ``robots[segment]``, ordered by segment, then neighbour index (query_ball_point's
+        order); offsets (P, 2) are the neighbours' positions relative to that robot, units.
 
         Dual-tree passes (scipy's sparse_distance_matrix, arrays all the way; query_ball_point
         builds a Python list per robot), then each robot's own radius on the same squared
@@ -140,35 +138,34 @@ class NeighbourSearch:
         """
         pos = self.positions
         if len(robots) == 0:
-            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+            return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros((0, 2))
         if radii.max() <= RADIUS_SPREAD * radii.min():
             passes = [np.arange(len(robots))]
         else:
             passes = [np.flatnonzero(radii == r) for r in np.unique(radii)]
-        found = []
-        for members in passes:
-            pairs = cKDTree(pos[robots[members]]).sparse_distance_matrix(
-                self.tree, float(radii[members].max()), output_type="ndarray")
-            found.append((members[pairs["i"]], pairs["j"].astype(np.intp)))
-        segment = np.concatenate([f[0] for f in found])
-        flat = np.concatenate([f[1] for f in found])
+        found = [self.pairs_near(robots[members], float(radii[members].max()))
+                 for members in passes]
+        segment = np.concatenate([members[k] for members, (k, _) in zip(passes, found,
+                                                                         strict=True)])
+        flat = np.concatenate([near for _, near in found])
         src = robots[segment]
         offsets = rows(pos, flat) - rows(pos, src)
         keep = (offsets[:, 0] ** 2 + offsets[:, 1] ** 2 <= radii[segment] ** 2) & (flat != src)
-        segment, flat = segment[keep], flat[keep]
+        segment, flat, offsets = segment[keep], flat[keep], offsets[keep]
         order = stable_radix_order(flat.astype(np.uint64), bits=32)  # < 2**32 robots
         order = stable_radix_order(segment.astype(np.uint64), 16 if len(robots) <= 1 << 16 else 32,
                                    order)
-        return segment[order], flat[order]
+        return segment[order], flat[order], rows(offsets, order)
 
     def pairs_near(self, robots: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
-        """(robot, other) index pairs closer than ``radius`` (units) to each of ``robots``,
-        each robot paired with itself too; unordered. One dual-tree pass, arrays only."""
+        """Pairs (k, other): robot ``other`` is within ``radius`` (units) of ``robots[k]``;
+        each robot is paired with itself too; unordered. One dual-tree pass, arrays only
+        (scipy's sparse_distance_matrix)."""
         if len(robots) == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
         pairs = cKDTree(self.positions[robots]).sparse_distance_matrix(
             self.tree, float(radius), output_type="ndarray")
-        return robots[pairs["i"]], pairs["j"].astype(np.intp)
+        return pairs["i"].astype(np.intp), pairs["j"].astype(np.intp)
 
     def near_any(self, points: np.ndarray, radius: float) -> np.ndarray:
         """Sorted unique indices of robots within ``radius`` of any of ``points`` (M, 2)."""
@@ -206,7 +203,7 @@ def by_segment_then_distance(segment: np.ndarray, d2: np.ndarray) -> np.ndarray:
     like their bit patterns read as unsigned integers), then one on the segment. Entries come
     ordered by neighbour index within a segment, so ties go to the smaller index.
     """
-    if len(segment) and segment.max() >= 1 << 16:
+    if len(segment) and segment[-1] >= 1 << 16:  # segments come sorted
         return np.lexsort((np.arange(len(d2)), d2, segment))
     order = stable_radix_order(np.ascontiguousarray(d2, dtype=np.float64).view(np.uint64), 64)
     return stable_radix_order(segment.astype(np.uint64), 16, order)

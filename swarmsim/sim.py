@@ -29,7 +29,7 @@ from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.sensing import FloorSensor, NeighbourSearch, split_bounds
+from swarmsim.sensing import FloorSensor, NeighbourSearch, rows, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
@@ -243,8 +243,9 @@ class Simulation:
         reach = float(self.wake_range.max()) + margin
         for start in range(0, len(changed), DECIDE_CHUNK):  # bounded memory, same result
             sources = changed[start:start + DECIDE_CHUNK]
-            src, near = search.pairs_near(sources, reach)  # each source itself included
-            offsets = np.take(self.positions, near, axis=0) - np.take(self.positions, src, axis=0)
+            k, near = search.pairs_near(sources, reach)  # each source itself included
+            src = sources[k]
+            offsets = rows(self.positions, near) - rows(self.positions, src)
             d = np.hypot(offsets[:, 0], offsets[:, 1])
             hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
             hit &= self.wake_on_motion[near] | by_message[src]

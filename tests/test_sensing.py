@@ -153,7 +153,8 @@ def test_pairs_near_equals_query_ball_point_self_included():
     pos = rng.uniform(0, 40, (400, 2))
     pos[1] = pos[0] + [2.5, 0.0]  # exactly at the radius
     robots = np.array([0, 5, 17, 399])
-    src, near = NeighbourSearch(pos).pairs_near(robots, 2.5)
+    k, near = NeighbourSearch(pos).pairs_near(robots, 2.5)
+    src = robots[k]
     reference = cKDTree(pos).query_ball_point(pos[robots], 2.5)
     for i, expected in zip(robots, reference, strict=True):
         assert sorted(near[src == i].tolist()) == sorted(expected)
