@@ -29,6 +29,7 @@ from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
+from swarmsim.provenance import code_version
 from swarmsim.sensing import FloorSensor, NeighbourSearch, rows, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
@@ -388,6 +389,7 @@ class Simulation:
             "ticks": self.tick,
             "stop_reason": self.stop_reason,
             "wall_seconds": round(self.wall_seconds, 3),
+            "code_version": code_version(),
         }
         out.update(self.metrics.summary(self.positions, self.on_target))
         out["failed_robots"] = int(self.failed.sum())

@@ -166,6 +166,25 @@ def test_cli_sweep_writes_runs_and_table(tmp_path, capsys):
         assert summary["ticks"] == 20 and (run_dir / "timeseries.csv").is_file()
 
 
+def test_a_table_mixing_code_versions_says_so(tmp_path):
+    import swarmsim
+
+    runs = spec_from_dict({**TINY, "reps": 2}).runs()
+    out = tmp_path / "out"
+    first = run_sweep(runs, out, workers=1, progress=False)
+    ours = next(iter(first.versions))
+    assert first.versions == {ours: 2} and ours.startswith(swarmsim.__version__)
+    assert "warning" not in first.line()
+    path = out / "runs" / runs[0].run_id / "summary.json"
+    path.write_text(json.dumps({**json.loads(path.read_text()), "code_version": "0.0.1"}))
+    again = run_sweep(runs, out, workers=1, progress=False)
+    assert again.ran == 0 and again.versions == {ours: 1, "0.0.1": 1}
+    assert "warning: the table mixes runs made by different code" in again.line()
+    assert "0.0.1 (1)" in again.line()
+    assert "Warning" in rp.versions_line(again.versions)
+    assert rp.versions_line({ours: 2}) == f"Code: {ours} (2 runs)."
+
+
 def _local_results(runs, out, **kw):
     run_sweep(runs, out, progress=False, **kw)
     return {r.run_id: no_wall(json.loads((out / "runs" / r.run_id / "summary.json").read_text()))
@@ -384,6 +403,7 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     assert read_table(out / "fig23" / "conditions.csv")[0]["panel"].startswith("(a)")
     report = (out / "REPORT.md").read_text()
     assert "Figure 17" in report and "Figure 23" in report and "paper's claim" in report
+    assert "Code: 0.1" in report and "(5 runs)" in report
     assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
     again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
     assert again.sweep_line.startswith("2 runs: 2 done (0 run now")

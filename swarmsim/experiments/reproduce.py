@@ -767,7 +767,18 @@ def write_figure(fig: Figure, ctx: Context, out: Path) -> Path:
     return fig_dir
 
 
-def write_report(out: Path, setup: PaperSetup) -> Path:
+def versions_line(versions: Mapping[str, int]) -> str:
+    """The report's line on which code made the runs; a warning when it is more than one."""
+    listed = ", ".join(f"{v} ({n} runs)" for v, n in sorted(versions.items()))
+    if len(versions) <= 1:
+        return f"Code: {listed or 'no runs yet'}."
+    return (f"**Warning: these runs were made by {len(versions)} code versions: {listed}.** "
+            "Results are averaged over all of them; to redo every run with one version, "
+            "reproduce into a fresh --out.")
+
+
+def write_report(out: Path, setup: PaperSetup, versions: Mapping[str, int] | None = None
+                 ) -> Path:
     """DIR/REPORT.md: every figure reproduced so far in DIR, in the paper's order."""
     sections = [(out / k / "section.md").read_text() for k in FIGURES
                 if (out / k / "section.md").is_file()]
@@ -780,6 +791,8 @@ def write_report(out: Path, setup: PaperSetup) -> Path:
              "last value); bands span min-max. Verdicts compare the measured means with the "
              "paper's statements; 'tick at 99% of final coverage' is when a curve becomes flat."),
             ""]
+    if versions is not None:
+        head[-1:-1] = [versions_line(versions), ""]
     path = out / "REPORT.md"
     atomic_write_text(path, "\n".join(head) + "\n" + "\n".join(sections))
     return path
@@ -818,7 +831,7 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     ctx = Context(sweep, setup, reps, max_ticks)
     for key in runs:
         write_figure(FIGURES[key], ctx, out)
-    path = write_report(out, setup)
+    path = write_report(out, setup, sweep.code_versions())
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
 
 

@@ -21,9 +21,10 @@ import json
 import shutil
 import sys
 import traceback
-from collections.abc import Callable, Sequence
+from collections import Counter
+from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -119,6 +120,7 @@ class SweepReport:
         ran: runs executed now.
         failed: runs whose latest attempt failed (now or before).
         table: path of the results table.
+        versions: finished runs per code version (more than one: the table mixes code).
     """
 
     total: int
@@ -126,11 +128,16 @@ class SweepReport:
     ran: int
     failed: int
     table: Path
+    versions: Mapping[str, int] = field(default_factory=dict)
 
     def line(self) -> str:
         done = self.total - self.failed
-        return (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
+        text = (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
                 f"there), {self.failed} failed -> {self.table}")
+        if len(self.versions) > 1:
+            listed = ", ".join(f"{v} ({n})" for v, n in sorted(self.versions.items()))
+            text += f"\nwarning: the table mixes runs made by different code: {listed}"
+        return text
 
 
 class Sweep:
@@ -177,6 +184,12 @@ class Sweep:
         rows = [r for r in (self.row(run) for run in self.runs) if r is not None]
         write_table(self.table_path, rows)
 
+    def code_versions(self) -> Counter[str]:
+        """How many finished runs each code version made (see swarmsim.provenance)."""
+        rows = (self.row(run) for run in self.runs)
+        return Counter(str(r.get("code_version") or "unrecorded") for r in rows
+                       if r is not None and not r.get("error"))
+
     def failed_count(self) -> int:
         return sum(self.store.status(r.run_id) == FAILED for r in self.runs)
 
@@ -203,7 +216,7 @@ class Sweep:
         if todo:
             self._execute(todo, workers, scheduler, progress, on_result)
         return SweepReport(len(self.runs), len(self.runs) - len(todo), len(todo),
-                           self.failed_count(), self.table_path)
+                           self.failed_count(), self.table_path, self.code_versions())
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
                  on_result) -> None:
