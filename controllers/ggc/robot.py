@@ -170,8 +170,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
-        m = p.messages
-        ok = (p.distances <= reach) & self.stationary(p) & self.own_group(p)
+        m = p.messages[:within(p.distances, reach)]  # distances are sorted
+        ok = ~m["moving"] & (m["group"] == self.group)
         ok &= (m["id"] != NO_SENDER) & (m["gradient"] < INF_GRADIENT)
         ok &= m["status"] != COVERAGE
         if not any_of(ok):
@@ -279,11 +279,12 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         Returns NOT_BLOCKED, BLOCKED_BY_WAITING (a non-moving robot outranks me) or
         BLOCKED_BY_MOVER (only moving robots do).
         """
-        m = p.messages
-        near = (p.distances <= self.p.d_cover) & self.own_group(p) & (m["id"] != NO_SENDER)
-        near &= (m["status"] != ARRIVE) & (m["status"] != SURPLUS)
+        m = p.messages[:within(p.distances, self.p.d_cover)]  # distances are sorted
+        status = m["status"]
+        near = (m["group"] == self.group) & (m["id"] != NO_SENDER)
+        near &= (status != ARRIVE) & (status != SURPLUS)
         if self.groups > 1:  # a mover in Stop has left already (Section 4.3): not my turn's
-            near &= m["status"] != STOP
+            near &= status != STOP
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
                                             | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
         if not any_of(outranks):
