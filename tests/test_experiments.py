@@ -14,6 +14,7 @@ from swarmsim.cli import main
 from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup
 from swarmsim.experiments import load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
+from swarmsim.experiments.runner import Sweep
 from swarmsim.experiments.table import read_table
 from swarmsim.faults import FaultPlan
 from swarmsim.sim import Simulation
@@ -183,6 +184,8 @@ def test_a_table_mixing_code_versions_says_so(tmp_path):
     assert "0.0.1 (1)" in again.line()
     assert "Warning" in rp.versions_line(again.versions)
     assert rp.versions_line({ours: 2}) == f"Code: {ours} (2 runs)."
+    walls = [json.loads(p.read_text())["wall_seconds"] for p in out.glob("runs/*/summary.json")]
+    assert len(walls) == 2 and Sweep(runs, out).run_seconds() == pytest.approx(sum(walls))
 
 
 def _local_results(runs, out, **kw):
@@ -404,6 +407,7 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     report = (out / "REPORT.md").read_text()
     assert "Figure 17" in report and "Figure 23" in report and "paper's claim" in report
     assert "Code: 0.1" in report and "(5 runs)" in report
+    assert "Run time: 5 finished runs simulated for" in report
     assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
     again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
     assert again.sweep_line.startswith("2 runs: 2 done (0 run now")

@@ -777,8 +777,14 @@ def versions_line(versions: Mapping[str, int]) -> str:
             "reproduce into a fresh --out.")
 
 
-def write_report(out: Path, setup: PaperSetup, versions: Mapping[str, int] | None = None
-                 ) -> Path:
+def run_time_line(seconds: float, runs: int) -> str:
+    """The report's line on what the finished runs cost (simulation time, summed)."""
+    return (f"Run time: {runs} finished runs simulated for {seconds / 3600:.2f} CPU-hours "
+            f"in total ({seconds / max(runs, 1):.0f} s a run on average).")
+
+
+def write_report(out: Path, setup: PaperSetup, versions: Mapping[str, int] | None = None,
+                 run_seconds: float | None = None) -> Path:
     """DIR/REPORT.md: every figure reproduced so far in DIR, in the paper's order."""
     sections = [(out / k / "section.md").read_text() for k in FIGURES
                 if (out / k / "section.md").is_file()]
@@ -793,6 +799,8 @@ def write_report(out: Path, setup: PaperSetup, versions: Mapping[str, int] | Non
             ""]
     if versions is not None:
         head[-1:-1] = [versions_line(versions), ""]
+    if run_seconds is not None and versions:
+        head[-1:-1] = [run_time_line(run_seconds, sum(versions.values())), ""]
     path = out / "REPORT.md"
     atomic_write_text(path, "\n".join(head) + "\n" + "\n".join(sections))
     return path
@@ -831,7 +839,7 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     ctx = Context(sweep, setup, reps, max_ticks)
     for key in runs:
         write_figure(FIGURES[key], ctx, out)
-    path = write_report(out, setup, sweep.code_versions())
+    path = write_report(out, setup, sweep.code_versions(), sweep.run_seconds())
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
 
 

@@ -190,6 +190,12 @@ class Sweep:
         return Counter(str(r.get("code_version") or "unrecorded") for r in rows
                        if r is not None and not r.get("error"))
 
+    def run_seconds(self) -> float:
+        """Wall seconds the finished runs took, summed (each run's own ``wall_seconds``)."""
+        rows = (self.row(run) for run in self.runs)
+        return sum(float(r.get("wall_seconds") or 0.0) for r in rows
+                   if r is not None and not r.get("error"))
+
     def failed_count(self) -> int:
         return sum(self.store.status(r.run_id) == FAILED for r in self.runs)
 
