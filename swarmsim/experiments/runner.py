@@ -184,17 +184,18 @@ class Sweep:
         rows = [r for r in (self.row(run) for run in self.runs) if r is not None]
         write_table(self.table_path, rows)
 
+    def _finished_rows(self) -> list[dict[str, Any]]:
+        """Table rows of the runs that finished without error."""
+        rows = (self.row(run) for run in self.runs)
+        return [r for r in rows if r is not None and not r.get("error")]
+
     def code_versions(self) -> Counter[str]:
         """How many finished runs each code version made (see swarmsim.provenance)."""
-        rows = (self.row(run) for run in self.runs)
-        return Counter(str(r.get("code_version") or "unrecorded") for r in rows
-                       if r is not None and not r.get("error"))
+        return Counter(str(r.get("code_version") or "unrecorded") for r in self._finished_rows())
 
     def run_seconds(self) -> float:
         """Wall seconds the finished runs took, summed (each run's own ``wall_seconds``)."""
-        rows = (self.row(run) for run in self.runs)
-        return sum(float(r.get("wall_seconds") or 0.0) for r in rows
-                   if r is not None and not r.get("error"))
+        return sum(float(r.get("wall_seconds") or 0.0) for r in self._finished_rows())
 
     def failed_count(self) -> int:
         return sum(self.store.status(r.run_id) == FAILED for r in self.runs)
