@@ -411,6 +411,8 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
     again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
     assert again.sweep_line.startswith("2 runs: 2 done (0 run now")
+    more = rp.describe_plan(rp.plan("fig17", setup, reps=2, max_ticks=25), out)
+    assert "total: 4 distinct runs, 2 done, 2 to run: about" in more and "s a run)" in more
 
 
 def test_world_may_be_given_only_as_a_grid_key(tmp_path):

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim.errors import ConfigError
-from swarmsim.experiments.runner import DONE, FAILED, Sweep
+from swarmsim.experiments.runner import DONE, FAILED, RunStore, Sweep
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import Band, mean_band, series, settle_tick, stats, write_table
 from swarmsim.output import atomic_write_text, write_csv
@@ -844,9 +844,8 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
 
 
 def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = None) -> str:
-    """One line per figure: runs, and how many are already done in ``out``."""
-    from swarmsim.experiments.runner import RunStore
-
+    """One line per figure: runs, and how many are already done in ``out``; with ``out``,
+    a rough estimate of the CPU time still to go."""
     store = RunStore(Path(out) / "runs") if out else None
     lines = []
     for key, rs in runs.items():
@@ -854,8 +853,22 @@ def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = No
         labels = dict.fromkeys(_num(v) for r in rs for v in r.labels.values())
         lines.append(f"{key}: {len(rs)} runs ({done} done) over {', '.join(labels)}")
     total = unique_runs(r for rs in runs.values() for r in rs)
-    lines.append(f"total: {len(total)} distinct runs")
+    lines.append(f"total: {len(total)} distinct runs" + (_time_to_go(store, total) if store else ""))
     return "\n".join(lines)
+
+
+def _time_to_go(store: RunStore, runs: Sequence[RunSpec]) -> str:
+    """', N done, M to run: about H CPU-hours at the mean of the finished runs' wall time'
+    (runs of different conditions differ a lot: a rough guide)."""
+    seconds = [float(store.summary(r.run_id).get("wall_seconds") or 0.0)
+               for r in runs if store.status(r.run_id) == DONE]
+    left = len(runs) - len(seconds)
+    text = f", {len(seconds)} done, {left} to run"
+    if seconds and left:
+        mean = sum(seconds) / len(seconds)
+        text += (f": about {left * mean / 3600:.1f} CPU-hours at the finished runs' mean "
+                 f"({mean:.0f} s a run)")
+    return text
 
 
 def setup_with(setup: PaperSetup = PAPER, world: str | None = None, robots: int | None = None,
