@@ -3,6 +3,10 @@
 from __future__ import annotations
 
 import json
+import os
+import socket
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -12,7 +16,7 @@ import pytest
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup
-from swarmsim.experiments import load_spec, run_id, run_sweep, spec_from_dict
+from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
 from swarmsim.experiments.runner import Sweep
 from swarmsim.experiments.table import read_table
@@ -151,6 +155,49 @@ def test_failing_run_is_recorded_and_others_finish(tmp_path):
     assert run_sweep(runs, out, workers=1, progress=False).ran == 0
     retry = run_sweep(runs, out, workers=1, progress=False, retry_failed=True)
     assert retry.ran == 1 and retry.failed == 1
+
+
+def _claim_held_by(pid: int) -> str:
+    return json.dumps({"host": socket.gethostname(), "pid": pid,
+                       "process": claims._process_key(pid)})
+
+
+def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
+    runs = spec_from_dict({**TINY, "grid": {"robots": [20, 25]}}).runs()
+    out = tmp_path / "out"
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+    try:
+        held = out / "runs" / runs[1].run_id
+        held.mkdir(parents=True)
+        (held / "claim.json").write_text(_claim_held_by(other.pid))
+        report = run_sweep(runs, out, workers=1, progress=False)
+        assert report.ran == 1 and report.busy == 1 and "claimed by another process" in report.line()
+        assert not (held / "summary.json").exists() and (held / "claim.json").is_file()
+        assert (out / "runs" / runs[0].run_id / "summary.json").is_file()
+    finally:
+        other.kill()
+        other.wait()
+    again = run_sweep(runs, out, workers=1, progress=False)  # its process is gone: stale
+    assert again.ran == 1 and again.busy == 0 and (held / "summary.json").is_file()
+    assert not list(out.glob("runs/*/claim.json")) and not list(out.glob("runs/*/.claim*"))
+
+
+def test_a_claim_is_exclusive_and_a_reused_pid_does_not_hold_it(tmp_path):
+    run_dir = tmp_path / "run"
+    assert claims.claim(run_dir) and not claims.claim(run_dir)  # held, by this process too
+    probe = ("import sys; from pathlib import Path; from swarmsim.experiments import claims; "
+             "print(claims.claim(Path(sys.argv[1])))")
+    other = subprocess.run([sys.executable, "-c", probe, str(run_dir)], capture_output=True,
+                           text=True, check=True)
+    assert other.stdout.strip() == "False"
+    claims.release(run_dir)
+    assert not (run_dir / "claim.json").exists()
+    # a claim written by an earlier process that had this process's pid (after a restart)
+    (run_dir / "claim.json").write_text(json.dumps(
+        {"host": socket.gethostname(), "pid": os.getpid(),
+         "process": "another-boot:1"}))
+    assert claims.holder(run_dir) is None and claims.claim(run_dir)
+    claims.release(run_dir)
 
 
 def test_cli_sweep_writes_runs_and_table(tmp_path, capsys):

@@ -7,11 +7,13 @@ Layout of an output folder::
     DIR/runs/<run_id>/robots.csv       per robot: contacts, time in contact, pushes when settled
     DIR/runs/<run_id>/summary.json     its summary: written last, it marks the run as done
     DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
+    DIR/runs/<run_id>/claim.json       while a sweep process runs it (see claims.py)
     DIR/results.csv                    one row per run (rewritten after each completion)
 
 Every file is written atomically. Running the same sweep again skips runs that are done (and,
 unless ``retry_failed``, runs that failed), so an interrupted sweep resumes where it stopped
-without redoing or losing a finished run.
+without redoing or losing a finished run. Two sweeps may share an output folder: each claims
+the runs it is about to run, and leaves the runs another live process has claimed to it.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from swarmsim.experiments import claims
 from swarmsim.experiments.executors import open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
@@ -121,6 +124,7 @@ class SweepReport:
         failed: runs whose latest attempt failed (now or before).
         table: path of the results table.
         versions: finished runs per code version (more than one: the table mixes code).
+        busy: runs not run now because another live process has claimed them.
     """
 
     total: int
@@ -129,11 +133,15 @@ class SweepReport:
     failed: int
     table: Path
     versions: Mapping[str, int] = field(default_factory=dict)
+    busy: int = 0
 
     def line(self) -> str:
-        done = self.total - self.failed
+        done = self.total - self.failed - self.busy
         text = (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
                 f"there), {self.failed} failed -> {self.table}")
+        if self.busy:
+            text += (f"\n{self.busy} runs are claimed by another process (runs/<id>/"
+                     f"{claims.CLAIM_FILE}) and were left to it: run again once it has ended")
         if len(self.versions) > 1:
             listed = ", ".join(f"{v} ({n})" for v, n in sorted(self.versions.items()))
             text += f"\nwarning: the table mixes runs made by different code: {listed}"
@@ -220,10 +228,16 @@ class Sweep:
         todo = self.pending(retry_failed)
         self.out.mkdir(parents=True, exist_ok=True)
         self.write_table()
-        if todo:
-            self._execute(todo, workers, scheduler, progress, on_result)
-        return SweepReport(len(self.runs), len(self.runs) - len(todo), len(todo),
-                           self.failed_count(), self.table_path, self.code_versions())
+        mine = [run for run in todo if claims.claim(self.store.path(run.run_id))]
+        try:
+            if mine:
+                self._execute(mine, workers, scheduler, progress, on_result)
+        finally:
+            for run in mine:
+                claims.release(self.store.path(run.run_id))
+        return SweepReport(len(self.runs), len(self.runs) - len(todo), len(mine),
+                           self.failed_count(), self.table_path, self.code_versions(),
+                           busy=len(todo) - len(mine))
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
                  on_result) -> None:
