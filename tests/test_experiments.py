@@ -182,6 +182,45 @@ def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
     assert not list(out.glob("runs/*/claim.json")) and not list(out.glob("runs/*/.claim*"))
 
 
+def test_runs_are_claimed_one_at_a_time_so_a_sweep_started_later_shares_the_rest(tmp_path):
+    runs = spec_from_dict({**TINY, "grid": {"robots": [20, 21, 22, 23]}}).runs()
+    out = tmp_path / "out"
+    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(120)"])
+
+    def meanwhile(run, status):  # after our first run, "another process" takes two runs
+        if run.run_id != runs[0].run_id:
+            return
+        taken = out / "runs" / runs[2].run_id
+        taken.mkdir(parents=True)
+        (taken / "claim.json").write_text(_claim_held_by(other.pid))      # running there
+        done = out / "runs" / runs[3].run_id
+        done.mkdir(parents=True)
+        for name in ("run.json", "summary.json", "timeseries.csv"):     # finished there
+            (done / name).write_bytes((out / "runs" / runs[0].run_id / name).read_bytes())
+
+    try:
+        report = run_sweep(runs, out, workers=1, progress=False, on_result=meanwhile)
+    finally:
+        other.kill()
+        other.wait()
+    assert report.ran == 2 and report.busy == 1 and report.skipped == 1
+
+
+def test_two_sweep_processes_on_one_folder_never_run_a_run_twice(tmp_path):
+    path = write_spec(tmp_path, 'world = "tiny"\ncontroller = "dispersion"\nreps = 6\n'
+                                "[params]\nmax_ticks = 150\n")
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "swarmsim", "sweep", str(path), "--out", str(out),
+           "--workers", "1", "--quiet"]
+    other = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True)
+    ours = run_sweep(load_spec(path).runs(), out, workers=1, progress=False)
+    theirs = other.communicate(timeout=300)[0]
+    ran_there = int(theirs.split("(")[1].split(" run now")[0])
+    assert ours.ran + ran_there == 6, (ours.line(), theirs)
+    assert len(list(out.glob("runs/*/summary.json"))) == 6
+    assert not list(out.glob("runs/*/claim.json"))
+
+
 def test_a_claim_is_exclusive_and_a_reused_pid_does_not_hold_it(tmp_path):
     run_dir = tmp_path / "run"
     assert claims.claim(run_dir) and not claims.claim(run_dir)  # held, by this process too

@@ -1,7 +1,7 @@
 """Where runs execute: in this process, in local worker processes, or on a Dask cluster.
 
 All three are ``concurrent.futures`` executors (``submit`` returns a Future; results are
-collected with :func:`concurrent.futures.as_completed`), so the sweep runner has one code path:
+collected with :func:`concurrent.futures.wait`), so the sweep runner has one code path:
 
 * ``workers == 1``: :class:`InProcessExecutor`, runs each task when its result is collected,
   in submission order (easy to debug, no pickling).
@@ -17,7 +17,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Collection
 from contextlib import contextmanager
 from typing import Any
 
@@ -65,7 +65,7 @@ class InProcessExecutor(cf.Executor):
 
 
 class Pool:
-    """A concurrent.futures executor plus the matching ``as_completed``."""
+    """A concurrent.futures executor plus how to wait on its futures."""
 
     def __init__(self, executor: cf.Executor, kind: str, workers: int | None,
                  close: Callable[[], None] | None = None):
@@ -77,14 +77,19 @@ class Pool:
     def submit(self, fn: Callable, *args: Any) -> cf.Future:
         return self.executor.submit(fn, *args)
 
-    def as_completed(self, futures: Iterable[cf.Future]) -> Iterator[cf.Future]:
-        futures = list(futures)
+    def window(self, tasks: int) -> int:
+        """How many tasks to keep submitted at once: one per local worker (so that a task is
+        claimed only when a worker is free for it), every task on a Dask cluster."""
+        return tasks if self.kind == "dask" else max(1, self.workers or 1)
+
+    def next_completed(self, futures: Collection[cf.Future]) -> cf.Future:
+        """Wait for one of ``futures`` to finish and return it (in process: run the first)."""
         if isinstance(self.executor, InProcessExecutor):
-            for f in futures:
-                self.executor.run_pending(f)
-                yield f
-            return
-        yield from cf.as_completed(futures)
+            first = next(iter(futures))
+            self.executor.run_pending(first)
+            return first
+        done, _ = cf.wait(futures, return_when=cf.FIRST_COMPLETED)
+        return next(f for f in futures if f in done)  # submission order among the finished
 
     def shutdown(self, cancel: bool) -> None:
         """Wait for running tasks, or (``cancel``) drop pending ones and stop workers now."""

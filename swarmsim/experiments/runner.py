@@ -228,38 +228,70 @@ class Sweep:
         todo = self.pending(retry_failed)
         self.out.mkdir(parents=True, exist_ok=True)
         self.write_table()
-        mine = [run for run in todo if claims.claim(self.store.path(run.run_id))]
-        try:
-            if mine:
-                self._execute(mine, workers, scheduler, progress, on_result)
-        finally:
-            for run in mine:
-                claims.release(self.store.path(run.run_id))
-        return SweepReport(len(self.runs), len(self.runs) - len(todo), len(mine),
-                           self.failed_count(), self.table_path, self.code_versions(),
-                           busy=len(todo) - len(mine))
+        tally: Counter[str] = Counter()
+        if todo:
+            self._execute(todo, workers, scheduler, progress, on_result, tally)
+        return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
+                           tally["ran"], self.failed_count(), self.table_path,
+                           self.code_versions(), busy=tally["busy"])
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
-                 on_result) -> None:
+                 on_result, tally: Counter[str]) -> None:
+        """Run ``todo``, claiming each run just before it is submitted (see claims.py) and
+        keeping one run per worker in flight, so that other processes can share the rest."""
         from tqdm import tqdm
 
         bar = tqdm(total=len(todo), unit="run", desc="sweep", file=sys.stderr,
                    disable=not progress, dynamic_ncols=True)
-        failed = 0
+        queue = iter(todo)
+        in_flight: dict[cf.Future, RunSpec] = {}
         try:
             with open_pool(workers, scheduler, tasks=len(todo)) as pool:
-                futures = {pool.submit(execute_run, run): run for run in todo}
-                for future in pool.as_completed(futures):
-                    run = futures[future]
-                    status = self.record(run, _outcome(future))
-                    failed += status == FAILED
-                    bar.update(1)
-                    if failed:
-                        bar.set_postfix_str(f"{failed} failed")
-                    if on_result is not None:
-                        on_result(run, status)
+                window = pool.window(len(todo))
+                try:
+                    self._submit_more(pool, queue, in_flight, window, tally, bar)
+                    while in_flight:
+                        future = pool.next_completed(in_flight)
+                        run = in_flight.pop(future)
+                        self._finish(run, _outcome(future), tally, bar, on_result)
+                        self._submit_more(pool, queue, in_flight, window, tally, bar)
+                finally:
+                    for run in in_flight.values():
+                        claims.release(self.store.path(run.run_id))
         finally:
             bar.close()
+
+    def _submit_more(self, pool, queue, in_flight: dict, window: int, tally: Counter[str],
+                     bar) -> None:
+        """Claim and submit runs until ``window`` are in flight; runs another process has
+        claimed, or has finished meanwhile, are passed over."""
+        while len(in_flight) < window:
+            run = next(queue, None)
+            if run is None:
+                return
+            path = self.store.path(run.run_id)
+            if not claims.claim(path):
+                tally["busy"] += 1
+            elif self.store.status(run.run_id) == DONE:  # another process finished it
+                claims.release(path)
+                tally["elsewhere"] += 1
+            else:
+                in_flight[pool.submit(execute_run, run)] = run
+                continue
+            bar.update(1)
+            bar.set_postfix_str(f"{tally['busy'] + tally['elsewhere']} left to another process")
+
+    def _finish(self, run: RunSpec, outcome: dict[str, Any], tally: Counter[str], bar,
+                on_result) -> None:
+        status = self.record(run, outcome)
+        claims.release(self.store.path(run.run_id))
+        tally["ran"] += 1
+        tally["failed"] += status == FAILED
+        bar.update(1)
+        if tally["failed"]:
+            bar.set_postfix_str(f"{tally['failed']} failed")
+        if on_result is not None:
+            on_result(run, status)
 
 
 def _outcome(future: cf.Future) -> dict[str, Any]:
