@@ -530,8 +530,8 @@ def test_distance_claim_is_judged_where_robots_suffice_on_distance_to_final_cove
     ctx = _FakeContext(rp.PaperSetup(world="K"), [
         _distance_stats(4, 160_050, 175_724), _distance_stats(6, 218_766, 218_766),
         _distance_stats(8, 156_401, 230_662), _distance_stats(10, 99_657, 150_315)])
-    claim, note = rp._dcover_distance_claims(ctx, "fig19")[:2]
+    claim, note = rp.dcover_distance_claims(ctx, "fig19")[:2]
     assert claim.verdict == rp.CONSISTENT and "judged on d_cover 6, 8, 10" in claim.measured
     assert "8: 156401" in claim.measured and note.verdict != rp.CONSISTENT
     ctx.conditions[2] = _distance_stats(8, 230_000, 230_662)  # 8 moves more than 6
-    assert rp._dcover_distance_claims(ctx, "fig19")[0].verdict != rp.CONSISTENT
+    assert rp.dcover_distance_claims(ctx, "fig19")[0].verdict != rp.CONSISTENT

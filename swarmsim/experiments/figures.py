@@ -1,0 +1,268 @@
+"""The paper's Section 6 setup and figure types, and the analysis of their runs.
+
+:class:`PaperSetup` (and :data:`PAPER`) holds what the experiments share; :class:`Condition`,
+:class:`Panel`, :class:`Figure` and :class:`Claim` describe a figure; the panel builders make a
+figure's panels from a setup; :class:`Context` measures a reproduction's runs (:class:`CondStats`
+per condition). The registry itself is in :mod:`.reproduce`, the claims in :mod:`.verdicts`.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from swarmsim.experiments.runner import DONE, FAILED, Sweep
+from swarmsim.experiments.spec import RunSpec
+from swarmsim.experiments.table import Band, mean_band, series, settle_tick, stats
+
+
+# ----------------------------------------------------------------------------- the setup
+@dataclass(frozen=True)
+class PaperSetup:
+    """What the paper's experiments share (Section 6, Table 2). Change values here.
+
+    Attributes:
+        world: the world (paper: 'K').
+        controller: the controller under study (paper: GGC).
+        robots: robot count; None = the world's default (K: 603, as in the paper).
+        d_cover: coverage distance where it is not varied (paper: 6).
+        groups: number of groups where it is not varied (paper: 3).
+        d_cover_values: Figures 17-20.
+        group_values: Figures 21-22.
+        failure_counts: Figure 23.
+        comparison: Figure 24's controllers (the first is the one under study); unregistered
+            ones are skipped with a note.
+        extra: any other run setting applied to every run (e.g. {"eps0": 0.02}).
+    """
+
+    world: str = "K"
+    controller: str = "ggc"
+    robots: int | None = None
+    d_cover: float = 6
+    groups: int = 3
+    d_cover_values: tuple[float, ...] = (1, 2, 4, 6, 8, 10)
+    group_values: tuple[int, ...] = (1, 3, 4, 6, 8, 10)
+    failure_counts: tuple[int, ...] = (0, 1, 5, 10, 20)
+    comparison: tuple[str, ...] = ("ggc", "kilobot", "dash", "fcdfs", "cvt", "meanshift")
+    extra: Mapping[str, Any] = field(default_factory=dict)
+
+    def settings(self, controller: str | None = None, **values: Any) -> dict[str, Any]:
+        """Run settings: robots (if set), the given values, then ``extra``.
+
+        ``d_cover`` is dropped for controllers that have no such parameter."""
+        out: dict[str, Any] = {} if self.robots is None else {"robots": self.robots}
+        out.update(values)
+        if "d_cover" in out and not _has_d_cover(controller or self.controller):
+            del out["d_cover"]
+        out.update(self.extra)
+        return out
+
+
+PAPER = PaperSetup()
+
+
+def _has_d_cover(controller: str) -> bool:
+    from swarmsim.controller import get_controller
+
+    return "d_cover" in getattr(get_controller(controller).Params, "__dataclass_fields__", {})
+
+
+def _registered(name: str) -> bool:
+    from swarmsim.controller import available_controllers
+
+    return ":" in name or name in available_controllers()
+
+
+def num_text(x: Any) -> str:
+    if isinstance(x, float) and x.is_integer():
+        return str(int(x))
+    return f"{x:.3g}" if isinstance(x, float) else str(x)
+
+
+# ----------------------------------------------------------------------------- registry
+@dataclass(frozen=True)
+class Condition:
+    """One curve of a figure: a controller and its settings, repeated over the seeds."""
+
+    label: str
+    value: Any
+    controller: str
+    settings: Mapping[str, Any]
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One plot: conditions that differ in ``vary``, showing ``metric`` over time."""
+
+    title: str
+    vary: str
+    metric: str  # "coverage" or "total_distance"
+    conditions: tuple[Condition, ...]
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Figure:
+    key: str
+    title: str
+    build: Callable[[PaperSetup], tuple[Panel, ...]]
+    claims: Callable[[Context], list[Claim]]
+
+
+@dataclass(frozen=True)
+class Claim:
+    text: str
+    measured: str
+    verdict: str
+
+
+def dcover_panel(s: PaperSetup, groups: int, metric: str) -> tuple[Panel, ...]:
+    conds = tuple(Condition(f"d_cover = {num_text(d)}", d, s.controller,
+                            s.settings(d_cover=d, groups=groups)) for d in s.d_cover_values)
+    what = "coverage" if metric == "coverage" else "total distance moved"
+    grouping = "not grouped" if groups == 1 else f"{groups} groups"
+    return (Panel(f"{what} vs d_cover ({grouping})", "d_cover", metric, conds),)
+
+
+def groups_panel(s: PaperSetup, metric: str) -> tuple[Panel, ...]:
+    conds = tuple(Condition(f"K = {k}", k, s.controller, s.settings(d_cover=s.d_cover, groups=k))
+                  for k in s.group_values)
+    what = "coverage" if metric == "coverage" else "total distance moved"
+    return (Panel(f"{what} vs number of groups K (d_cover {num_text(s.d_cover)})", "groups", metric,
+                  conds),)
+
+
+def failure_panels(s: PaperSetup) -> tuple[Panel, ...]:
+    panels = []
+    for tag, phase in (("a", "gradient"), ("b", "coverage")):
+        conds = tuple(Condition(f"N = {n}", n, s.controller,
+                                s.settings(d_cover=s.d_cover, groups=s.groups,
+                                           **({"failures": n, "failure_phase": phase} if n
+                                              else {})))
+                      for n in s.failure_counts)
+        panels.append(Panel(f"({tag}) failures during {phase} "
+                            f"{'formation' if phase == 'gradient' else 'process'}",
+                            "failures", "coverage", conds))
+    return tuple(panels)
+
+
+def comparison_panel(s: PaperSetup) -> tuple[Panel, ...]:
+    names = [s.controller] + [c for c in s.comparison if c != s.controller]
+    ok = [c for c in names if _registered(c)]
+    skipped = [c for c in names if c not in ok]
+    conds = tuple(Condition(c, c, c, s.settings(controller=c, d_cover=s.d_cover,
+                                                groups=s.groups)) for c in ok)
+    notes = (f"not registered, skipped: {', '.join(skipped)}",) if skipped else ()
+    return (Panel("coverage of different algorithms", "controller", "coverage", conds, notes),)
+
+
+# ----------------------------------------------------------------------------- runs
+def panel_runs(panel: Panel, setup: PaperSetup, reps: int,
+               max_ticks: int | None = None) -> list[list[RunSpec]]:
+    """The runs of each condition of a panel (seeds 0..reps-1)."""
+    out = []
+    for cond in panel.conditions:
+        settings = dict(cond.settings)
+        if max_ticks is not None:
+            settings["max_ticks"] = max_ticks
+        out.append([RunSpec(setup.world, cond.controller, settings, seed,
+                            labels={panel.vary: cond.value}) for seed in range(reps)])
+    return out
+
+
+# ----------------------------------------------------------------------------- analysis
+@dataclass
+class CondStats:
+    """What was measured for one condition (means, sds and counts over its finished runs).
+
+    ``settle_*`` is the tick at which a run's curve reaches 99% of its final value (when it
+    becomes flat); runs stopped by max_ticks have not settled and are left out of it.
+    """
+
+    cond: Condition
+    runs: int
+    done: int
+    failed: int
+    coverage: tuple[float | None, float | None, int]  # final: mean, sd, n
+    distance: tuple[float | None, float | None, int]
+    completion: tuple[float | None, float | None, int]  # over runs that completed
+    settle_cov: tuple[float | None, float | None, int]
+    settle_dist: tuple[float | None, float | None, int]
+    stops: dict[str, int]
+    curves: dict[str, list[tuple[np.ndarray, np.ndarray]]]
+    errors: list[str]
+    bands: dict[str, Band | None] = field(default_factory=dict)
+    distance_at_settle: tuple[float | None, float | None, int] = (None, None, 0)
+
+    @property
+    def all_complete(self) -> bool:
+        return self.done > 0 and self.completion[2] == self.done
+
+    def stop_text(self) -> str:
+        return ", ".join(f"{k} {v}" for k, v in sorted(self.stops.items())) or "-"
+
+
+class Context:
+    """Measurements of a reproduction: per figure, per panel, per condition (lazy, cached).
+
+    ``get_figure`` looks a figure up by key (the registry's, :func:`.reproduce.get_figure`)."""
+
+    def __init__(self, sweep: Sweep, setup: PaperSetup, reps: int, max_ticks: int | None,
+                 get_figure: Callable[[str], Figure]):
+        self.sweep, self.setup, self.reps, self.max_ticks = sweep, setup, reps, max_ticks
+        self.get_figure = get_figure
+        self._cache: dict[tuple[str, int], list[CondStats]] = {}
+
+    def panels(self, key: str) -> tuple[Panel, ...]:
+        return self.get_figure(key).build(self.setup)
+
+    def stats(self, key: str, index: int = 0, require_done: bool = False
+              ) -> list[CondStats] | None:
+        """Stats of a figure's panel (None with ``require_done`` if some run never ran).
+
+        Mean curves share one tick grid per panel: to the end of its longest run."""
+        if (key, index) not in self._cache:
+            panel = self.panels(key)[index]
+            runs = panel_runs(panel, self.setup, self.reps, self.max_ticks)
+            st = [self._cond(c, r) for c, r in zip(panel.conditions, runs, strict=True)]
+            ends = [float(t[-1]) for s in st for cs in s.curves.values() for t, _ in cs
+                    if len(t)]
+            for s in st:
+                s.bands = {m: mean_band(c, end=max(ends) if ends else None)
+                           for m, c in s.curves.items()}
+            self._cache[(key, index)] = st
+        out = self._cache[(key, index)]
+        if require_done and any(s.done + s.failed < s.runs for s in out):
+            return None
+        return out
+
+    def _cond(self, cond: Condition, runs: list[RunSpec]) -> CondStats:
+        store = self.sweep.store
+        summaries, curves, errors = [], {"coverage": [], "total_distance": []}, []
+        settle: dict[str, list[float | None]] = {m: [] for m in curves}
+        for run in runs:
+            status = store.status(run.run_id)
+            if status == FAILED:
+                errors.append(store.error(run.run_id))
+            if status != DONE:
+                continue
+            summary = store.summary(run.run_id)
+            summaries.append(summary)
+            rows = store.timeseries(run.run_id)
+            for metric, found in curves.items():
+                t, v = series(rows, metric)
+                found.append((t, v))
+                flat = summary.get("stop_reason") != "max_ticks"
+                settle[metric].append(settle_tick(t, v) if flat else None)
+        stops = Counter(str(s.get("stop_reason")) for s in summaries)
+        return CondStats(
+            cond, len(runs), len(summaries), len(errors),
+            stats(s.get("coverage") for s in summaries),
+            stats(s.get("total_distance") for s in summaries),
+            stats(s.get("completion_tick") for s in summaries),
+            stats(settle["coverage"]), stats(settle["total_distance"]), dict(stops), curves,
+            errors, distance_at_settle=stats(s.get("distance_at_settle") for s in summaries))
