@@ -296,3 +296,23 @@ def test_with_stop_on_target_only_a_mover_off_the_target_does_not_stop_for_other
         r.status = COVERAGE
         r.coverage(perception(rows))  # off the target (perception's floor sensor says so)
         assert r.status == expected, flag
+
+
+def test_deadlock_episodes_open_at_a_detection_and_close_on_progress_or_settling():
+    r = robot()
+    r.set_status(COVERAGE)
+    view = lap_view(ARRIVED_ONLY)
+
+    def sample(moved: float, tick: int) -> bool:
+        r.odometer[:] = (moved, 0.0)
+        return r.stuck(Perception(tick=tick, offsets=view.offsets, distances=view.distances,
+                                  messages=view.messages, on_target=False, probe=view.probe,
+                                  beacon=None, moved=np.zeros(2)))
+
+    T = r.p.T_r
+    assert sample(0.0, T) and sample(0.5, 2 * T)            # two detections, one episode
+    assert (r.deadlocks, r.deadlock_episodes, r.in_deadlock) == (2, 1, True)
+    assert not sample(5.0, 3 * T) and r.deadlocks_released == 1 and not r.in_deadlock
+    assert sample(0.0, 4 * T) and r.deadlock_episodes == 2  # a new episode ...
+    r.set_status(ARRIVE)                                     # ... ends when it settles
+    assert r.deadlocks_released == 2 and not r.in_deadlock

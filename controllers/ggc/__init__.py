@@ -36,10 +36,19 @@ class GGC(GGCRobot):
 
     @classmethod
     def summarize(cls, robots: Sequence[GGCRobot]) -> dict:
-        """Per-run GGC figures for the summary: final statuses and deadlocks."""
+        """Per-run GGC figures for the summary: final statuses and deadlocks.
+
+        ``deadlocks_detected`` counts every detection (Equation 3, once per T_r); a robot's
+        consecutive detections make one episode (``deadlock_episodes``), released when it
+        moves on or settles (``deadlocks_released``) or still open when the run ends
+        (``deadlocks_open``): episodes = released + open.
+        """
         counts = Counter(STATUSES[r.status] for r in robots)
         return {"status_counts": dict(sorted(counts.items())),
                 "deadlocks_detected": sum(r.deadlocks for r in robots),
+                "deadlock_episodes": sum(r.deadlock_episodes for r in robots),
+                "deadlocks_released": sum(r.deadlocks_released for r in robots),
+                "deadlocks_open": sum(r.in_deadlock for r in robots),
                 "collision_stops": sum(r.collision_stops for r in robots),
                 "surplus_stops": sum(r.surplus for r in robots)}
 

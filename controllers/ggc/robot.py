@@ -88,6 +88,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.circled = 0.0
         self.last_bearing: float | None = None
         self.deadlocks = 0
+        self.deadlock_episodes = 0
+        self.deadlocks_released = 0
+        self.in_deadlock = False
         self.restart_lap()
         self.surplus = 0
         self.surplus_rule = (params.surplus_stop and params.d_cover > params.yield_release
@@ -125,6 +128,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if status != self.status:
             self.status = status
             self.history.append(status)
+            if status in (ARRIVE, SURPLUS):
+                self.release_deadlock()  # settled: the deadlock is over
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
@@ -583,12 +588,25 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         return int((p.messages["status"][:k] == ARRIVE).sum()) >= 2
 
     def stuck(self, p: Perception) -> bool:
-        """Equation 3: displacement <= theta over T_r ticks."""
+        """Equation 3: displacement <= theta over T_r ticks. Also keeps the books on deadlock
+        episodes: one opens at a detection and is released when a later sample shows
+        progress or the robot settles (see ``set_status``)."""
         moved = self.sample_progress(p)
-        if moved is not None and moved <= self.p.theta:
+        if moved is None:
+            return False
+        if moved <= self.p.theta:
             self.deadlocks += 1
+            self.deadlock_episodes += not self.in_deadlock
+            self.in_deadlock = True
             return True
+        self.release_deadlock()
         return False
+
+    def release_deadlock(self) -> None:
+        """An open deadlock episode ends (the robot moved on, or settled)."""
+        if self.in_deadlock:
+            self.in_deadlock = False
+            self.deadlocks_released += 1
 
     def may_arrive_when_stuck(self, p: Perception, nearest: int) -> bool:
         """May a deadlocked mover on the target stop here? Always in a single group; with
