@@ -86,7 +86,8 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="another setting for every run")
     r.add_argument("--dry-run", action="store_true", dest="dry_run",
-                   help="list the runs each figure needs and exit")
+                   help="list the runs each figure needs, how many are done in --out and "
+                        "a rough guess of the CPU time left, and exit")
     _add_executor_args(r)
 
 
