@@ -69,7 +69,9 @@ def _add_executor_args(p: argparse.ArgumentParser) -> None:
 def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("sweep", help="run a sweep spec (params x grid x seeds), resumably",
                        description="Run every run of a TOML sweep spec once; run again with the "
-                       "same --out to resume.")
+                       "same --out to resume. The same command started in a second terminal, or "
+                       "on a machine sharing the folder, shares the runs left (each run is "
+                       "claimed in runs/<id>/claim.json while it runs).")
     p.add_argument("spec", type=Path, help="sweep spec (.toml)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     _add_executor_args(p)
