@@ -172,6 +172,7 @@ def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
         (held / "claim.json").write_text(_claim_held_by(other.pid))
         report = run_sweep(runs, out, workers=1, progress=False)
         assert report.ran == 1 and report.busy == 1 and "claimed by another process" in report.line()
+        assert report.line().startswith("2 runs: 1 done (1 run now, 0 already there), 0 failed")
         assert not (held / "summary.json").exists() and (held / "claim.json").is_file()
         assert (out / "runs" / runs[0].run_id / "summary.json").is_file()
     finally:

@@ -125,6 +125,7 @@ class SweepReport:
         table: path of the results table.
         versions: finished runs per code version (more than one: the table mixes code).
         busy: runs not run now because another live process has claimed them.
+        done: runs with a result (None: total - failed - busy).
     """
 
     total: int
@@ -134,9 +135,10 @@ class SweepReport:
     table: Path
     versions: Mapping[str, int] = field(default_factory=dict)
     busy: int = 0
+    done: int | None = None
 
     def line(self) -> str:
-        done = self.total - self.failed - self.busy
+        done = self.done if self.done is not None else self.total - self.failed - self.busy
         text = (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
                 f"there), {self.failed} failed -> {self.table}")
         if self.busy:
@@ -233,7 +235,8 @@ class Sweep:
             self._execute(todo, workers, scheduler, progress, on_result, tally)
         return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
                            tally["ran"], self.failed_count(), self.table_path,
-                           self.code_versions(), busy=tally["busy"])
+                           self.code_versions(), busy=tally["busy"],
+                           done=sum(self.store.status(r.run_id) == DONE for r in self.runs))
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
                  on_result, tally: Counter[str]) -> None:
@@ -248,17 +251,15 @@ class Sweep:
         try:
             with open_pool(workers, scheduler, tasks=len(todo)) as pool:
                 window = pool.window(len(todo))
-                try:
+                self._submit_more(pool, queue, in_flight, window, tally, bar)
+                while in_flight:
+                    future = pool.next_completed(in_flight)
+                    run = in_flight.pop(future)
+                    self._finish(run, _outcome(future), tally, bar, on_result)
                     self._submit_more(pool, queue, in_flight, window, tally, bar)
-                    while in_flight:
-                        future = pool.next_completed(in_flight)
-                        run = in_flight.pop(future)
-                        self._finish(run, _outcome(future), tally, bar, on_result)
-                        self._submit_more(pool, queue, in_flight, window, tally, bar)
-                finally:
-                    for run in in_flight.values():
-                        claims.release(self.store.path(run.run_id))
-        finally:
+        finally:  # interrupted: the pool has stopped its workers; only now free their runs
+            for run in in_flight.values():
+                claims.release(self.store.path(run.run_id))
             bar.close()
 
     def _submit_more(self, pool, queue, in_flight: dict, window: int, tally: Counter[str],
