@@ -89,7 +89,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.last_bearing: float | None = None
         self.deadlocks = 0
         self.deadlock_episodes = 0
-        self.deadlocks_released = 0
         self.in_deadlock = False
         self.restart_lap()
         self.surplus = 0
@@ -129,7 +128,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             self.status = status
             self.history.append(status)
             if status in (ARRIVE, SURPLUS):
-                self.release_deadlock()  # settled: the deadlock is over
+                self.in_deadlock = False  # settled: an open deadlock episode is over
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
@@ -599,14 +598,13 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             self.deadlock_episodes += not self.in_deadlock
             self.in_deadlock = True
             return True
-        self.release_deadlock()
+        self.in_deadlock = False  # progress: an open deadlock episode is over
         return False
 
-    def release_deadlock(self) -> None:
-        """An open deadlock episode ends (the robot moved on, or settled)."""
-        if self.in_deadlock:
-            self.in_deadlock = False
-            self.deadlocks_released += 1
+    @property
+    def deadlocks_released(self) -> int:
+        """Deadlock episodes that have ended: all but the one still open, if any."""
+        return self.deadlock_episodes - self.in_deadlock
 
     def may_arrive_when_stuck(self, p: Perception, nearest: int) -> bool:
         """May a deadlocked mover on the target stop here? Always in a single group; with

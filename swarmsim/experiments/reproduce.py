@@ -157,19 +157,19 @@ def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = No
         labels = dict.fromkeys(num_text(v) for r in rs for v in r.labels.values())
         lines.append(f"{key}: {len(rs)} runs ({done} done) over {', '.join(labels)}")
     total = unique_runs(r for rs in runs.values() for r in rs)
-    lines.append(f"total: {len(total)} distinct runs" + (_time_to_go(store, total) if store else ""))
+    lines.append(f"total: {len(total)} distinct runs"
+                 + (_time_to_go(Sweep(total, out, runs_dir=store.dir)) if store else ""))
     return "\n".join(lines)
 
 
-def _time_to_go(store: RunStore, runs: Sequence[RunSpec]) -> str:
+def _time_to_go(sweep: Sweep) -> str:
     """', N done, M to run: about H CPU-hours at the mean of the finished runs' wall time'
     (runs of different conditions differ a lot: a rough guide)."""
-    seconds = [float(store.summary(r.run_id).get("wall_seconds") or 0.0)
-               for r in runs if store.status(r.run_id) == DONE]
-    left = len(runs) - len(seconds)
-    text = f", {len(seconds)} done, {left} to run"
-    if seconds and left:
-        mean = sum(seconds) / len(seconds)
+    done = sweep.done_count()
+    left = len(sweep.runs) - done
+    text = f", {done} done, {left} to run"
+    if done and left:
+        mean = sweep.run_seconds() / done
         text += (f": about {left * mean / 3600:.1f} CPU-hours at the finished runs' mean "
                  f"({mean:.0f} s a run)")
     return text

@@ -125,7 +125,7 @@ class SweepReport:
         table: path of the results table.
         versions: finished runs per code version (more than one: the table mixes code).
         busy: runs not run now because another live process has claimed them.
-        done: runs with a result (None: total - failed - busy).
+        done: runs with a result.
     """
 
     total: int
@@ -135,11 +135,10 @@ class SweepReport:
     table: Path
     versions: Mapping[str, int] = field(default_factory=dict)
     busy: int = 0
-    done: int | None = None
+    done: int = 0
 
     def line(self) -> str:
-        done = self.done if self.done is not None else self.total - self.failed - self.busy
-        text = (f"{self.total} runs: {done} done ({self.ran} run now, {self.skipped} already "
+        text = (f"{self.total} runs: {self.done} done ({self.ran} run now, {self.skipped} already "
                 f"there), {self.failed} failed -> {self.table}")
         if self.busy:
             text += (f"\n{self.busy} runs are claimed by another process (runs/<id>/"
@@ -207,6 +206,10 @@ class Sweep:
         """Wall seconds the finished runs took, summed (each run's own ``wall_seconds``)."""
         return sum(float(r.get("wall_seconds") or 0.0) for r in self._finished_rows())
 
+    def done_count(self) -> int:
+        """Runs that finished without error."""
+        return len(self._finished_rows())
+
     def failed_count(self) -> int:
         return sum(self.store.status(r.run_id) == FAILED for r in self.runs)
 
@@ -236,7 +239,7 @@ class Sweep:
         return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
                            tally["ran"], self.failed_count(), self.table_path,
                            self.code_versions(), busy=tally["busy"],
-                           done=sum(self.store.status(r.run_id) == DONE for r in self.runs))
+                           done=self.done_count())
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
                  on_result, tally: Counter[str]) -> None:
