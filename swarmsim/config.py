@@ -13,6 +13,7 @@ of the wrong type, is a :class:`ConfigError` naming the key and value.
 from __future__ import annotations
 
 import dataclasses
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -232,9 +233,16 @@ def build_configs(settings: Mapping[str, Any], params_cls: type
     try:
         phys = PhysicsConfig(**phys_kw)
     except ValueError as exc:
-        raise ConfigError(str(exc)) from None
+        raise ConfigError(str(exc), key=_named_key(str(exc), phys_kw)) from None
     try:
         params = params_cls(**ctrl_kw)
     except (TypeError, ValueError) as exc:
-        raise ConfigError(str(exc)) from None
+        raise ConfigError(str(exc), key=_named_key(str(exc), ctrl_kw)) from None
     return sim, phys, params
+
+
+def _named_key(message: str, settings: Mapping[str, Any]) -> str | None:
+    """The setting a validation message is about: the first of ``settings`` it names."""
+    named = [(m.start(), key) for key in settings
+             if (m := re.search(rf"\b{re.escape(key)}\b", message))]
+    return min(named)[1] if named else None

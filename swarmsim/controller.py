@@ -31,7 +31,6 @@ Register it with ``@register`` (built-ins) or use ``module:Class`` on the comman
 
 from __future__ import annotations
 
-import dataclasses
 import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -225,18 +224,3 @@ def _check_controller_class(cls: Any, name: str) -> None:
     if missing:
         raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
                           key="controller")
-
-
-def make_params(params_cls: type, overrides: dict[str, Any], source: str = "--set") -> Any:
-    """Build a controller's frozen params dataclass, rejecting unknown keys and bad values."""
-    fields = {f.name: f for f in dataclasses.fields(params_cls)}
-    unknown = set(overrides) - set(fields)
-    if unknown:
-        key = min(unknown)
-        raise ConfigError(f"unknown parameter (value {overrides[key]!r}); known: "
-                          f"{', '.join(sorted(fields))}", source=source, key=key)
-    try:
-        params = params_cls(**overrides)
-    except (TypeError, ValueError) as exc:
-        raise ConfigError(str(exc), source=source) from None
-    return params

@@ -104,10 +104,13 @@ def test_completion_tick_when_target_covered():
     ({"robots": 100000}, "robots"),
     ({"settings": {"d_cover": -1.0}}, "d_cover"),
     ({"settings": {"start": "anywhere"}}, "start"),
+    ({"settings": {"radius": -1.0}}, "radius"),
+    ({"settings": {"deadband": -1.0}}, "deadband"),
 ])
 def test_bad_parameters_are_named(kw, key):
+    """Every bad value is reported as "key 'NAME'", whichever layer validates it."""
     kw.setdefault("robots", 30)
-    with pytest.raises(ConfigError, match=key):
+    with pytest.raises(ConfigError, match=f"key '{key}'"):
         Simulation(square_world(), controller="dispersion", **kw)
 
 
