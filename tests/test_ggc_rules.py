@@ -316,3 +316,36 @@ def test_deadlock_episodes_open_at_a_detection_and_close_on_progress_or_settling
     assert sample(0.0, 4 * T) and r.deadlock_episodes == 2  # a new episode ...
     r.set_status(ARRIVE)                                     # ... ends when it settles
     assert r.deadlocks_released == 2 and not r.in_deadlock
+
+
+def _beside_other_groups_robots(second: bool) -> Perception:
+    """On the target at d_cover from another group's arrived robot (gradients not comparable:
+    my gradient is far larger than its); ``second``: a second arrived robot of that group
+    within d_cover + arrive_tolerance, so that stopping here closes a triangle."""
+    rows = [((6.0, 0.0), 8, 2, ARRIVE)] + ([((3.0, 5.5), 9, 2, ARRIVE)] if second else [])
+    p = perception(rows)
+    p.messages["gradient"] = 3
+    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
+                      messages=p.messages, on_target=True, probe=lambda offset: True,
+                      beacon=None, moved=p.moved)
+
+
+def test_junction_stop_decides_rule_b_beside_another_groups_arrived_robot():
+    expected = {"always": (True, True), "lattice": (False, True), "never": (False, False)}
+    for rule, (alone, triangle) in expected.items():
+        r = robot(junction_stop=rule)
+        r.grad = 40
+        assert r.should_arrive(_beside_other_groups_robots(False), 0) == alone, rule
+        assert r.should_arrive(_beside_other_groups_robots(True), 0) == triangle, rule
+    own = robot(junction_stop="lattice")  # my own group's robots: the gradient rule as before
+    own.grad = 2
+    p = _beside_other_groups_robots(False)
+    p.messages["group"] = 1
+    assert own.should_arrive(p, 0)
+
+
+def test_junction_stop_must_be_a_known_rule():
+    import pytest
+
+    with pytest.raises(ValueError, match="junction_stop"):
+        GGCParams(junction_stop="sometimes")

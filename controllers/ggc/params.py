@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 GROUP_ORBITS = ("away", "alternate", "same")
+JUNCTION_STOPS = ("always", "lattice", "never")
 
 
 @dataclass(frozen=True)
@@ -67,7 +68,9 @@ class GGCParams:
             0.987 with small holes). Applies only while d_cover + arrive_tolerance <=
             lattice_reach: beyond it a lattice cannot close the holes anyway. One group only:
             with two groups in 'corridor' it left more movers meeting (1,304 collision stops
-            instead of 87) and ended at 0.974 instead of 0.980.
+            instead of 87) and ended at 0.974 instead of 0.980; on K (3 groups, seed 1) it
+            had 0.966 at tick 27,000 against 0.986 at 21,000 without it. Between groups
+            junction_stop does the same job.
         lattice_reach: r * sqrt(3) for the paper's coverage radius r = 4 (units): the longest
             triangle side that discs of radius r still cover.
         follow_other_formations: with groups, movers follow the edges of other groups' waiting
@@ -131,6 +134,14 @@ class GGCParams:
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
             of its group stops as Surplus too, so that the news runs back along the stream of
             movers round the structure instead of each mover walking home first.
+        junction_stop: rule (b) beside another group's arrived robot, whose gradient is not
+            comparable with mine: "always" stop there (the rule before), "lattice" (default)
+            only where a second arrived robot is within d_cover + arrive_tolerance, so that
+            the robots where two groups meet close triangles instead of sealing holes between
+            the groups' lattices, "never" (experimental). K, 3 groups: seed 0 completes at
+            tick 27,787 with 330,117 moved against 50,226 and 508,515 with "always"; seed 1
+            ends at 0.986 by the plateau at tick 30,406 (340,935 moved) against 0.984 at
+            47,675 (488,105).
         own_edges: with groups, a mover outside the target that reaches another group's
             structure turns back, so that each group keeps to its own part of the swarm's edge
             (experimental, off by default).
@@ -172,6 +183,7 @@ class GGCParams:
     lattice_stop: bool = True
     spaced_deadlock_arrive: bool = False
     lattice_reach: float = 6.93
+    junction_stop: str = "lattice"
 
     def __post_init__(self) -> None:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
@@ -185,6 +197,9 @@ class GGCParams:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
             raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
+        if self.junction_stop not in JUNCTION_STOPS:
+            raise ValueError(f"junction_stop must be one of {', '.join(JUNCTION_STOPS)}, got "
+                             f"{self.junction_stop!r}")
         if self.group_orbit not in GROUP_ORBITS:
             raise ValueError(f"group_orbit must be one of {', '.join(GROUP_ORBITS)}, got "
                              f"{self.group_orbit!r}")

@@ -573,11 +573,18 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return False
         reach = self.p.d_cover + self.p.arrive_tolerance
         lattice = self.p.lattice_stop and reach <= self.p.lattice_reach
-        lattice &= self.groups == 1  # with groups it slowed the corridor: see params.py
+        lattice &= self.groups == 1  # with groups it slowed the corridor and K: see params.py
         if lattice and not self.at_lattice_site(p):
             return False
-        # Beside another group's arrived robot: the groups meet here; fill the junction.
-        return bool(m["gradient"] >= self.grad or m["group"] != self.group)
+        if m["group"] != self.group:  # the groups meet here (gradients are per group)
+            return self.junction_stop(p)
+        return bool(m["gradient"] >= self.grad)
+
+    def junction_stop(self, p: Perception) -> bool:
+        """Rule (b) beside another group's arrived robot (see GGCParams.junction_stop)."""
+        if self.p.junction_stop == "always":
+            return True
+        return self.p.junction_stop == "lattice" and self.at_lattice_site(p)
 
     def at_lattice_site(self, p: Perception) -> bool:
         """Two arrived robots within d_cover + arrive_tolerance: stopping here closes a
