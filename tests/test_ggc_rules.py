@@ -349,3 +349,32 @@ def test_junction_stop_must_be_a_known_rule():
 
     with pytest.raises(ValueError, match="junction_stop"):
         GGCParams(junction_stop="sometimes")
+
+
+def _outside_beside_an_arrived_robot() -> Perception:
+    """Off the target, d_cover from an arrived robot of my group, target floor toward it:
+    the strip between the structure and the boundary is uncovered."""
+    p = perception([((6.0, 0.0), 8, 1, ARRIVE)])
+    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
+                      messages=p.messages, on_target=False, probe=lambda offset: True,
+                      beacon=None, moved=p.moved)
+
+
+def test_boundary_fill_steps_in_with_one_group_by_default_and_as_told_with_groups():
+    expected = {("one-group", 1): True, ("one-group", 3): False, ("always", 3): True,
+                ("never", 1): False, (True, 3): True, ("false", 1): False}
+    for (rule, groups), steps_in in expected.items():
+        r = robot(groups=groups, boundary_fill=rule)
+        r.set_status(COVERAGE)
+        action = r.coverage(_outside_beside_an_arrived_robot())
+        assert r.stepping_in == steps_in, (rule, groups)
+        if steps_in:  # straight toward the arrived robot
+            assert action.velocity[0] > 0 and action.velocity[1] == 0
+
+
+def test_boundary_fill_must_be_a_known_rule():
+    import pytest
+
+    assert GGCParams(boundary_fill=False).boundary_fill == "never"  # it was a bool
+    with pytest.raises(ValueError, match="boundary_fill must be one of one-group"):
+        GGCParams(boundary_fill="sometimes")

@@ -94,6 +94,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.surplus = 0
         self.surplus_rule = (params.surplus_stop and params.d_cover > params.yield_release
                              and setup.groups == 1)
+        self.boundary_fill = (params.boundary_fill == "always"
+                              or (params.boundary_fill == "one-group" and setup.groups == 1))
         self.sense = params.orbit
         self.route: tuple[float, float] | None = None  # the travel my formation followed
         self.orbit_chosen = False
@@ -362,7 +364,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.follow_gradient(p, nearest)
         if self.p.own_edges:
             self.turn_at_junction(p, nearest)
-        if self.p.boundary_fill and self.target_inward(p, nearest):
+        if self.boundary_fill and self.target_inward(p, nearest):
             return self.step_in(p, nearest)
         self.stepping_in = False
         if self.circling(p, nearest) | self.stuck(p):
