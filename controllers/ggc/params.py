@@ -83,7 +83,10 @@ class GGCParams:
             with two groups in 'corridor' it left more movers meeting (1,304 collision stops
             instead of 87) and ended at 0.974 instead of 0.980; on K (3 groups, seed 1) it
             had 0.966 at tick 27,000 against 0.986 at 21,000 without it. Between groups
-            junction_stop does the same job.
+            junction_stop does the same job. Tried again with groups under today's rules
+            (junction_stop "lattice", boundary fill for one group), K 3 groups: seeds 0-2
+            complete at ticks 20,630 / 30,377 / 16,605 against 25,063 / 17,157 / 17,135
+            without it, and seed 3 had not completed by 28,000 (21,303 without): no better.
         lattice_reach: r * sqrt(3) for the paper's coverage radius r = 4 (units): the longest
             triangle side that discs of radius r still cover.
         follow_other_formations: with groups, movers follow the edges of other groups' waiting
