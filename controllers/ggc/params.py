@@ -72,8 +72,9 @@ class GGCParams:
             rows met at its tip round an empty middle that no mover reached for thousands of
             ticks. K, 3 groups, seeds 0-4, with junction_stop "lattice": all complete, at
             ticks 25,063 / 17,157 / 17,135 / 21,303 / 18,578 (mean 19,847) without it, against
-            27,787 / - (0.986 by the plateau at 30,406) / 25,488 / 27,401 / 33,849 with it. In 'corridor' (2 groups,
-            seeds 0-5) it no longer helps: 0.970 mean coverage with it, 0.977 without.
+            27,787 / - (0.986 by the plateau at 30,406) / 25,488 / 27,401 / 33,849 with it.
+            In 'corridor' (2 groups) it no longer helps: mean coverage 0.970 with it (seeds
+            0-5), 0.977 without (seeds 0-4).
         boundary_probe: see boundary_fill, units (<= the engine's probe range, 2).
         lattice_stop: rule (b) also needs a second arrived robot within d_cover +
             arrive_tolerance, so that robots stop on lattice sites and leave no holes between
