@@ -95,12 +95,15 @@ def test_yield_release_is_off_above_its_d_cover_bound():
     assert r.yield_count == 4
 
 
-def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover():
+def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_groups():
     beside = perception([((1.2, 0.0), 7, 1, DETECTION), ((0.0, 1.1), 9, 1, ARRIVE)])
     assert robot(groups=1, d_cover=2.0).wedged(beside)       # a formation neighbour: rejoin
     assert not robot(groups=1, d_cover=6.0).wedged(beside)   # d_cover 6: only when touching
     touching = perception([((0.85, 0.0), 7, 1, DETECTION)])
     assert robot(groups=1, d_cover=6.0).wedged(touching)
+    assert robot(groups=3, d_cover=6.0).wedged(beside)       # with groups: at any d_cover
+    other_group = perception([((1.2, 0.0), 7, 2, DETECTION)])
+    assert not robot(groups=3, d_cover=6.0).wedged(other_group)  # only my own formation
 
 
 def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped():

@@ -114,7 +114,8 @@ class GGCParams:
             bound keeps d_cover 6 runs as they were: there the rule fires twice in K's first
             2,500 ticks (one group, seed 0) and changes the run, though it never deadlocked.
             The same bound widens ``wedged`` (robot.py): a robot stuck outside the target
-            rejoins its formation from 1.5 d_min away, not only when touching it.
+            rejoins its formation from 1.5 d_min away, not only when touching it (with groups
+            at any d_cover).
         spaced_deadlock_arrive: with groups, a deadlocked mover on the target arrives only at
             d_cover - arrive_tolerance from its nearest stationary robot, else it Stops for
             T_s (our earlier rule). False (default): it arrives where it is when a robot in

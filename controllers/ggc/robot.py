@@ -639,9 +639,13 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         (their gradient comes from the arrived robots) and every waiting robot's turn chains
         up to them (K, d_cover 2: 190 robots never left). Back in Detection they wait their
         turn with the others (and yield_release lets them go again).
+
+        With groups too, at any d_cover: other groups' movers and robots in Stop crowd round a
+        formation, and a mover of its group stuck one unit from it blocked its rim for good
+        (house, 3 groups, seed 1: 116 robots never left; see the README's known limits).
         """
         reach = 0.9 * self.p.d_safe
-        if self.p.d_cover <= self.p.yield_release:
+        if self.p.d_cover <= self.p.yield_release or self.groups > 1:
             reach = 1.5 * self.p.d_min
         k = within(p.distances, reach)
         m = p.messages[:k]
