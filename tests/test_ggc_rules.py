@@ -1,7 +1,10 @@
 """GGC's inter-group rules on hand-made perceptions (no simulation): which robots a mover
 follows and which movers make it Stop."""
 
+import dataclasses
+
 import numpy as np
+import pytest
 
 from controllers.ggc import GGCParams
 from controllers.ggc.robot import (
@@ -286,8 +289,6 @@ def test_group_orbit_same_alternate_and_one_group_keep_their_rules():
 
 
 def test_group_orbit_must_be_a_known_rule():
-    import pytest
-
     with pytest.raises(ValueError, match="group_orbit"):
         GGCParams(group_orbit="left")
 
@@ -328,9 +329,7 @@ def _beside_other_groups_robots(second: bool) -> Perception:
     rows = [((6.0, 0.0), 8, 2, ARRIVE)] + ([((3.0, 5.5), 9, 2, ARRIVE)] if second else [])
     p = perception(rows)
     p.messages["gradient"] = 3
-    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
-                      messages=p.messages, on_target=True, probe=lambda offset: True,
-                      beacon=None, moved=p.moved)
+    return dataclasses.replace(p, on_target=True, probe=lambda offset: True)
 
 
 def test_junction_stop_decides_rule_b_beside_another_groups_arrived_robot():
@@ -348,8 +347,6 @@ def test_junction_stop_decides_rule_b_beside_another_groups_arrived_robot():
 
 
 def test_junction_stop_must_be_a_known_rule():
-    import pytest
-
     with pytest.raises(ValueError, match="junction_stop"):
         GGCParams(junction_stop="sometimes")
 
@@ -357,10 +354,8 @@ def test_junction_stop_must_be_a_known_rule():
 def _outside_beside_an_arrived_robot() -> Perception:
     """Off the target, d_cover from an arrived robot of my group, target floor toward it:
     the strip between the structure and the boundary is uncovered."""
-    p = perception([((6.0, 0.0), 8, 1, ARRIVE)])
-    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
-                      messages=p.messages, on_target=False, probe=lambda offset: True,
-                      beacon=None, moved=p.moved)
+    return dataclasses.replace(perception([((6.0, 0.0), 8, 1, ARRIVE)]),
+                               probe=lambda offset: True)
 
 
 def test_boundary_fill_steps_in_with_one_group_by_default_and_as_told_with_groups():
@@ -376,8 +371,6 @@ def test_boundary_fill_steps_in_with_one_group_by_default_and_as_told_with_group
 
 
 def test_boundary_fill_must_be_a_known_rule():
-    import pytest
-
     assert GGCParams(boundary_fill=False).boundary_fill == "never"  # it was a bool
     with pytest.raises(ValueError, match="boundary_fill must be one of one-group"):
         GGCParams(boundary_fill="sometimes")
