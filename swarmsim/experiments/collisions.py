@@ -230,7 +230,7 @@ def plot_study(st: Sequence[ConditionStats], out_png: Path, title: str) -> Path:
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=8, loc="best")
-    fig.suptitle(f"{title} (mean, band = min-max over seeds)")
+    fig.suptitle(f"{title}\n(mean, band = min-max over seeds)")
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     atomic_write_bytes(out_png, buf.getvalue())

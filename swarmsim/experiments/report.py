@@ -52,7 +52,7 @@ def plot_figure(fig: Figure, panels: Sequence[Panel], stats_by_panel: Sequence[l
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=8, loc="lower right" if panel.metric == "coverage" else "best")
-    mfig.suptitle(f"{fig.title} (mean, band = min-max over runs)")
+    mfig.suptitle(f"{fig.title}\n(mean, band = min-max over runs)")  # one panel: too wide for a line
     out_png.parent.mkdir(parents=True, exist_ok=True)
     tmp = out_png.with_name(f".{out_png.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp.png")
     try:
