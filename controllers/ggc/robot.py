@@ -176,7 +176,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
-        m = p.messages[:within(p.distances, reach)]  # distances are sorted
+        return self.gradient_in(p.messages[:within(p.distances, reach)])  # distances sorted
+
+    def gradient_in(self, m: np.ndarray) -> int | None:
+        """1 + the smallest known gradient of own-group stationary robots among messages m."""
         ok = ~m["moving"] & (m["group"] == self.group)
         ok &= (m["id"] != NO_SENDER) & (m["gradient"] < INF_GRADIENT)
         ok &= m["status"] != COVERAGE
@@ -188,14 +191,18 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     def initial(self, p: Perception) -> Action:
         if self.leader:
             return self.lead(p)
-        grad = self.gradient_from(p, 1.5 * self.p.d_min)
+        # Every travelling robot decides each tick: one slice of the formation neighbours
+        # (within 1.5 d_min) serves gradient, touch and parent.
+        m = p.messages[:within(p.distances, 1.5 * self.p.d_min)]  # distances are sorted
+        grad = self.gradient_in(m)
         if grad is None:
             if p.tick - self.initial_since >= self.p.init_timeout:
                 self.set_status(DETECTION)
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         self.grad = grad
-        self.touch = self.touching(p)
-        parent = self.parent(p)
+        own = m["group"] == self.group
+        self.touch = True if p.on_target else any_of(own & m["touch"])
+        parent = self.parent_in(m, own)
         self.cmd = int(parent["cmd"])
         self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
         self.remember_route()
@@ -205,11 +212,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.act()
         return self.act(self.travel if self.cmd == CMD_TRAVEL else (0.0, 0.0))
 
-    def parent(self, p: Perception) -> np.void:
-        """The nearest own-group stationary neighbour holding the smallest gradient."""
-        m = p.messages
-        ok = (p.distances <= 1.5 * self.p.d_min) & self.own_group(p) & (m["id"] != NO_SENDER)
-        ok &= (m["gradient"] == self.grad - 1) & self.stationary(p)
+    def parent_in(self, m: np.ndarray, own: np.ndarray) -> np.void:
+        """The nearest own-group (``own``) stationary robot among the formation neighbours
+        ``m`` (within 1.5 d_min, nearest first) holding the gradient below mine."""
+        ok = own & (m["id"] != NO_SENDER) & (m["gradient"] == self.grad - 1) & ~m["moving"]
         return m[ok.nonzero()[0][0]]
 
     def touching(self, p: Perception) -> bool:
