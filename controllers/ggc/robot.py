@@ -200,8 +200,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.set_status(DETECTION)
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
         self.grad = grad
-        self.touch = self.touching_in(p, m)
-        parent = self.parent_in(m)
+        own = m["group"] == self.group
+        self.touch = self.touching_in(p, m, own)
+        parent = self.parent_in(m, own)
         self.cmd = int(parent["cmd"])
         self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
         self.remember_route()
@@ -211,19 +212,21 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.act()
         return self.act(self.travel if self.cmd == CMD_TRAVEL else (0.0, 0.0))
 
-    def parent_in(self, m: np.ndarray) -> np.void:
-        """The nearest own-group stationary robot among the formation neighbours ``m``
-        (within 1.5 d_min, nearest first) holding the gradient below mine."""
-        ok = (m["group"] == self.group) & (m["id"] != NO_SENDER) & (m["gradient"] == self.grad - 1) & ~m["moving"]
+    def parent_in(self, m: np.ndarray, own: np.ndarray) -> np.void:
+        """The nearest own-group (``own``) stationary robot among the formation neighbours
+        ``m`` (within 1.5 d_min, nearest first) holding the gradient below mine."""
+        ok = own & (m["id"] != NO_SENDER) & (m["gradient"] == self.grad - 1) & ~m["moving"]
         return m[ok.nonzero()[0][0]]
 
     def touching(self, p: Perception) -> bool:
         """Has the formation's front touched the target? (own floor sensor or a neighbour's)"""
-        return self.touching_in(p, p.messages[:within(p.distances, 1.5 * self.p.d_min)])
+        m = p.messages[:within(p.distances, 1.5 * self.p.d_min)]
+        return self.touching_in(p, m, m["group"] == self.group)
 
-    def touching_in(self, p: Perception, m: np.ndarray) -> bool:
-        """``touching`` with the formation neighbours ``m`` (within 1.5 d_min) already sliced."""
-        return True if p.on_target else any_of((m["group"] == self.group) & m["touch"])
+    def touching_in(self, p: Perception, m: np.ndarray, own: np.ndarray) -> bool:
+        """``touching`` with the formation neighbours ``m`` (within 1.5 d_min) already sliced
+        and ``own`` marking those of my group."""
+        return True if p.on_target else any_of(own & m["touch"])
 
     def lead(self, p: Perception) -> Action:
         """The leader heads for the beacon until the formation's front touches the target.
