@@ -167,12 +167,16 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     def edge_robots(self, p: Perception) -> np.ndarray:
         """The stationary robots whose edge a mover follows: all of them, or without
         ``follow_other_formations`` not the waiting formations of other groups."""
-        still = self.stationary(p)
+        m = p.messages
+        still = ~m["moving"]
         if self.p.follow_other_formations or self.groups == 1:
             return still
-        m = p.messages
-        return still & ((m["group"] == self.group) | (m["status"] == ARRIVE)
-                        | (m["status"] == SURPLUS) | (m["id"] == NO_SENDER))
+        foreign = m["group"] != self.group
+        if not any_of(still & foreign):
+            return still  # the usual case, and the cheap one: no other group's robot stands here
+        status = m["status"]
+        return still & (~foreign | (status == ARRIVE) | (status == SURPLUS)
+                        | (m["id"] == NO_SENDER))
 
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
