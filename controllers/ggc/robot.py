@@ -59,8 +59,11 @@ ENCLOSED_GAP = math.radians(100)
 
 
 def unit(v: np.ndarray) -> np.ndarray:
-    n = math.hypot(float(v[0]), float(v[1]))
-    return v / n if n > 1e-12 else np.zeros(2)
+    """``v`` scaled to length 1 (zero stays zero). In Python floats: the same quotients as
+    numpy's, several times faster on a 2-vector."""
+    x, y = float(v[0]), float(v[1])
+    n = math.hypot(x, y)
+    return np.array([x / n, y / n]) if n > 1e-12 else np.zeros(2)
 
 
 class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
@@ -139,6 +142,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
+        if self.status == COVERAGE:  # the most frequent: first
+            return min(2 * self.p.d_cover, self.p.R_c)
         if self.status in GATHERING or self.status == FORMED:
             return self.p.R_c
         if self.status == INITIAL:
@@ -164,14 +169,20 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Neighbours that are not moving on purpose (formation, arrived, failed robots)."""
         return ~p.messages["moving"]
 
-    def edge_robots(self, p: Perception) -> np.ndarray:
+    def foreign(self, p: Perception) -> np.ndarray | None:
+        """Which neighbours belong to another group (None with one group: none do)."""
+        return None if self.groups == 1 else p.messages["group"] != self.group
+
+    def edge_robots(self, p: Perception, foreign: np.ndarray | None = None) -> np.ndarray:
         """The stationary robots whose edge a mover follows: all of them, or without
-        ``follow_other_formations`` not the waiting formations of other groups."""
+        ``follow_other_formations`` not the waiting formations of other groups.
+        ``foreign``: this perception's :meth:`foreign`, if already known."""
         m = p.messages
         still = ~m["moving"]
         if self.p.follow_other_formations or self.groups == 1:
             return still
-        foreign = m["group"] != self.group
+        if foreign is None:
+            foreign = m["group"] != self.group
         if not any_of(still & foreign):
             return still  # the usual case, and the cheap one: no other group's robot stands here
         status = m["status"]
@@ -361,7 +372,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ Coverage
     def coverage(self, p: Perception) -> Action:
-        structure = self.edge_robots(p).nonzero()[0]
+        foreign = self.foreign(p)
+        structure = self.edge_robots(p, foreign).nonzero()[0]
         if len(structure) == 0:
             return self.wander(p)
         nearest = structure[0]
@@ -393,7 +405,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.set_status(DETECTION)  # wait until the robots around me have gone
                 self.yield_count = len(self.waiting_near(p))
                 return self.act()
-        if (p.on_target or not self.p.stop_on_target_only) and self.other_group_mover(p):
+        if ((p.on_target or not self.p.stop_on_target_only)
+                and self.other_group_mover(p, foreign)):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
             self.collision_stops += 1
             return self.act()
@@ -669,16 +682,17 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.resume_tick = p.tick + self.p.T_s
         return self.act()
 
-    def other_group_mover(self, p: Perception) -> bool:
-        """A robot of another group in Coverage within d_cover, with priority (larger id)."""
+    def other_group_mover(self, p: Perception, foreign: np.ndarray | None = None) -> bool:
+        """A robot of another group in Coverage within d_cover, with priority (larger id).
+        ``foreign``: this perception's :meth:`foreign`, if already known."""
         if self.groups == 1:
             return False
         k = within(p.distances, self.p.d_cover)
         m = p.messages[:k]  # distances are sorted: the first k are within d_cover
-        others = m["group"] != self.group
+        others = m["group"] != self.group if foreign is None else foreign[:k]
         if not any_of(others):
             return False
-        others &= (m["id"] > self.id) & (m["status"] == COVERAGE)
+        others = others & (m["id"] > self.id) & (m["status"] == COVERAGE)
         if self.p.stop_ahead_only and any_of(self.heading):
             others &= p.offsets[:k] @ self.heading > 0
         return any_of(others)
