@@ -259,7 +259,7 @@ class Simulation:
 
         Everyone decides from the same snapshot (positions, last tick's broadcasts), so the
         chunks change nothing but the memory: the neighbour views and the heard messages (one
-        163-byte row per neighbour for GGC) exist for one chunk at a time. On the first tick of
+        162-byte row per neighbour for GGC) exist for one chunk at a time. On the first tick of
         a 10,000-robot formation, every robot hears ~800 neighbours: ~1.3 GB in one piece.
         """
         clock = time.perf_counter

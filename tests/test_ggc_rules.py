@@ -125,30 +125,6 @@ def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped(
 
 
 
-def test_with_pass_stuck_movers_a_waiting_robot_does_not_wait_for_a_stuck_mover():
-    from controllers.ggc.robot import BLOCKED_BY_MOVER, NOT_BLOCKED
-
-    p = perception([((3.0, 0.0), 9, 1, COVERAGE)])  # a mover of my group, larger gradient
-    p.messages["gradient"][0], p.messages["stuck"][0] = 7, True
-    for flag, groups, expected in ((False, 3, BLOCKED_BY_MOVER), (True, 3, NOT_BLOCKED),
-                                   (True, 1, BLOCKED_BY_MOVER)):
-        r = robot(groups=groups, pass_stuck_movers=flag)
-        r.status, r.grad = DETECTION, 5
-        assert r.blocked(p) == expected, (flag, groups)
-    p.messages["stuck"][0] = False  # a mover that is not stuck holds me back as before
-    r = robot(pass_stuck_movers=True)
-    r.status, r.grad = DETECTION, 5
-    assert r.blocked(p) == BLOCKED_BY_MOVER
-
-
-def test_a_mover_broadcasts_stuck_only_with_pass_stuck_movers_and_while_deadlocked():
-    for flag, groups, expected in ((True, 3, True), (False, 3, False), (True, 1, False)):
-        r = robot(groups=groups, pass_stuck_movers=flag)
-        r.in_deadlock = True
-        stuck = MESSAGE_FIELDS.index(("stuck", "?")) + 6  # after the 6 base fields
-        assert r.message()[stuck] is expected, (flag, groups)
-
-
 def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
     """Algorithm 7 waits for neighbours of larger gradient; with groups, one in Stop (Section
     4.3) has left already, and may wait there for another group's mover for good."""

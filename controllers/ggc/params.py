@@ -106,12 +106,6 @@ class GGCParams:
             where the default completes, and seed 3 at 0.973 (tick 51,400; default 0.975);
             K-large at tick 5,000: 0.239 against 0.265 (movers that no longer stop beside
             their formation hold its waiting robots back longer).
-        pass_stuck_movers: with groups, a waiting robot (Algorithm 7) does not wait for a mover
-            of its group that has found itself deadlocked (Equation 3) and not moved on since:
-            the mover broadcasts it. Off the target such a mover only turns round, and in a
-            crowd of other groups' robots in Stop it may stay for good, and hold its whole
-            formation back (the large K, seed 0: 214 robots never left their formations).
-            Experimental, default False (the paper's rule).
         yield_release: a wedged robot back in Detection waits for a robot around it to leave
             first (``yield_count``); while d_cover <= yield_release (units; 0: never) it stops
             waiting once every waiting robot around it is yielding or enclosed too and it is
@@ -204,7 +198,6 @@ class GGCParams:
     follow_other_formations: bool = False
     stop_ahead_only: bool = False
     stop_on_target_only: bool = False
-    pass_stuck_movers: bool = False
     lattice_stop: bool = True
     spaced_deadlock_arrive: bool = False
     lattice_reach: float = 6.93

@@ -53,7 +53,7 @@ from .statuses import (  # noqa: F401 (re-exported)
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
-                  ("enclosed", "?"), ("stuck", "?"), *AGGREGATION_FIELDS]
+                  ("enclosed", "?"), *AGGREGATION_FIELDS]
 ENCLOSED_GAP = math.radians(100)
 """A robot whose neighbours within 1.5 d_min leave no angular gap wider than this is enclosed."""
 
@@ -107,7 +107,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.stepping_in = False
         self.stepped_in = False
         self.groups = setup.groups
-        self.pass_stuck = params.pass_stuck_movers and setup.groups > 1
         self.resume_tick = 0
         self.scattered = setup.scattered
         self.enclosed = False
@@ -127,7 +126,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         return (self.id, self.status, self.grad, self.group, self.leader,
                 self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
                 float(self.travel[1]), self.touch, self.stepped_in, self.enclosed,
-                self.pass_stuck and self.in_deadlock,
                 *self.aggregation_message())
 
     def set_status(self, status: int) -> None:
@@ -317,8 +315,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         near &= (status != ARRIVE) & (status != SURPLUS)
         if self.groups > 1:  # a mover in Stop has left already (Section 4.3): not my turn's
             near &= status != STOP
-        if self.pass_stuck:  # a mover stuck in a crowd may not leave soon: do not wait for it
-            near &= ~(m["moving"] & m["stuck"])
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
                                             | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
         if not any_of(outranks):
