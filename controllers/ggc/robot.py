@@ -177,14 +177,14 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """The stationary robots whose edge a mover follows: all of them, or without
         ``follow_other_formations`` not the waiting formations of other groups.
         ``foreign``: this perception's :meth:`foreign`, if already known."""
-        m = p.messages
-        still = ~m["moving"]
+        still = self.stationary(p)
         if self.p.follow_other_formations or self.groups == 1:
             return still
         if foreign is None:
-            foreign = m["group"] != self.group
+            foreign = self.foreign(p)
         if not any_of(still & foreign):
             return still  # the usual case, and the cheap one: no other group's robot stands here
+        m = p.messages
         status = m["status"]
         return still & (~foreign | (status == ARRIVE) | (status == SURPLUS)
                         | (m["id"] == NO_SENDER))
@@ -689,7 +689,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return False
         k = within(p.distances, self.p.d_cover)
         m = p.messages[:k]  # distances are sorted: the first k are within d_cover
-        others = m["group"] != self.group if foreign is None else foreign[:k]
+        others = (self.foreign(p) if foreign is None else foreign)[:k]
         if not any_of(others):
             return False
         others = others & (m["id"] > self.id) & (m["status"] == COVERAGE)
