@@ -113,7 +113,8 @@ class LocalMap:
             self._local = idx - self._origin
             self._values = self._grid[self._local[:, 0], self._local[:, 1]]
         offsets = self._points - self.odo
-        keep = np.flatnonzero((offsets * offsets).sum(axis=1) <= radius * radius)
+        ox, oy = offsets[:, 0], offsets[:, 1]
+        keep = np.flatnonzero(ox * ox + oy * oy <= radius * radius)
         values = self._values
         unknown = keep[values[keep] < 0]
         if len(unknown):
@@ -133,7 +134,8 @@ class LocalMap:
         idx = np.floor((self.odo + offsets) / self.cell + 0.5).astype(np.int64)
         self._recentre(np.floor(self.odo / self.cell).astype(np.int64))
         local = idx - self._origin
-        ok = ((local >= 0) & (local < self._size)).all(axis=1)
+        row, col = local[:, 0], local[:, 1]
+        ok = (row >= 0) & (row < self._size) & (col >= 0) & (col < self._size)
         values = np.zeros(len(offsets), dtype=np.int8)
         values[ok] = self._grid[local[ok, 0], local[ok, 1]]
         for k in np.flatnonzero(ok & (values < 0)).tolist():
@@ -153,6 +155,17 @@ def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
     d = np.maximum(p.distances[close], 1e-6)
     push = (radius - d) / d
     return -gain * (p.offsets[close] * push[:, None]).sum(axis=0)
+
+
+def min_sq_distance(q: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """Squared distance (units^2) from each point ``q`` (k, 2) to the nearest of ``others``
+    (m, 2, m >= 1). The same sums, to the bit, as ``((q[:, None] - others) ** 2).sum(2)``,
+    without the slow reduction over an axis of length 2."""
+    dx = q[:, 0, None] - others[:, 0]
+    dy = q[:, 1, None] - others[:, 1]
+    d2 = dx * dx
+    d2 += dy * dy
+    return d2.min(axis=1)
 
 
 def clamp(v: np.ndarray, limit: float) -> np.ndarray:
@@ -252,17 +265,15 @@ class CVT:
         if len(q):
             near = p.distances <= 2 * radius
             if near.any():
-                nb = p.offsets[near]
-                own = (q * q).sum(axis=1)
-                other = ((q[:, None, :] - nb[None, :, :]) ** 2).sum(axis=2).min(axis=1)
-                q = q[own <= other]
+                own = q[:, 0] * q[:, 0] + q[:, 1] * q[:, 1]
+                q = q[own <= min_sq_distance(q, p.offsets[near])]
         if len(q) == 0:
             self.extent = full
             self.reach = 0.0
             target_near = bool(self.map.lookup(p, self.disc * full).any())
             self.heard = 2 * full if target_near else max(2 * self.p.d_safe, 1.0)
             return q
-        self.reach = math.sqrt(float((q * q).sum(axis=1).max()))
+        self.reach = math.sqrt(float((q[:, 0] * q[:, 0] + q[:, 1] * q[:, 1]).max()))
         margin = 2 * h + 2 * self.p.v
         self.extent = full if self.reach >= radius - 1.5 * h else min(full, self.reach + margin)
         self.heard = 2 * self.extent
@@ -280,7 +291,8 @@ class CVT:
         rest = False
         if len(mine):
             c = mine.mean(axis=0)
-            nearest = mine[np.argmin(((mine - c) ** 2).sum(axis=1))]
+            dx, dy = mine[:, 0] - c[0], mine[:, 1] - c[1]
+            nearest = mine[np.argmin(dx * dx + dy * dy)]
             if math.hypot(*(nearest - c)) > 1.5 * self.extent / DISC_STEPS:
                 c = nearest  # the centroid fell outside the (non-convex) cell: project it
             v = self.p.gain * c

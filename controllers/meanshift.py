@@ -41,7 +41,7 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
-from .cvt import LocalMap, clamp
+from .cvt import LocalMap, clamp, min_sq_distance
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
@@ -148,21 +148,28 @@ class MeanShift:
         q = points[target]
         if len(q) == 0:
             return np.zeros(2)
-        d = np.sqrt((q * q).sum(axis=1))
+        qx, qy = q[:, 0], q[:, 1]
+        d = np.sqrt(qx * qx + qy * qy)
         w = 0.5 * (1.0 + np.cos(np.pi * np.minimum(d / self.p.r_sense, 1.0)))
         out = np.zeros(2)
-        if w.sum() > 0:
-            out += self.p.kappa_fill * (w[:, None] * q).sum(axis=0) / w.sum()
-        near = p.distances <= self.p.r_sense + self.p.r_occupied
-        free = np.ones(len(q), dtype=bool)
-        if near.any():
-            nb = p.offsets[near]
-            d2 = ((q[:, None, :] - nb[None, :, :]) ** 2).sum(axis=2).min(axis=1)
-            free = d2 > self.p.r_occupied ** 2
-        wf = w[free]
-        if wf.sum() > 0:
-            out += self.p.kappa_expl * (wf[:, None] * q[free]).sum(axis=0) / wf.sum()
+        w_sum = w.sum()
+        if w_sum > 0:
+            out += self.p.kappa_fill * (w[:, None] * q).sum(axis=0) / w_sum
+        free = self.unoccupied(p, q)
+        wf = w if free is None else w[free]
+        wf_sum = wf.sum()
+        if wf_sum > 0:
+            qf = q if free is None else q[free]
+            out += self.p.kappa_expl * (wf[:, None] * qf).sum(axis=0) / wf_sum
         return out
+
+    def unoccupied(self, p: Perception, q: np.ndarray) -> np.ndarray | None:
+        """Which target points (offsets q, (k, 2)) lie farther than r_occupied from every
+        neighbour; None when no neighbour is near enough to occupy any."""
+        near = p.distances <= self.p.r_sense + self.p.r_occupied
+        if not near.any():
+            return None
+        return min_sq_distance(q, p.offsets[near]) > self.p.r_occupied ** 2
 
     def interaction(self, p: Perception) -> np.ndarray:
         out = np.zeros(2)
