@@ -25,53 +25,36 @@ import shapely
 
 from swarmsim.controller import INF_GRADIENT
 from swarmsim.metrics import CoverageGrid
+from swarmsim.render.legend import legend_panel
+from swarmsim.render.palette import (
+    BEACON_EDGE,
+    BEACON_FILL,
+    COLORKEY,
+    CONTACT_RING,
+    COVER_FILL,
+    FAILED,
+    FAILED_MARK,
+    FLOOR,
+    GRADIENT_PALETTE,
+    GROUP_PALETTE,
+    LEADER_RING,
+    NONE_GREY,
+    OBSTACLE_EDGE,
+    OBSTACLE_FILL,
+    OUTSIDE,
+    PANEL,
+    SPAWN_EDGE,
+    STATUS_PALETTE,
+    TARGET_EDGE,
+    TARGET_FILL,
+    TEXT,
+    WALL,
+)
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World
 
 COLOR_BY = ("gradient", "group", "status")
 MIN_WIDTH = 64
-
-# --- colours (RGB) ---------------------------------------------------------------------------
-OUTSIDE = (70, 70, 74)  # beyond the arena walls (padding / letterbox)
-FLOOR = (250, 250, 246)
-WALL = (30, 30, 34)
-TARGET_FILL = (224, 233, 247)
-TARGET_EDGE = (60, 100, 165)
-OBSTACLE_FILL = (120, 120, 126)
-OBSTACLE_EDGE = (60, 60, 66)
-SPAWN_EDGE = (185, 185, 185)
-BEACON_FILL = (255, 205, 0)
-BEACON_EDGE = (170, 100, 0)
-COVER_FILL = (182, 208, 242)  # covered target pixels: a deeper tint of TARGET_FILL
-COLORKEY = (255, 0, 255)
-FAILED = (20, 20, 20)
-FAILED_MARK = (210, 210, 210)
-LEADER_RING = (0, 0, 0)
-CONTACT_RING = (230, 0, 0)
-NONE_GREY = (150, 150, 150)
-TEXT = (20, 20, 20)
-PANEL = (255, 255, 255, 215)
-
-GRADIENT_PALETTE = np.array([
-    (228, 26, 28), (255, 127, 0), (225, 185, 0), (150, 200, 30), (50, 160, 45),
-    (0, 150, 120), (0, 185, 210), (30, 120, 220), (50, 60, 190), (120, 70, 200),
-    (170, 40, 170), (230, 60, 150), (150, 90, 50), (105, 105, 35),
-], dtype=np.uint8)
-"""The 14-colour cycle for hop gradients (colour = gradient % 14), as in the paper's figures."""
-
-GROUP_PALETTE = np.array([
-    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
-    (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (0, 0, 128),
-], dtype=np.uint8)
-"""Categorical colours for groups 1, 2, ... (cycled); group 0 (none) is grey."""
-
-STATUS_PALETTE = np.array([
-    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
-    (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (0, 0, 128),
-    (0, 128, 128), (128, 128, 128),
-], dtype=np.uint8)
-"""Colours for status codes 0, 1, ... (cycled)."""
-
 
 def _even(x: float, multiple: int) -> int:
     return max(multiple, round(x / multiple) * multiple)
@@ -357,90 +340,12 @@ class Renderer:
         if self._small_font is None:
             return None
         key = self._legend_key(snap)
-        if key in self._legend_cache:
-            return self._legend_cache[key]
-        font = self._small_font
-        fh = font.get_linesize()
-        sw = max(6, fh - 4)  # swatch size
-        gap = max(3, fh // 3)
-        items: list[pygame.Surface] = []
-
-        def label(text: str) -> pygame.Surface:
-            return font.render(text, True, TEXT)
-
-        def swatch_item(kind: str, color: Any, text: str) -> pygame.Surface:
-            lab = label(text)
-            s = pygame.Surface((sw + 3 + lab.get_width(), max(sw, lab.get_height())),
-                               pygame.SRCALPHA)
-            c = (sw // 2, s.get_height() // 2)
-            rad = sw // 2
-            if kind == "disc":
-                pygame.draw.circle(s, color, c, rad)
-            elif kind == "ring":
-                pygame.draw.circle(s, color, c, rad, max(1, sw // 6))
-            elif kind == "failed":
-                pygame.draw.circle(s, FAILED, c, rad)
-                a = max(1, rad // 2)
-                pygame.draw.line(s, FAILED_MARK, (c[0] - a, c[1] - a), (c[0] + a, c[1] + a))
-                pygame.draw.line(s, FAILED_MARK, (c[0] - a, c[1] + a), (c[0] + a, c[1] - a))
-            s.blit(lab, (sw + 3, (s.get_height() - lab.get_height()) // 2))
-            return s
-
-        items.append(label(f"{key[0]}:"))
-        if key[0] == "gradient":
-            cell = max(font.size("13")[0] + 4, sw)
-            strip = pygame.Surface((cell * (len(GRADIENT_PALETTE) + 1) + 1, fh), pygame.SRCALPHA)
-            colors = [*map(tuple, GRADIENT_PALETTE.tolist()), NONE_GREY]
-            for i, c in enumerate(colors):
-                rect = pygame.Rect(i * cell, 0, cell - 1, fh)
-                strip.fill(c, rect)
-                lum = 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2]
-                t = font.render(str(i) if i < len(GRADIENT_PALETTE) else "inf", True,
-                                (0, 0, 0) if lum > 140 else (255, 255, 255))
-                strip.blit(t, t.get_rect(center=rect.center))
-            items.append(strip)
-        elif key[0] == "status":
-            for i, name in enumerate(key[1]):
-                items.append(swatch_item("disc", tuple(STATUS_PALETTE[i % len(STATUS_PALETTE)]),
-                                         str(name)))
-        else:
-            items.append(swatch_item("disc", NONE_GREY, "none"))
-            ids = key[1]
-            for g in ids[:10]:
-                items.append(swatch_item("disc", tuple(GROUP_PALETTE[(g - 1) % len(GROUP_PALETTE)]),
-                                         str(g)))
-            if len(ids) > 10:
-                items.append(label("..."))
-        items.append(swatch_item("ring", LEADER_RING, "leader"))
-        items.append(swatch_item("failed", FAILED, "failed"))
-        if self.highlight_contacts:
-            items.append(swatch_item("ring", CONTACT_RING, "contact"))
-
-        # flow layout, wrapping at the frame width
-        m = max(3, self.width // 160)
-        max_w = self.width - 2 * (self.wall_px + 2) - 2 * m
-        lines: list[list[pygame.Surface]] = [[]]
-        x = 0
-        for it in items:
-            if lines[-1] and x + it.get_width() > max_w:
-                lines.append([])
-                x = 0
-            lines[-1].append(it)
-            x += it.get_width() + 2 * gap
-        line_h = max(it.get_height() for it in items)
-        width = max(sum(it.get_width() for it in ln) + 2 * gap * (len(ln) - 1) for ln in lines)
-        panel = pygame.Surface((min(width, max_w) + 2 * m, line_h * len(lines) + m),
-                               pygame.SRCALPHA)
-        panel.fill(PANEL)
-        y = m // 2
-        for ln in lines:
-            x = m
-            for it in ln:
-                panel.blit(it, (x, y + (line_h - it.get_height()) // 2))
-                x += it.get_width() + 2 * gap
-            y += line_h
-        self._legend_cache[key] = panel
-        return panel
+        if key not in self._legend_cache:
+            margin = max(3, self.width // 160)
+            max_width = self.width - 2 * (self.wall_px + 2) - 2 * margin
+            self._legend_cache[key] = legend_panel(self._small_font, key, max_width, margin,
+                                                   self.highlight_contacts)
+        return self._legend_cache[key]
 
     def _draw_legend(self, surf: pygame.Surface, snap: Snapshot) -> None:
         panel = self._legend_surface(snap)
