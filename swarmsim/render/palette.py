@@ -37,9 +37,6 @@ GROUP_PALETTE = np.array([
 ], dtype=np.uint8)
 """Categorical colours for groups 1, 2, ... (cycled); group 0 (none) is grey."""
 
-STATUS_PALETTE = np.array([
-    (31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189),
-    (140, 86, 75), (227, 119, 194), (188, 189, 34), (23, 190, 207), (0, 0, 128),
-    (0, 128, 128), (128, 128, 128),
-], dtype=np.uint8)
-"""Colours for status codes 0, 1, ... (cycled)."""
+STATUS_PALETTE = np.vstack([GROUP_PALETTE, np.array([(0, 128, 128), (128, 128, 128)],
+                                                     dtype=np.uint8)])
+"""Colours for status codes 0, 1, ... (cycled): the group colours, then teal and grey."""
