@@ -510,18 +510,30 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Between two robots on opposite sides, both closer than d_cover: go along the valley.
 
         Orbiting whichever is nearest would flip direction each time the nearest changes
-        side; instead keep going the way we were heading, centred between them.
+        side; instead keep going the way we were heading, centred between them. (In Python
+        floats: the same arithmetic as on numpy 2-vectors, several times faster.)
         """
-        ra, rb = p.offsets[a] / p.distances[a], p.offsets[b] / p.distances[b]
-        if ra @ rb >= 0:
+        da, db = float(p.distances[a]), float(p.distances[b])
+        ax, ay = float(p.offsets[a][0]) / da, float(p.offsets[a][1]) / da
+        bx, by = float(p.offsets[b][0]) / db, float(p.offsets[b][1]) / db
+        if ax * bx + ay * by >= 0:
             return None
-        axis = unit(ra - rb)
-        along = np.array([axis[1], -axis[0]])
-        reference = self.heading if any_of(self.heading) else np.array([ra[1], -ra[0]]) * self.sense
-        if along @ reference < 0:
-            along = -along
-        centring = max(-1.0, min(1.0, (p.distances[a] - p.distances[b]) * self.p.radial_gain))
-        return unit(along + 0.5 * centring * axis) * self.p.v
+        ux, uy = ax - bx, ay - by  # the axis from b to a, made unit length
+        n = math.hypot(ux, uy)
+        ux, uy = (ux / n, uy / n) if n > 1e-12 else (0.0, 0.0)
+        along_x, along_y = uy, -ux
+        hx, hy = float(self.heading[0]), float(self.heading[1])
+        if not (hx != 0.0 or hy != 0.0):
+            hx, hy = ay * self.sense, -ax * self.sense
+        if along_x * hx + along_y * hy < 0:
+            along_x, along_y = -along_x, -along_y
+        centring = max(-1.0, min(1.0, (da - db) * self.p.radial_gain))
+        half = 0.5 * centring
+        vx, vy = along_x + half * ux, along_y + half * uy
+        n = math.hypot(vx, vy)
+        if n <= 1e-12:
+            return np.zeros(2)
+        return np.array([vx / n * self.p.v, vy / n * self.p.v])
 
     def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
         """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
