@@ -31,7 +31,8 @@ class CirclingWatch:
     def circling(self, p: Perception, nearest: int) -> bool:
         """True once the robot has gone all the way round the same neighbour."""
         sender = int(p.messages["id"][nearest])
-        bearing = math.atan2(-p.offsets[nearest][1], -p.offsets[nearest][0])
+        offset = p.offsets[nearest]
+        bearing = math.atan2(-float(offset[1]), -float(offset[0]))
         if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
             self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
             return False
