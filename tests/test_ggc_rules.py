@@ -374,3 +374,36 @@ def test_boundary_fill_must_be_a_known_rule():
     assert GGCParams(boundary_fill=False).boundary_fill == "never"  # it was a bool
     with pytest.raises(ValueError, match="boundary_fill must be one of one-group"):
         GGCParams(boundary_fill="sometimes")
+
+
+def _valley_with_numpy(r, p, a, b):
+    """valley_follow as it was written on numpy 2-vectors (the reference)."""
+    from controllers.ggc.robot import unit
+
+    ra, rb = p.offsets[a] / p.distances[a], p.offsets[b] / p.distances[b]
+    if ra @ rb >= 0:
+        return None
+    axis = unit(ra - rb)
+    along = np.array([axis[1], -axis[0]])
+    reference = r.heading if np.any(r.heading) else np.array([ra[1], -ra[0]]) * r.sense
+    if along @ reference < 0:
+        along = -along
+    centring = max(-1.0, min(1.0, (p.distances[a] - p.distances[b]) * r.p.radial_gain))
+    return unit(along + 0.5 * centring * axis) * r.p.v
+
+
+def test_valley_following_in_floats_matches_numpy_to_the_bit():
+    rng = np.random.default_rng(3)
+    r = robot()
+    checked = 0
+    for _ in range(300):
+        offsets = rng.normal(size=(2, 2)) * 4
+        p = perception([(tuple(o), 8 + k, 1, ARRIVE) for k, o in enumerate(offsets)])
+        r.heading = rng.normal(size=2) if rng.random() < 0.7 else np.zeros(2)
+        r.sense = 1 if rng.random() < 0.5 else -1
+        got, want = r.valley_follow(p, 0, 1), _valley_with_numpy(r, p, 0, 1)
+        assert (got is None) == (want is None)
+        if want is not None:
+            assert got.tobytes() == want.tobytes()
+            checked += 1
+    assert checked > 100  # robots on opposite sides: the valley case itself was compared
