@@ -140,6 +140,11 @@ class Action:
         wake_on_motion: with ``sleep``, False promises that neighbours merely moving within the
             wake range cannot change this robot's action: only a changed broadcast (or being
             moved itself) wakes it.
+        wake_from: with ``sleep``, a promise about changed broadcasts too: within the wake
+            range, only these senders (by broadcast id), senders within ``wake_near``
+            (units), and senders whose ``status`` changed can change this robot's action.
+            None (default): any changed broadcast within the wake range wakes it.
+        wake_near: see ``wake_from`` (units; used only with it).
     """
 
     velocity: tuple[float, float] = (0.0, 0.0)
@@ -148,6 +153,8 @@ class Action:
     wake_range: float | None = None
     listen: float | None = None
     wake_on_motion: bool = True
+    wake_from: tuple[int, ...] | None = None
+    wake_near: float = 0.0
 
 
 @runtime_checkable

@@ -145,6 +145,7 @@ class Simulation:
         self.wake_range = np.full(self.n, self.sensing_range)
         self.listen = np.full(self.n, self.sensing_range)
         self.wake_on_motion = np.ones(self.n, dtype=bool)
+        self.wake_from: dict[int, tuple[frozenset[int], float]] = {}  # see Action.wake_from
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
@@ -197,6 +198,7 @@ class Simulation:
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
         t1 = clock()
         self._changed_msg = _rows_differ(new_messages, self.messages)
+        self._changed_status = new_messages["status"] != self.messages["status"]
         self.messages = new_messages
         self.velocities = self.imperfect.actuate(_clamp(velocities, self.config.v_max))
         t2 = clock()
@@ -250,7 +252,25 @@ class Simulation:
             d = np.hypot(offsets[:, 0], offsets[:, 1])
             hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
             hit &= self.wake_on_motion[near] | by_message[src]
+            if self.wake_from:
+                hit = self._keep_promised_wakes(hit, src, near, d, margin)
             self.asleep[near[hit]] = False
+
+    def _keep_promised_wakes(self, hit: np.ndarray, src: np.ndarray, near: np.ndarray,
+                             d: np.ndarray, margin: float) -> np.ndarray:
+        """Drop wakes by a changed broadcast that the sleeper promised cannot matter
+        (Action.wake_from): the sender is not named, not within its wake_near and kept its
+        status. Wakes by motion are kept."""
+        ids = self.messages["id"]
+        for k in np.flatnonzero(hit).tolist():
+            promise = self.wake_from.get(int(near[k]))
+            j = int(src[k])
+            if promise is None or self.wake_on_motion[near[k]] or self._changed_status[j]:
+                continue
+            named, reach = promise
+            if d[k] > reach + margin and int(ids[j]) not in named:
+                hit[k] = False
+        return hit
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray
@@ -331,6 +351,10 @@ class Simulation:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
+                if action.wake_from is None:
+                    self.wake_from.pop(i, None)
+                else:
+                    self.wake_from[i] = (frozenset(action.wake_from), float(action.wake_near))
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 

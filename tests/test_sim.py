@@ -79,6 +79,31 @@ def test_sleeping_changes_nothing_but_saves_work():
     assert min(r["awake"] for r in tb[5:]) == 40
 
 
+def test_a_sleeper_that_names_its_senders_wakes_only_for_their_broadcasts():
+    """Action.wake_from: within the wake range, a changed broadcast wakes such a sleeper only
+    from a named sender, a sender within wake_near, or one whose status changed."""
+    from swarmsim.sensing import NeighbourSearch
+
+    sim = Simulation(square_world(), controller="dispersion", robots=2, seed=1)
+    sim.wake_range[0], sim.wake_on_motion[0] = 6.0, False
+    sim.messages["id"] = [0, 1]
+
+    def woken(distance, named=(), status_changed=False, promise=True):
+        sim.asleep[:] = [True, False]
+        sim.wake_from = {0: (frozenset(named), 1.5)} if promise else {}
+        sim._changed_status = np.array([False, status_changed])
+        sim.positions = np.array([[10.0, 10.0], [10.0 + distance, 10.0]])
+        sim._wake_near(NeighbourSearch(sim.positions), np.array([1]), np.array([False, True]))
+        return not sim.asleep[0]
+
+    assert woken(4.0, promise=False)  # no promise: any changed broadcast in range wakes it
+    assert not woken(4.0)  # an unnamed sender beyond wake_near does not
+    assert woken(4.0, named=(1,))  # a named one does
+    assert woken(4.0, status_changed=True)  # and so does a changed status
+    assert woken(1.6)  # within wake_near (+ the wake margin): it does
+    assert not woken(7.0, named=(1,))  # beyond the wake range nothing does
+
+
 def test_stops_on_stall_and_reports_it():
     sim = Simulation(square_world(beacon=False), controller="dispersion", robots=5, seed=1,
                      settings={"stall_ticks": 30, "spawn_spacing": 4.0})
