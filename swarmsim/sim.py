@@ -40,6 +40,9 @@ DEFAULT_SETTLED = ("Arrive", "Arrived")
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
+NO_PROMISE = -2
+"""wake_from of a sleeper that named no robot (-1 is NO_SENDER)."""
+
 DECIDE_CHUNK = 1024
 """Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's
 memory (see Simulation._sense_and_decide) without changing its result."""
@@ -145,7 +148,8 @@ class Simulation:
         self.wake_range = np.full(self.n, self.sensing_range)
         self.listen = np.full(self.n, self.sensing_range)
         self.wake_on_motion = np.ones(self.n, dtype=bool)
-        self.wake_from: dict[int, tuple[frozenset[int], float]] = {}  # see Action.wake_from
+        self.wake_from = np.full(self.n, NO_PROMISE, dtype=np.int64)  # see Action.wake_from
+        self.wake_near = np.zeros(self.n)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
@@ -251,26 +255,23 @@ class Simulation:
             offsets = rows(self.positions, near) - rows(self.positions, src)
             d = np.hypot(offsets[:, 0], offsets[:, 1])
             hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
-            hit &= self.wake_on_motion[near] | by_message[src]
-            if self.wake_from:
-                hit = self._keep_promised_wakes(hit, src, near, d, margin)
+            hit &= self._wakes(src, near, d, margin, by_message)
             self.asleep[near[hit]] = False
 
-    def _keep_promised_wakes(self, hit: np.ndarray, src: np.ndarray, near: np.ndarray,
-                             d: np.ndarray, margin: float) -> np.ndarray:
-        """Drop wakes by a changed broadcast that the sleeper promised cannot matter
-        (Action.wake_from): the sender is not named, not within its wake_near and kept its
-        status. Wakes by motion are kept."""
-        ids = self.messages["id"]
-        for k in np.flatnonzero(hit).tolist():
-            promise = self.wake_from.get(int(near[k]))
-            j = int(src[k])
-            if promise is None or self.wake_on_motion[near[k]] or self._changed_status[j]:
-                continue
-            named, reach = promise
-            if d[k] > reach + margin and int(ids[j]) not in named:
-                hit[k] = False
-        return hit
+    def _wakes(self, src: np.ndarray, near: np.ndarray, d: np.ndarray, margin: float,
+               by_message: np.ndarray) -> np.ndarray:
+        """Whether changed robot ``src`` wakes sleeper ``near`` (``d`` apart, within its wake
+        range) by what the sleeper promised: by motion (wake_on_motion) or by a changed
+        broadcast; with Action.wake_from, only the named robot (its motion or broadcast),
+        changed broadcasts within wake_near, and changed statuses wake it."""
+        plain = self.wake_on_motion[near] | by_message[src]
+        named = self.wake_from[near]
+        if not (named != NO_PROMISE).any():
+            return plain
+        message = by_message[src]
+        promised = (named == self.messages["id"][src]) | (message & self._changed_status[src])
+        promised |= message & (d <= self.wake_near[near] + margin)
+        return np.where(named != NO_PROMISE, promised, plain)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray
@@ -351,10 +352,8 @@ class Simulation:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
-                if action.wake_from is None:
-                    self.wake_from.pop(i, None)
-                else:
-                    self.wake_from[i] = (frozenset(action.wake_from), float(action.wake_near))
+                self.wake_from[i] = NO_PROMISE if action.wake_from is None else action.wake_from
+                self.wake_near[i] = action.wake_near
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 

@@ -422,5 +422,5 @@ def test_a_robot_blocked_by_a_waiting_robot_sleeps_until_that_robot_changes():
         if moving_only:  # blocked by movers: their motion may lift it
             assert a.wake_on_motion and a.wake_from is None
         else:
-            assert not a.wake_on_motion and a.wake_from == (9,)
+            assert not a.wake_on_motion and a.wake_from == 9
             assert a.wake_near == 1.5 * r.p.d_min

@@ -137,7 +137,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_on_motion: bool = True,
-            wake_from: tuple[int, ...] | None = None, wake_near: float = 0.0) -> Action:
+            wake_from: int | None = None, wake_near: float = 0.0) -> Action:
         return Action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
                       wake_range, self.listen_range(), wake_on_motion, wake_from, wake_near)
 
@@ -306,7 +306,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             # change what I do.
             waiting = outranking["id"][~outranking["moving"]]
             return self.act(sleep=True, wake_range=self.p.d_cover, wake_on_motion=False,
-                            wake_from=(int(waiting[0]),), wake_near=1.5 * self.p.d_min)
+                            wake_from=int(waiting[0]), wake_near=1.5 * self.p.d_min)
         self.start_coverage(p)
         return self.coverage(p)
 
