@@ -140,11 +140,6 @@ class Action:
         wake_on_motion: with ``sleep``, False promises that neighbours merely moving within the
             wake range cannot change this robot's action: only a changed broadcast (or being
             moved itself) wakes it.
-        wake_from: with ``sleep``, a narrower promise: within the wake range, only this
-            robot (by broadcast id; its motion or its broadcast), changed broadcasts of
-            robots within ``wake_near`` (units) and changed statuses can change this robot's
-            action. None (default): the promises above (``wake_on_motion``) hold.
-        wake_near: see ``wake_from`` (units; used only with it).
     """
 
     velocity: tuple[float, float] = (0.0, 0.0)
@@ -153,8 +148,6 @@ class Action:
     wake_range: float | None = None
     listen: float | None = None
     wake_on_motion: bool = True
-    wake_from: int | None = None
-    wake_near: float = 0.0
 
 
 @runtime_checkable

@@ -40,9 +40,6 @@ DEFAULT_SETTLED = ("Arrive", "Arrived")
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
-NO_PROMISE = -2
-"""wake_from of a sleeper that named no robot (-1 is NO_SENDER)."""
-
 DECIDE_CHUNK = 1024
 """Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's
 memory (see Simulation._sense_and_decide) without changing its result."""
@@ -148,8 +145,6 @@ class Simulation:
         self.wake_range = np.full(self.n, self.sensing_range)
         self.listen = np.full(self.n, self.sensing_range)
         self.wake_on_motion = np.ones(self.n, dtype=bool)
-        self.wake_from = np.full(self.n, NO_PROMISE, dtype=np.int64)  # see Action.wake_from
-        self.wake_near = np.zeros(self.n)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
@@ -202,7 +197,6 @@ class Simulation:
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
         t1 = clock()
         self._changed_msg = _rows_differ(new_messages, self.messages)
-        self._changed_status = new_messages["status"] != self.messages["status"]
         self.messages = new_messages
         self.velocities = self.imperfect.actuate(_clamp(velocities, self.config.v_max))
         t2 = clock()
@@ -255,23 +249,8 @@ class Simulation:
             offsets = rows(self.positions, near) - rows(self.positions, src)
             d = np.hypot(offsets[:, 0], offsets[:, 1])
             hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
-            hit &= self._wakes(src, near, d, margin, by_message)
+            hit &= self.wake_on_motion[near] | by_message[src]
             self.asleep[near[hit]] = False
-
-    def _wakes(self, src: np.ndarray, near: np.ndarray, d: np.ndarray, margin: float,
-               by_message: np.ndarray) -> np.ndarray:
-        """Whether changed robot ``src`` wakes sleeper ``near`` (``d`` apart, within its wake
-        range) by what the sleeper promised: by motion (wake_on_motion) or by a changed
-        broadcast; with Action.wake_from, only the named robot (its motion or broadcast),
-        changed broadcasts within wake_near, and changed statuses wake it."""
-        plain = self.wake_on_motion[near] | by_message[src]
-        named = self.wake_from[near]
-        if not (named != NO_PROMISE).any():
-            return plain
-        message = by_message[src]
-        promised = (named == self.messages["id"][src]) | (message & self._changed_status[src])
-        promised |= message & (d <= self.wake_near[near] + margin)
-        return np.where(named != NO_PROMISE, promised, plain)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray
@@ -352,8 +331,6 @@ class Simulation:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
-                self.wake_from[i] = NO_PROMISE if action.wake_from is None else action.wake_from
-                self.wake_near[i] = action.wake_near
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 

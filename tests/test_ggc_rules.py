@@ -407,20 +407,3 @@ def test_valley_following_in_floats_matches_numpy_to_the_bit():
             assert got.tobytes() == want.tobytes()
             checked += 1
     assert checked > 100  # robots on opposite sides: the valley case itself was compared
-
-
-def test_a_robot_blocked_by_a_waiting_robot_sleeps_until_that_robot_changes():
-    """Algorithm 7's wait names the waiting robot that blocks it (Action.wake_from): other
-    robots' broadcasts beyond 1.5 d_min cannot lift it while that one stays."""
-    for status, moving_only in ((DETECTION, False), (COVERAGE, True)):
-        p = perception([((3.0, 0.0), 9, 1, status), ((4.0, 0.0), 11, 1, status)])
-        p.messages["gradient"][:] = 7  # both outrank me
-        r = robot()
-        r.status, r.grad = DETECTION, 5
-        a = r.step(p)
-        assert a.sleep and a.velocity == (0.0, 0.0)
-        if moving_only:  # blocked by movers: their motion may lift it
-            assert a.wake_on_motion and a.wake_from is None
-        else:
-            assert not a.wake_on_motion and a.wake_from == 9
-            assert a.wake_near == 1.5 * r.p.d_min

@@ -79,33 +79,6 @@ def test_sleeping_changes_nothing_but_saves_work():
     assert min(r["awake"] for r in tb[5:]) == 40
 
 
-def test_a_sleeper_that_names_a_robot_wakes_only_for_it_near_broadcasts_and_statuses():
-    """Action.wake_from: within the wake range such a sleeper wakes for the named robot (its
-    motion or broadcast), a changed broadcast within wake_near, or a changed status."""
-    from swarmsim.sensing import NeighbourSearch
-    from swarmsim.sim import NO_PROMISE
-
-    sim = Simulation(square_world(), controller="dispersion", robots=2, seed=1)
-    sim.wake_range[0], sim.wake_on_motion[0], sim.wake_near[0] = 6.0, False, 1.5
-    sim.messages["id"] = [0, 1]
-
-    def woken(distance, named=NO_PROMISE, message=True, status_changed=False):
-        sim.asleep[:] = [True, False]
-        sim.wake_from[0] = named
-        sim._changed_status = np.array([False, status_changed])
-        sim.positions = np.array([[10.0, 10.0], [10.0 + distance, 10.0]])
-        sim._wake_near(NeighbourSearch(sim.positions), np.array([1]), np.array([False, message]))
-        return not sim.asleep[0]
-
-    assert woken(4.0)  # no promise: any changed broadcast in range wakes it
-    assert not woken(4.0, message=False)  # ... but not motion (wake_on_motion False)
-    assert not woken(4.0, named=5)  # a robot not named, beyond wake_near, does not
-    assert woken(4.0, named=1) and woken(4.0, named=1, message=False)  # the named one does
-    assert woken(4.0, named=5, status_changed=True)  # and so does a changed status
-    assert woken(1.6, named=5) and not woken(1.6, named=5, message=False)  # within wake_near
-    assert not woken(7.0, named=1)  # beyond the wake range nothing does
-
-
 def test_stops_on_stall_and_reports_it():
     sim = Simulation(square_world(beacon=False), controller="dispersion", robots=5, seed=1,
                      settings={"stall_ticks": 30, "spawn_spacing": 4.0})

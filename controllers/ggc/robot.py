@@ -136,10 +136,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.in_deadlock = False  # settled: an open deadlock episode is over
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
-            wake_range: float | None = None, wake_on_motion: bool = True,
-            wake_from: int | None = None, wake_near: float = 0.0) -> Action:
+            wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
         return Action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
-                      wake_range, self.listen_range(), wake_on_motion, wake_from, wake_near)
+                      wake_range, self.listen_range(), wake_on_motion)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
@@ -285,8 +284,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         grad = self.gradient_from(p, 1.5 * self.p.d_min)
         if grad is not None:
             self.grad = grad
-        outranking = self.outranking(p)
-        blocker = blocked_by(outranking)
+        blocker = self.blocked(p)
         if self.yield_count and len(self.waiting_near(p)) < self.yield_count:
             self.yield_count = 0  # a robot around me has left: try again
         elif (self.yield_count and self.p.d_cover <= self.p.yield_release
@@ -297,16 +295,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.enclosed = bool(self.yield_count) or self.is_enclosed(p)
         if not blocker and self.enclosed:  # my turn, but no way out: let the others go
             return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
-        if blocker == BLOCKED_BY_MOVER:
-            return self.act(sleep=True, wake_range=self.p.d_cover)
         if blocker:
-            # Blocked by a waiting robot: while it broadcasts the same, I stay blocked
-            # whatever the others do, so only its broadcast, one within 1.5 d_min (my
-            # gradient, whether I am enclosed) or a changed status (a Surplus robot) can
-            # change what I do.
-            waiting = outranking["id"][~outranking["moving"]]
-            return self.act(sleep=True, wake_range=self.p.d_cover, wake_on_motion=False,
-                            wake_from=int(waiting[0]), wake_near=1.5 * self.p.d_min)
+            # Blocked by a waiting robot: only a changed broadcast can lift that.
+            return self.act(sleep=True, wake_range=self.p.d_cover,
+                            wake_on_motion=blocker == BLOCKED_BY_MOVER)
         self.start_coverage(p)
         return self.coverage(p)
 
@@ -317,10 +309,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         Returns NOT_BLOCKED, BLOCKED_BY_WAITING (a non-moving robot outranks me) or
         BLOCKED_BY_MOVER (only moving robots do).
         """
-        return blocked_by(self.outranking(p))
-
-    def outranking(self, p: Perception) -> np.ndarray:
-        """The messages of the neighbours that make me wait (Algorithm 7; see blocked())."""
         m = p.messages[:within(p.distances, self.p.d_cover)]  # distances are sorted
         status = m["status"]
         near = (m["group"] == self.group) & (m["id"] != NO_SENDER)
@@ -329,7 +317,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             near &= status != STOP
         outranks = near & ~m["enclosed"] & ((m["gradient"] > self.grad)
                                             | ((m["gradient"] == self.grad) & (m["id"] > self.id)))
-        return m[outranks] if any_of(outranks) else m[:0]
+        if not any_of(outranks):
+            return NOT_BLOCKED
+        return BLOCKED_BY_MOVER if m["moving"][outranks].all() else BLOCKED_BY_WAITING
 
     def is_enclosed(self, p: Perception) -> bool:
         """Waiting neighbours within 1.5 d_min all round (no gap wider than ENCLOSED_GAP): a
@@ -764,14 +754,6 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     # ------------------------------------------------------------------ Arrive
     def arrive(self, p: Perception) -> Action:
         return self.act(sleep=True, wake_range=0.0)
-
-
-def blocked_by(outranking: np.ndarray) -> int:
-    """NOT_BLOCKED, BLOCKED_BY_WAITING or BLOCKED_BY_MOVER, from the messages of the
-    neighbours that outrank a robot (GGCRobot.outranking)."""
-    if len(outranking) == 0:
-        return NOT_BLOCKED
-    return BLOCKED_BY_MOVER if outranking["moving"].all() else BLOCKED_BY_WAITING
 
 
 def widest_gap(offsets: np.ndarray) -> float:
