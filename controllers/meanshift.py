@@ -41,7 +41,7 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
-from .cvt import LocalMap, clamp, min_sq_distance
+from .cvt import LocalMap, clamp, min_sq_distance, sq_norms
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
@@ -136,7 +136,7 @@ class MeanShift:
             return np.zeros(2)
         if target.any():
             q = points[target]
-            goal = q[np.argmin((q * q).sum(axis=1))]
+            goal = q[np.argmin(sq_norms(q))]
             n = math.hypot(float(goal[0]), float(goal[1]))
             if n > 1e-9:
                 return self.p.kappa_enter * goal / n
@@ -148,8 +148,7 @@ class MeanShift:
         q = points[target]
         if len(q) == 0:
             return np.zeros(2)
-        qx, qy = q[:, 0], q[:, 1]
-        d = np.sqrt(qx * qx + qy * qy)
+        d = np.sqrt(sq_norms(q))
         w = 0.5 * (1.0 + np.cos(np.pi * np.minimum(d / self.p.r_sense, 1.0)))
         out = np.zeros(2)
         w_sum = w.sum()

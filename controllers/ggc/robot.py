@@ -514,8 +514,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         floats: the same arithmetic as on numpy 2-vectors, several times faster.)
         """
         da, db = float(p.distances[a]), float(p.distances[b])
-        ax, ay = float(p.offsets[a][0]) / da, float(p.offsets[a][1]) / da
-        bx, by = float(p.offsets[b][0]) / db, float(p.offsets[b][1]) / db
+        (oax, oay), (obx, oby) = p.offsets[a].tolist(), p.offsets[b].tolist()
+        ax, ay, bx, by = oax / da, oay / da, obx / db, oby / db
         if ax * bx + ay * by >= 0:
             return None
         ux, uy = ax - bx, ay - by  # the axis from b to a, made unit length

@@ -321,11 +321,16 @@ class Renderer:
         if self._font is None:
             return
         text = self._font.render(self.hud_text(snap), True, TEXT)
-        m = max(3, self.width // 160)
+        m = self._panel_margin
         panel = pygame.Surface((text.get_width() + 2 * m, text.get_height() + m), pygame.SRCALPHA)
         panel.fill(PANEL)
         panel.blit(text, (m, m // 2 + 1))
         surf.blit(panel, (self.wall_px + 2, self.wall_px + 2))
+
+    @property
+    def _panel_margin(self) -> int:
+        """Padding (pixels) inside the heads-up and legend panels."""
+        return max(3, self.width // 160)
 
     # --- legend --------------------------------------------------------------------------------
     def _legend_key(self, snap: Snapshot) -> Any:
@@ -341,7 +346,7 @@ class Renderer:
             return None
         key = self._legend_key(snap)
         if key not in self._legend_cache:
-            margin = max(3, self.width // 160)
+            margin = self._panel_margin
             max_width = self.width - 2 * (self.wall_px + 2) - 2 * margin
             self._legend_cache[key] = legend_panel(self._small_font, key, max_width, margin,
                                                    self.highlight_contacts)
