@@ -54,6 +54,9 @@ from .statuses import (  # noqa: F401 (re-exported)
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                   ("enclosed", "?"), *AGGREGATION_FIELDS]
+SMALL_VIEW = 16
+"""Up to this many neighbours a query loops over Python values instead of numpy masks
+(same answers: integer and boolean tests only)."""
 ENCLOSED_GAP = math.radians(100)
 """A robot whose neighbours within 1.5 d_min leave no angular gap wider than this is enclosed."""
 
@@ -189,12 +192,42 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         return still & (~foreign | (status == ARRIVE) | (status == SURPLUS)
                         | (m["id"] == NO_SENDER))
 
+    def nearest_edge_robots(self, p: Perception) -> list[int]:
+        """The indices of the nearest two of :meth:`edge_robots` (fewer if there are fewer):
+        the same robots, found without masking every neighbour."""
+        m = p.messages
+        still = (~m["moving"]).nonzero()[0]
+        if self.p.follow_other_formations or self.groups == 1:
+            return still[:2].tolist()
+        group, status, sender = m["group"], m["status"], m["id"]
+        found: list[int] = []
+        for k in still.tolist():
+            if (group[k] == self.group or status[k] == ARRIVE or status[k] == SURPLUS
+                    or sender[k] == NO_SENDER):
+                found.append(k)
+                if len(found) == 2:
+                    break
+        return found
+
     def gradient_from(self, p: Perception, reach: float) -> int | None:
         """1 + the smallest known gradient of own-group stationary neighbours within reach."""
         return self.gradient_in(p.messages[:within(p.distances, reach)])  # distances sorted
 
     def gradient_in(self, m: np.ndarray) -> int | None:
-        """1 + the smallest known gradient of own-group stationary robots among messages m."""
+        """1 + the smallest known gradient of own-group stationary robots among messages m.
+
+        A formation neighbourhood (within 1.5 d_min) has a handful of rows: for those a loop
+        over Python ints is ~4x faster than numpy's masks, with the same answer.
+        """
+        if len(m) <= SMALL_VIEW:
+            best = INF_GRADIENT
+            for moving, group, sender, grad, status in zip(
+                    m["moving"].tolist(), m["group"].tolist(), m["id"].tolist(),
+                    m["gradient"].tolist(), m["status"].tolist()):
+                if (grad < best and group == self.group and not moving and sender != NO_SENDER
+                        and status != COVERAGE):
+                    best = grad
+            return None if best == INF_GRADIENT else best + 1
         ok = ~m["moving"] & (m["group"] == self.group)
         ok &= (m["id"] != NO_SENDER) & (m["gradient"] < INF_GRADIENT)
         ok &= m["status"] != COVERAGE
@@ -310,6 +343,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         BLOCKED_BY_MOVER (only moving robots do).
         """
         m = p.messages[:within(p.distances, self.p.d_cover)]  # distances are sorted
+        if self.waiting_outranks(m[:SMALL_VIEW]):
+            return BLOCKED_BY_WAITING  # in a formation usually found among the nearest few
         status = m["status"]
         near = (m["group"] == self.group) & (m["id"] != NO_SENDER)
         near &= (status != ARRIVE) & (status != SURPLUS)
@@ -320,6 +355,19 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if not any_of(outranks):
             return NOT_BLOCKED
         return BLOCKED_BY_MOVER if m["moving"][outranks].all() else BLOCKED_BY_WAITING
+
+    def waiting_outranks(self, m: np.ndarray) -> bool:
+        """Does a waiting robot among the messages ``m`` block me (:meth:`blocked`'s test for
+        a robot that is not moving), looped over Python values (for a few rows)?"""
+        done = (ARRIVE, SURPLUS, STOP) if self.groups > 1 else (ARRIVE, SURPLUS)
+        for sender, status, grad, group, moving, enclosed in zip(
+                m["id"].tolist(), m["status"].tolist(), m["gradient"].tolist(),
+                m["group"].tolist(), m["moving"].tolist(), m["enclosed"].tolist()):
+            if (group == self.group and not moving and not enclosed and sender != NO_SENDER
+                    and status not in done
+                    and (grad > self.grad or (grad == self.grad and sender > self.id))):
+                return True
+        return False
 
     def is_enclosed(self, p: Perception) -> bool:
         """Waiting neighbours within 1.5 d_min all round (no gap wider than ENCLOSED_GAP): a
@@ -372,8 +420,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ Coverage
     def coverage(self, p: Perception) -> Action:
-        foreign = self.foreign(p)
-        structure = self.edge_robots(p, foreign).nonzero()[0]
+        structure = self.nearest_edge_robots(p)
         if len(structure) == 0:
             return self.wander(p)
         nearest = structure[0]
@@ -406,7 +453,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.yield_count = len(self.waiting_near(p))
                 return self.act()
         if ((p.on_target or not self.p.stop_on_target_only)
-                and self.other_group_mover(p, foreign)):
+                and self.other_group_mover(p)):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
             self.collision_stops += 1
             return self.act()
@@ -497,7 +544,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             self.circled = 0.0
             self.restart_lap(whole=False)
 
-    def edge_velocity(self, p: Perception, structure: np.ndarray) -> np.ndarray:
+    def edge_velocity(self, p: Perception, structure: list[int]) -> np.ndarray:
         """Follow the edge of the stationary robots (Algorithm 2), or a valley between two."""
         nearest = structure[0]
         if len(structure) > 1 and p.distances[structure[1]] < self.p.d_cover:
@@ -694,20 +741,24 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.resume_tick = p.tick + self.p.T_s
         return self.act()
 
-    def other_group_mover(self, p: Perception, foreign: np.ndarray | None = None) -> bool:
-        """A robot of another group in Coverage within d_cover, with priority (larger id).
-        ``foreign``: this perception's :meth:`foreign`, if already known."""
+    def other_group_mover(self, p: Perception) -> bool:
+        """A robot of another group in Coverage within d_cover, with priority (larger id)."""
         if self.groups == 1:
             return False
         k = within(p.distances, self.p.d_cover)
         m = p.messages[:k]  # distances are sorted: the first k are within d_cover
-        others = (self.foreign(p) if foreign is None else foreign)[:k]
-        if not any_of(others):
+        if k <= SMALL_VIEW:  # the same indices, over Python values
+            found = [j for j, (group, sender, status) in enumerate(zip(
+                m["group"].tolist(), m["id"].tolist(), m["status"].tolist()))
+                if group != self.group and sender > self.id and status == COVERAGE]
+        else:
+            found = ((m["group"] != self.group) & (m["id"] > self.id)
+                     & (m["status"] == COVERAGE)).nonzero()[0]
+        if len(found) == 0:
             return False
-        others = others & (m["id"] > self.id) & (m["status"] == COVERAGE)
         if self.p.stop_ahead_only and any_of(self.heading):
-            others &= p.offsets[:k] @ self.heading > 0
-        return any_of(others)
+            return any_of((p.offsets[:k] @ self.heading > 0)[found])
+        return True
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
@@ -727,10 +778,14 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """
         k = within(p.distances, self.p.yield_distance)
         m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
-        moving = m["moving"]
-        if not any_of(moving):
+        if k <= SMALL_VIEW:  # the same indices, over Python values
+            ahead = [j for j, (moving, sender) in enumerate(zip(
+                m["moving"].tolist(), m["id"].tolist())) if moving and sender > self.id]
+        else:
+            ahead = (m["moving"] & (m["id"] > self.id)).nonzero()[0]
+        if len(ahead) == 0:
             return None
-        ahead = (moving & (m["id"] > self.id)).nonzero()[0]
+        ahead = np.asarray(ahead, dtype=np.intp)
         ahead = ahead[p.offsets[ahead] @ velocity > 0]
         if len(ahead) == 0:
             return None
