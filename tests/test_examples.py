@@ -22,3 +22,17 @@ def test_run_ggc_example(tmp_path):
     assert out.returncode == 0, out.stderr[-2000:]
     assert "coverage" in out.stdout
     assert (tmp_path / "tiny-last.png").stat().st_size > 1000
+
+
+def test_where_distance_goes_ledger_adds_up_to_the_runs_distance():
+    from examples.where_distance_goes import Ledger
+
+    sim = Simulation("tiny", seed=2, max_ticks=1500)
+    ledger = Ledger(sim, late_from=300)
+    result = sim.run(on_tick=ledger)
+    total = result.summary["total_distance"]
+    assert total > 100
+    assert abs(ledger.distance.sum() - total) < 1e-6 * total
+    settled = ledger.settled_at >= 0
+    assert settled.sum() == result.summary["status_counts"]["Arrive"] > 0
+    assert len(ledger.late) == int((ledger.settled_at > 300).sum()) > 0
