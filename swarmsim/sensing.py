@@ -114,15 +114,15 @@ class NeighbourSearch:
                              perturb: Callable[[np.ndarray], np.ndarray] | None
                              ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
         segment, flat, offsets, d2 = self._pairs_within(robots, radii)
-        if perturb is None:  # sort once, by (segment, distance, neighbour): a total order
-            order = stable_radix_order(flat.astype(np.uint64), index_bits(len(self.positions)))
-        else:  # the noise is drawn in (segment, neighbour) order: keep to it
-            first = stable_radix_order(flat.astype(np.uint64), index_bits(len(self.positions)))
-            first = stable_radix_order(segment.astype(np.uint64), index_bits(len(robots)), first)
-            segment, flat = segment[first], flat[first]
-            offsets = perturb(rows(offsets, first))
+        order = stable_radix_order(flat.astype(np.uint64), index_bits(len(self.positions)))
+        if perturb is not None:  # the noise is drawn in (segment, neighbour) order
+            order = stable_radix_order(segment.astype(np.uint64), index_bits(len(robots)), order)
+            segment, flat = segment[order], flat[order]
+            offsets = perturb(rows(offsets, order))
             d2 = offsets[:, 0] ** 2 + offsets[:, 1] ** 2
-            order = None
+            order = None  # ties: as they now come, by neighbour
+        # one sort by (segment, distance, neighbour): a total order, so the same views as
+        # sorting by (segment, neighbour) first
         order = by_segment_then_distance(segment, d2, order)
         flat, offsets = flat[order], rows(offsets, order)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])

@@ -91,6 +91,24 @@ def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
                                   np.lexsort((np.arange(len(d2)), d2, big)))
 
 
+
+@pytest.mark.parametrize("segments", [50, 70_000])  # 16-bit radix passes; lexsort beyond
+def test_segment_then_distance_breaks_ties_by_a_given_order(segments):
+    """Entries in no order (as the dual-tree pass returns them), ties broken by ``order``."""
+    from swarmsim.sensing import by_segment_then_distance
+
+    rng = np.random.default_rng(segments)
+    n = 3 * segments
+    segment = rng.integers(0, segments, n)
+    segment[-1] = segments - 1
+    d2 = rng.integers(0, 4, n).astype(float)  # many exact ties
+    neighbour = rng.permutation(n)
+    by_neighbour = np.argsort(neighbour, kind="stable")
+    want = np.lexsort((neighbour, d2, segment))
+    np.testing.assert_array_equal(by_segment_then_distance(segment, d2, by_neighbour), want)
+    np.testing.assert_array_equal(by_segment_then_distance(segment, d2),
+                                  np.lexsort((np.arange(n), d2, segment)))
+
 def test_neighbourhoods_in_chunks_equal_one_pass_noise_included(monkeypatch):
     from swarmsim import sensing
 
