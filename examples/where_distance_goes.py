@@ -17,6 +17,7 @@ import argparse
 import numpy as np
 
 from swarmsim import Simulation
+from swarmsim.errors import ConfigError
 from swarmsim.sim import DEFAULT_SETTLED
 
 
@@ -74,7 +75,11 @@ def report(sim: Simulation, ledger: Ledger, summary: dict) -> None:
 
 def main() -> None:
     args = parse_args()
-    sim = Simulation(args.world, controller=args.controller, groups=args.groups, seed=args.seed)
+    try:
+        sim = Simulation(args.world, controller=args.controller, groups=args.groups,
+                         seed=args.seed)
+    except ConfigError as err:  # a bad world, controller or group count: say which
+        raise SystemExit(f"where_distance_goes: error: {err}") from None
     ledger = Ledger(sim, args.late_from)
     result = sim.run(progress=True, on_tick=ledger)
     report(sim, ledger, result.summary)
