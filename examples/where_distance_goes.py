@@ -18,7 +18,6 @@ import numpy as np
 
 from swarmsim import Simulation
 from swarmsim.errors import ConfigError
-from swarmsim.sim import DEFAULT_SETTLED
 
 
 def parse_args() -> argparse.Namespace:
@@ -37,8 +36,7 @@ class Ledger:
     through ``Simulation.run(on_tick=...)``."""
 
     def __init__(self, sim: Simulation, late_from: int):
-        names = getattr(sim.controller_cls, "SETTLED_STATUSES", DEFAULT_SETTLED)
-        self.settled_codes = [k for k, name in enumerate(sim.statuses) if name in names]
+        self.settled_codes = sim.settled_codes()
         self.distance = np.zeros(sim.n)
         self.settled_at = np.full(sim.n, -1)
         self.late_from = late_from

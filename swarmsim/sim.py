@@ -149,7 +149,7 @@ class Simulation:
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size)
-        self.metrics = RunMetrics(self.grid, cfg, self.physics, self._settled_codes())
+        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.settled_codes())
         self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
@@ -161,7 +161,7 @@ class Simulation:
             from swarmsim.faults import FaultPlan, fault_rng, install_faults
             install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
 
-    def _settled_codes(self) -> tuple[int, ...]:
+    def settled_codes(self) -> tuple[int, ...]:
         """Status codes in which the controller's robots are done (GGC: Arrive)."""
         names = getattr(self.controller_cls, "SETTLED_STATUSES", DEFAULT_SETTLED)
         return tuple(i for i, s in enumerate(self.statuses) if s in names)

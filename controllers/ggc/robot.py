@@ -176,15 +176,14 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Which neighbours belong to another group (None with one group: none do)."""
         return None if self.groups == 1 else p.messages["group"] != self.group
 
-    def edge_robots(self, p: Perception, foreign: np.ndarray | None = None) -> np.ndarray:
+    def edge_robots(self, p: Perception) -> np.ndarray:
         """The stationary robots whose edge a mover follows: all of them, or without
-        ``follow_other_formations`` not the waiting formations of other groups.
-        ``foreign``: this perception's :meth:`foreign`, if already known."""
+        ``follow_other_formations`` not the waiting formations of other groups. (Movers ask
+        only for the nearest two: :meth:`nearest_edge_robots`.)"""
         still = self.stationary(p)
         if self.p.follow_other_formations or self.groups == 1:
             return still
-        if foreign is None:
-            foreign = self.foreign(p)
+        foreign = self.foreign(p)
         if not any_of(still & foreign):
             return still  # the usual case, and the cheap one: no other group's robot stands here
         m = p.messages
