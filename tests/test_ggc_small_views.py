@@ -4,6 +4,7 @@ give the answers of the numpy masks they replace, on random neighbourhoods of ev
 The references below are the numpy forms as they were written before the loops."""
 
 import collections
+import math
 
 import numpy as np
 import pytest
@@ -15,6 +16,7 @@ from controllers.ggc.robot import (
     BLOCKED_BY_WAITING,
     COVERAGE,
     DETECTION,
+    ENCLOSED_GAP,
     INITIAL,
     MESSAGE_FIELDS,
     NOT_BLOCKED,
@@ -22,6 +24,7 @@ from controllers.ggc.robot import (
     STOP,
     SURPLUS,
     GGCRobot,
+    widest_gap,
 )
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Perception, RobotSetup, message_dtype
 
@@ -36,9 +39,9 @@ def random_robot(rng: np.random.Generator, groups: int) -> GGCRobot:
     return r
 
 
-def random_perception(rng: np.random.Generator, n: int) -> Perception:
-    """n neighbours, nearest first, with every field drawn from a few values so that ties
-    (same gradient, same id as mine) and silent rows (NO_SENDER) occur."""
+def random_perception(rng: np.random.Generator, n: int, reach: float = 12.0) -> Perception:
+    """n neighbours within ``reach``, nearest first, with every field drawn from a few values
+    so that ties (same gradient, same id as mine) and silent rows (NO_SENDER) occur."""
     m = np.zeros(n, dtype=message_dtype(MESSAGE_FIELDS))
     m["id"] = rng.choice([NO_SENDER, 10, 49, 50, 51, 90], size=n)
     m["status"] = rng.choice(STATUSES, size=n)
@@ -46,7 +49,7 @@ def random_perception(rng: np.random.Generator, n: int) -> Perception:
     m["group"] = rng.integers(0, 4, size=n)
     m["moving"] = rng.random(n) < 0.4
     m["enclosed"] = rng.random(n) < 0.2
-    distances = np.sort(rng.uniform(0.5, 12.0, size=n))
+    distances = np.sort(rng.uniform(0.5, reach, size=n))
     angles = rng.uniform(0, 2 * np.pi, size=n)
     offsets = np.stack([distances * np.cos(angles), distances * np.sin(angles)], axis=1)
     return Perception(tick=10, offsets=offsets, distances=np.hypot(*offsets.T), messages=m,
@@ -99,12 +102,34 @@ def give_way_reference(r: GGCRobot, p: Perception, velocity: np.ndarray):
     return np.zeros(2)
 
 
-def cases(seed: int, count: int = 600):
+def waiting_near_reference(r: GGCRobot, p: Perception) -> np.ndarray:
+    k = int(np.searchsorted(p.distances, 1.5 * r.p.d_min, side="right"))
+    status = p.messages["status"][:k]
+    return ((status == INITIAL) | (status == DETECTION)).nonzero()[0]
+
+
+def widest_gap_reference(offsets: np.ndarray) -> float:
+    angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
+    return max(float((angles[1:] - angles[:-1]).max()),
+               float(angles[0]) + 2 * math.pi - float(angles[-1]))
+
+
+def is_enclosed_reference(r: GGCRobot, p: Perception) -> bool:
+    waiting = waiting_near_reference(r, p)
+    return len(waiting) >= 3 and widest_gap_reference(p.offsets[waiting]) < ENCLOSED_GAP
+
+
+def group_waiting_reference(r: GGCRobot, m: np.ndarray) -> bool:
+    status = m["status"]
+    return bool((((status == INITIAL) | (status == DETECTION)) & (m["group"] == r.group)).any())
+
+
+def cases(seed: int, count: int = 600, reach: float = 12.0):
     """Random (robot, perception) pairs, neighbourhood sizes 0 .. 3 * SMALL_VIEW."""
     rng = np.random.default_rng(seed)
     for _ in range(count):
         r = random_robot(rng, groups=int(rng.choice([1, 3])))
-        yield r, random_perception(rng, int(rng.integers(0, 3 * SMALL_VIEW))), rng
+        yield r, random_perception(rng, int(rng.integers(0, 3 * SMALL_VIEW)), reach), rng
 
 
 def test_gradient_in_matches_the_numpy_masks():
@@ -159,3 +184,35 @@ def test_give_way_matches_the_numpy_masks():
         else:
             seen["carry on"] += 1
     assert set(seen) == {"back off", "wait", "carry on"}
+
+
+def test_widest_gap_matches_the_numpy_form_to_the_bit():
+    rng = np.random.default_rng(6)
+    for n in range(2, 3 * SMALL_VIEW):
+        for scale in (1e-3, 1.0, 10.0):
+            offsets = rng.normal(size=(n, 2)) * scale
+            offsets[rng.random(n) < 0.2] = offsets[0]  # equal bearings: zero gaps
+            offsets[rng.random(n) < 0.1, 1] = 0.0  # on the axis: bearings 0 and pi
+            assert widest_gap(offsets) == widest_gap_reference(offsets)
+
+
+def test_waiting_near_and_is_enclosed_match_the_numpy_masks():
+    seen = collections.Counter()
+    for r, p, _ in cases(7, count=1500, reach=2.5):  # dense: up to ~30 rows within 1.5
+        assert list(r.waiting_near(p)) == waiting_near_reference(r, p).tolist()
+        want = is_enclosed_reference(r, p)
+        assert r.is_enclosed(p) == want
+        k = int(np.searchsorted(p.distances, 1.5 * r.p.d_min, side="right"))
+        seen[(want, k <= SMALL_VIEW)] += 1
+    assert len(seen) == 4  # enclosed and not, by loop and by numpy
+
+
+def test_group_waiting_in_matches_the_numpy_masks():
+    seen = collections.Counter()
+    for r, p, _ in cases(8, count=1500):
+        m = p.messages
+        want = group_waiting_reference(r, m)
+        assert r.group_waiting_in(m) == want
+        in_head = group_waiting_reference(r, m[:SMALL_VIEW])
+        seen["not found" if not want else "nearest" if in_head else "farther"] += 1
+    assert set(seen) == {"not found", "nearest", "farther"}

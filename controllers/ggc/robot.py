@@ -23,6 +23,7 @@ Statuses (Figure 3): Initial -> Detection -> Coverage -> Arrive.
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 
 import numpy as np
 
@@ -399,10 +400,12 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return True
         return widest_gap(p.offsets[still]) >= ENCLOSED_GAP
 
-    def waiting_near(self, p: Perception) -> np.ndarray:
+    def waiting_near(self, p: Perception) -> np.ndarray | list[int]:
         """Indices of neighbours within 1.5 d_min that wait to move (Initial, Detection)."""
         k = within(p.distances, 1.5 * self.p.d_min)
         status = p.messages["status"][:k]
+        if k <= SMALL_VIEW:  # the same indices, over Python values
+            return [j for j, s in enumerate(status.tolist()) if s == INITIAL or s == DETECTION]
         return ((status == INITIAL) | (status == DETECTION)).nonzero()[0]
 
     def hears_surplus(self, p: Perception) -> bool:
@@ -467,9 +470,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         robot): see GGCParams.surplus_stop."""
         m = p.messages
         if not self.away:
-            status = m["status"]
-            waiting = (status == INITIAL) | (status == DETECTION)
-            self.away = not any_of(waiting & (m["group"] == self.group))
+            self.away = not self.group_waiting_in(m)
         if p.on_target and self.frontier <= self.p.surplus_frontier:
             outward = -p.offsets[nearest] / max(float(p.distances[nearest]), 1e-9)
             if p.probe(outward * self.p.boundary_probe):
@@ -489,6 +490,18 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return True
         self.restart_lap()  # the lap passed free floor, or I turned round: go round again
         return False
+
+    def group_waiting_in(self, m: np.ndarray) -> bool:
+        """Is a waiting robot (Initial, Detection) of my group among these messages? Near my
+        formation one usually is among the nearest few, found by a loop over Python values."""
+        head = m[:SMALL_VIEW]
+        for status, group in zip(head["status"].tolist(), head["group"].tolist()):
+            if group == self.group and (status == INITIAL or status == DETECTION):
+                return True
+        if len(m) <= SMALL_VIEW:
+            return False
+        status = m["status"]
+        return any_of(((status == INITIAL) | (status == DETECTION)) & (m["group"] == self.group))
 
     def restart_lap(self, whole: bool = True) -> None:
         """Start a new lap (see GGCParams.surplus_stop). A robot that turns round starts one
@@ -812,6 +825,10 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
 def widest_gap(offsets: np.ndarray) -> float:
     """Widest angle (radians) between the bearings of two or more neighbours (k, 2)."""
+    if len(offsets) <= SMALL_VIEW:  # the same angles and differences, in Python floats
+        angles = sorted(math.atan2(y, x) for x, y in offsets.tolist())
+        return max(max(b - a for a, b in pairwise(angles)),
+                   angles[0] + 2 * math.pi - angles[-1])
     angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
     return max(float((angles[1:] - angles[:-1]).max()),
                float(angles[0]) + 2 * math.pi - float(angles[-1]))
