@@ -21,6 +21,10 @@ Writing a controller::
                                               # engine counts robots pushed out of place there
 
         @classmethod
+        def message_fields_for(cls, groups) -> list: ...  # optional: MESSAGE_FIELDS for a
+                                                          # run with this many groups
+
+        @classmethod
         def sensing_range(cls, params) -> float: ...   # how far it listens, in units
 
         def __init__(self, setup: RobotSetup, params, rng: numpy.random.Generator): ...
@@ -56,6 +60,15 @@ BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
 
 NO_SENDER = -1
 """``id`` of a neighbour row whose message did not arrive (failed robot, lost message)."""
+
+
+def run_message_fields(cls: Any, groups: int) -> list[tuple[str, Any]]:
+    """A controller class's broadcast fields for a run with ``groups`` groups: its
+    ``message_fields_for(groups)`` if it has one, else its ``MESSAGE_FIELDS``."""
+    fields_for = getattr(cls, "message_fields_for", None)
+    if fields_for is not None:
+        return list(fields_for(groups))
+    return list(getattr(cls, "MESSAGE_FIELDS", []))
 
 
 def message_dtype(extra_fields: list[tuple[str, Any]] | None = None) -> np.dtype:

@@ -23,6 +23,7 @@ from swarmsim.controller import (
     RobotSetup,
     get_controller,
     message_dtype,
+    run_message_fields,
     silent_message,
 )
 from swarmsim.errors import ConfigError
@@ -132,7 +133,7 @@ class Simulation:
         self.controllers = [self.controller_cls(s, self.params, np.random.default_rng(rs))
                             for s, rs in zip(setups, robot_seeds, strict=True)]
         self.statuses = tuple(self.controller_cls.STATUSES)
-        self.dtype = message_dtype(getattr(self.controller_cls, "MESSAGE_FIELDS", []))
+        self.dtype = message_dtype(run_message_fields(self.controller_cls, cfg.groups))
         self.silent = silent_message(self.dtype)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
@@ -196,7 +197,7 @@ class Simulation:
         velocities = np.zeros((self.n, 2))
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
         t1 = clock()
-        self._changed_msg = _rows_differ(new_messages, self.messages)
+        self._changed_msg = self._changed_rows(awake, new_messages)
         self.messages = new_messages
         self.velocities = self.imperfect.actuate(_clamp(velocities, self.config.v_max))
         t2 = clock()
@@ -215,6 +216,15 @@ class Simulation:
         t4 = clock()
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
+
+    def _changed_rows(self, awake: np.ndarray, new_messages: np.ndarray) -> np.ndarray:
+        """(N,) bool: whose broadcast changed this tick. Only awake robots broadcast, so only
+        their rows are compared (a sleeper's new row is a copy of its old one)."""
+        changed = np.zeros(self.n, dtype=bool)
+        if len(awake):
+            changed[awake] = _rows_differ(np.take(new_messages, awake),
+                                          np.take(self.messages, awake))
+        return changed
 
     def _awake_robots(self, search: NeighbourSearch) -> np.ndarray:
         """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
@@ -259,8 +269,9 @@ class Simulation:
 
         Everyone decides from the same snapshot (positions, last tick's broadcasts), so the
         chunks change nothing but the memory: the neighbour views and the heard messages (one
-        162-byte row per neighbour for GGC) exist for one chunk at a time. On the first tick of
-        a 10,000-robot formation, every robot hears ~800 neighbours: ~1.3 GB in one piece.
+        row per neighbour: 42 bytes for GGC with one group, 162 with 16) exist for one chunk at
+        a time. On the first tick of a 10,000-robot formation every robot hears ~800
+        neighbours: with 16 groups' rows, ~1.3 GB in one piece.
         """
         clock = time.perf_counter
         moved = self.positions - self._prev_positions

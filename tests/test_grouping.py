@@ -112,3 +112,16 @@ def test_too_many_groups_is_a_clear_error():
 
     with pytest.raises(ConfigError, match="groups.*20.*at most 16"):
         Simulation(small_world(), controller="ggc", robots=60, groups=20, seed=0)
+
+
+@pytest.mark.parametrize("groups", [1, 3])
+def test_broadcasts_carry_one_leader_distance_per_group(groups):
+    """A run's message rows hold the scattered start's per-group fields for its own groups
+    only (not for the 16 a run may have), and leaders' distance fields still spread."""
+    sim = scattered(wide_band(), robots=60, groups=groups, seed=0)
+    assert sim.messages["ldist"].shape == (60, groups)
+    assert sim.messages["lepoch"].shape == (60, groups)
+    for _ in range(30):
+        sim.step()
+    heard_of_last_leader = sim.messages["ldist"][:, groups - 1] < 1e9
+    assert heard_of_last_leader.sum() > 10

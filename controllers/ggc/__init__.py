@@ -12,7 +12,7 @@ from swarmsim.controller import register
 
 from .aggregation import MAX_GROUPS
 from .params import GGCParams
-from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot
+from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
 
 
@@ -28,6 +28,11 @@ class GGC(GGCRobot):
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True
+
+    @classmethod
+    def message_fields_for(cls, groups: int) -> list[tuple]:
+        """The broadcast fields of a run with ``groups`` groups (see robot.message_fields)."""
+        return message_fields(groups)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

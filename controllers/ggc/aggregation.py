@@ -43,8 +43,15 @@ FAR = 1e9
 """Field distance of a leader not heard of yet (units)."""
 QUIET_CAP = 10_000
 
-AGGREGATION_FIELDS = [("h", "i1"), ("handover", "i4"), ("ldist", "f4", (MAX_GROUPS,)),
-                      ("lepoch", "i4", (MAX_GROUPS,)), ("quiet", "i4")]
+
+
+def aggregation_fields(groups: int = MAX_GROUPS) -> list[tuple]:
+    """The scattered start's broadcast fields: one leader distance and epoch per group."""
+    return [("h", "i1"), ("handover", "i4"), ("ldist", "f4", (groups,)),
+            ("lepoch", "i4", (groups,)), ("quiet", "i4")]
+
+
+AGGREGATION_FIELDS = aggregation_fields()
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -66,8 +73,8 @@ class Aggregation:
 
     def init_aggregation(self) -> None:
         self.h = self.p.h_max if self.leader else 0
-        self.ldist = np.full(MAX_GROUPS, FAR)
-        self.lepoch = np.zeros(MAX_GROUPS, dtype=np.int64)
+        self.ldist = np.full(self.groups, FAR)  # one entry per group of the run
+        self.lepoch = np.zeros(self.groups, dtype=np.int64)
         if self.leader:
             self.ldist[self.group - 1] = 0.0
         self.handover = NO_SENDER

@@ -31,7 +31,7 @@ from controllers.edges import CirclingWatch, ProgressWatch, turn_between
 from controllers.views import any_of, within
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
-from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation
+from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation, aggregation_fields
 from .params import GGCParams
 from .statuses import (  # noqa: F401 (re-exported)
     APPROACH,
@@ -55,6 +55,15 @@ from .statuses import (  # noqa: F401 (re-exported)
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                   ("enclosed", "?"), *AGGREGATION_FIELDS]
+"""GGC's broadcast fields for up to MAX_GROUPS groups (a run uses :func:`message_fields`)."""
+
+
+def message_fields(groups: int) -> list[tuple]:
+    """GGC's broadcast fields for a run with this many groups: the per-group fields of the
+    scattered start have one entry per group (a smaller row is cheaper to gather and copy)."""
+    return [*MESSAGE_FIELDS[:-len(AGGREGATION_FIELDS)], *aggregation_fields(groups)]
+
+
 SMALL_VIEW = 16
 """Up to this many neighbours a query loops over Python values instead of numpy masks
 (same answers: integer and boolean tests only)."""
