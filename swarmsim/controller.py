@@ -23,6 +23,9 @@ Writing a controller::
         @classmethod
         def message_fields_for(cls, groups) -> list: ...  # optional: MESSAGE_FIELDS for a
                                                           # run with this many groups
+        @classmethod
+        def prepare(cls, robots, batch: NeighbourBatch) -> None: ...  # optional: called
+                    # before the robots of a chunk step, with their perceptions end to end
 
         @classmethod
         def sensing_range(cls, params) -> float: ...   # how far it listens, in units
@@ -133,6 +136,26 @@ class Perception:
     probe: Callable[[np.ndarray], bool]
     beacon: np.ndarray | None
     moved: np.ndarray
+
+
+@dataclass(frozen=True)
+class NeighbourBatch:
+    """The perceptions of the robots deciding together (one chunk of a tick), laid end to
+    end, for controller classes that vectorise work over many robots (see ``prepare``).
+
+    Robot k of the chunk owns rows ``starts[k]:starts[k + 1]``: the very rows, in the same
+    order, of its Perception's ``messages`` and ``distances``. Nothing else is in here: a
+    robot's result may depend on its own rows only.
+
+    Attributes:
+        messages: (P,) structured array: every heard broadcast of the chunk.
+        distances: (P,) their distances, units (each robot's rows ascending).
+        starts: (R + 1,) where each robot's rows start, then P.
+    """
+
+    messages: np.ndarray
+    distances: np.ndarray
+    starts: np.ndarray
 
 
 @dataclass(frozen=True, slots=True)

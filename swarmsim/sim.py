@@ -19,6 +19,7 @@ from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     INF_GRADIENT,
     Action,
+    NeighbourBatch,
     Perception,
     RobotSetup,
     get_controller,
@@ -134,6 +135,7 @@ class Simulation:
                             for s, rs in zip(setups, robot_seeds, strict=True)]
         self.statuses = tuple(self.controller_cls.STATUSES)
         self.dtype = message_dtype(run_message_fields(self.controller_cls, cfg.groups))
+        self._prepare = getattr(self.controller_cls, "prepare", None)
         self.silent = silent_message(self.dtype)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
@@ -302,17 +304,23 @@ class Simulation:
             if lost is not None:
                 heard[lost] = self.silent
             heard.flags.writeable = False  # every robot gets a read-only view of its part
-            bounds = split_bounds(np.fromiter(map(len, neighbour_lists), dtype=np.intp))
+            counts = np.fromiter(map(len, neighbour_lists), dtype=np.intp)
+            bounds = split_bounds(counts)
             message_lists = [heard[a:b] for a, b in bounds]
         bearings = _bearings(self.world.beacon, pos[awake])
         beacons = [None] * len(awake) if bearings is None else list(bearings)
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
         at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), moved[awake]
-        actions: list[Action] = [
-            controllers[i].step(Perception(tick, offset_lists[k], distance_lists[k],
-                                           message_lists[k], on[k], probe_at(*at[k]),
-                                           beacons[k], shift[k]))
-            for k, i in enumerate(awake.tolist())]
+        deciding = [controllers[i] for i in awake.tolist()]
+        perceptions = [Perception(tick, offset_lists[k], distance_lists[k], message_lists[k],
+                                  on[k], probe_at(*at[k]), beacons[k], shift[k])
+                       for k in range(len(deciding))]
+        if self._prepare is not None and heard is not None:
+            starts = np.concatenate(([0], np.cumsum(counts)))
+            self._prepare(deciding, NeighbourBatch(heard, np.concatenate(distance_lists),
+                                                   starts))
+        actions: list[Action] = [robot.step(p) for robot, p in zip(deciding, perceptions,
+                                                                   strict=True)]
         self._apply(awake, actions, new_messages, velocities)
 
     def _apply(self, awake: np.ndarray, actions: list[Action], new_messages: np.ndarray,

@@ -8,7 +8,12 @@ from pathlib import Path
 
 import numpy as np
 
-from swarmsim.controller import Perception, available_controllers, get_controller
+from swarmsim.controller import (
+    NeighbourBatch,
+    Perception,
+    available_controllers,
+    get_controller,
+)
 
 CONTROLLERS = Path(__file__).resolve().parent.parent / "controllers"
 FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics", "swarmsim.sim",
@@ -63,6 +68,12 @@ def test_perception_has_no_global_fields():
     names = {f.name for f in dataclasses.fields(Perception)}
     assert names == {"tick", "offsets", "distances", "messages", "on_target", "probe", "beacon",
                      "moved"}
+
+
+def test_a_neighbour_batch_holds_perception_rows_only():
+    """What ``prepare`` hooks see: the chunk's perceptions end to end, nothing global."""
+    names = {f.name for f in dataclasses.fields(NeighbourBatch)}
+    assert names == {"messages", "distances", "starts"}
 
 
 def test_every_controller_is_declared_properly():

@@ -8,9 +8,10 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 
-from swarmsim.controller import register
+from swarmsim.controller import NeighbourBatch, register
 
 from .aggregation import MAX_GROUPS
+from .batch import prepare_movers
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -33,6 +34,11 @@ class GGC(GGCRobot):
     def message_fields_for(cls, groups: int) -> list[tuple]:
         """The broadcast fields of a run with ``groups`` groups (see robot.message_fields)."""
         return message_fields(groups)
+
+    @classmethod
+    def prepare(cls, robots: list[GGCRobot], batch: NeighbourBatch) -> None:
+        """Movers' neighbourhood queries for a whole chunk at once (see batch.py)."""
+        prepare_movers(robots, batch)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

@@ -32,6 +32,7 @@ from controllers.views import any_of, within
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation, aggregation_fields
+from .batch import Precomputed
 from .params import GGCParams
 from .statuses import (  # noqa: F401 (re-exported)
     APPROACH,
@@ -127,6 +128,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.yield_count = 0
         self.initial_since = 0
         self.init_aggregation()
+        self.pre: Precomputed | None = None  # this tick's answers from GGC.prepare, if any
         self.handlers = {INITIAL: self.initial, DETECTION: self.detection,
                          COVERAGE: self.coverage, ARRIVE: self.arrive, STOP: self.stopped,
                          SURPLUS: self.arrive}  # by status; the others gather (aggregation.py)
@@ -170,8 +172,11 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     def step(self, p: Perception) -> Action:
         self.odometer += p.moved
         if self.scattered and p.tick < self.selection_ticks:
-            return self.select_leaders(p)
-        return self.handlers.get(self.status, self.gather)(p)
+            action = self.select_leaders(p)
+        else:
+            action = self.handlers.get(self.status, self.gather)(p)
+        self.pre = None  # it answered this perception only
+        return action
 
     # ------------------------------------------------------------------ neighbour views
     def own_group(self, p: Perception) -> np.ndarray:
@@ -204,6 +209,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
     def nearest_edge_robots(self, p: Perception) -> list[int]:
         """The indices of the nearest two of :meth:`edge_robots` (fewer if there are fewer):
         the same robots, found without masking every neighbour."""
+        if self.pre is not None:
+            return self.pre.edge
         m = p.messages
         still = (~m["moving"]).nonzero()[0]
         if self.p.follow_other_formations or self.groups == 1:
@@ -766,20 +773,24 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """A robot of another group in Coverage within d_cover, with priority (larger id)."""
         if self.groups == 1:
             return False
-        k = within(p.distances, self.p.d_cover)
-        m = p.messages[:k]  # distances are sorted: the first k are within d_cover
-        if k <= SMALL_VIEW:  # the same indices, over Python values
-            found = [j for j, (group, sender, status) in enumerate(zip(
-                m["group"].tolist(), m["id"].tolist(), m["status"].tolist()))
-                if group != self.group and sender > self.id and status == COVERAGE]
-        else:
-            found = ((m["group"] != self.group) & (m["id"] > self.id)
-                     & (m["status"] == COVERAGE)).nonzero()[0]
+        found = self.pre.movers if self.pre is not None else self.other_group_movers(p)
         if len(found) == 0:
             return False
         if self.p.stop_ahead_only and any_of(self.heading):
+            k = within(p.distances, self.p.d_cover)
             return any_of((p.offsets[:k] @ self.heading > 0)[found])
         return True
+
+    def other_group_movers(self, p: Perception) -> list[int] | np.ndarray:
+        """Indices of the robots of another group in Coverage within d_cover with a larger id."""
+        k = within(p.distances, self.p.d_cover)
+        m = p.messages[:k]  # distances are sorted: the first k are within d_cover
+        if k <= SMALL_VIEW:  # the same indices, over Python values
+            return [j for j, (group, sender, status) in enumerate(zip(
+                m["group"].tolist(), m["id"].tolist(), m["status"].tolist()))
+                if group != self.group and sender > self.id and status == COVERAGE]
+        return ((m["group"] != self.group) & (m["id"] > self.id)
+                & (m["status"] == COVERAGE)).nonzero()[0]
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
@@ -797,13 +808,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         If it is coming toward us, back away from it so that it can pass; if it goes our
         way, wait. Returns the velocity to use instead, or None to carry on.
         """
-        k = within(p.distances, self.p.yield_distance)
-        m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
-        if k <= SMALL_VIEW:  # the same indices, over Python values
-            ahead = [j for j, (moving, sender) in enumerate(zip(
-                m["moving"].tolist(), m["id"].tolist())) if moving and sender > self.id]
-        else:
-            ahead = (m["moving"] & (m["id"] > self.id)).nonzero()[0]
+        ahead = self.pre.ahead if self.pre is not None else self.movers_outranking(p)
         if len(ahead) == 0:
             return None
         ahead = np.asarray(ahead, dtype=np.intp)
@@ -814,6 +819,15 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         if p.distances[other] < self.p.yield_distance * 0.75:
             return -unit(p.offsets[other]) * self.p.v * 0.5
         return np.zeros(2)
+
+    def movers_outranking(self, p: Perception) -> list[int] | np.ndarray:
+        """Indices of the moving robots with a larger id within yield_distance."""
+        k = within(p.distances, self.p.yield_distance)
+        m = p.messages[:k]  # distances are sorted: the first k are within yield_distance
+        if k <= SMALL_VIEW:  # the same indices, over Python values
+            return [j for j, (moving, sender) in enumerate(zip(
+                m["moving"].tolist(), m["id"].tolist())) if moving and sender > self.id]
+        return (m["moving"] & (m["id"] > self.id)).nonzero()[0]
 
     def wander(self, p: Perception) -> Action:
         """No stationary robot in range: head for the beacon (or keep going)."""

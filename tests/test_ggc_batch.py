@@ -1,0 +1,88 @@
+"""GGC.prepare answers the movers' neighbourhood queries for a whole chunk at once: the same
+indices each robot finds alone, and runs the same to the bit with or without it."""
+
+import collections
+
+import numpy as np
+import pytest
+
+from controllers.ggc import GGCParams
+from controllers.ggc.batch import prepare_movers
+from controllers.ggc.robot import COVERAGE, STOP, GGCRobot
+from swarmsim import Simulation
+from swarmsim.controller import NeighbourBatch, RobotSetup
+
+from .test_ggc import small_world
+from .test_ggc_small_views import SMALL_VIEW, STATUSES, random_perception
+
+
+def random_chunk(rng: np.random.Generator, groups: int, params: GGCParams):
+    """Robots of one run (same params and groups) with random statuses and perceptions."""
+    robots, perceptions = [], []
+    for _ in range(int(rng.integers(1, 40))):
+        setup = RobotSetup(int(rng.choice([10, 49, 50, 51, 90])), leader=False,
+                           group=int(rng.integers(1, groups + 1)), groups=groups)
+        robot = GGCRobot(setup, params, np.random.default_rng(0))
+        robot.status = int(rng.choice(STATUSES))
+        robots.append(robot)
+        p = random_perception(rng, int(rng.integers(0, 3 * SMALL_VIEW)),
+                              reach=float(rng.choice([3.0, 12.0])))
+        on_edge = rng.random(len(p.distances)) < 0.2  # exactly at yield_distance or d_cover
+        p.distances[on_edge] = rng.choice([params.yield_distance, params.d_cover],
+                                          size=int(on_edge.sum()))
+        p.distances.sort()
+        perceptions.append(p)
+    counts = [len(p.distances) for p in perceptions]
+    batch = NeighbourBatch(np.concatenate([p.messages for p in perceptions]),
+                           np.concatenate([p.distances for p in perceptions]),
+                           np.concatenate(([0], np.cumsum(counts))))
+    return robots, perceptions, batch
+
+
+@pytest.mark.parametrize("follow_all", [False, True])
+def test_prepared_answers_are_each_robots_own(follow_all):
+    rng = np.random.default_rng(11)
+    seen = collections.Counter()
+    for _ in range(150):
+        groups = int(rng.choice([1, 3]))
+        robots, perceptions, batch = random_chunk(
+            rng, groups, GGCParams(follow_other_formations=follow_all))
+        prepare_movers(robots, batch)
+        for robot, p in zip(robots, perceptions, strict=True):
+            pre = robot.pre
+            if robot.status not in (COVERAGE, STOP):
+                assert pre is None
+                continue
+            robot.pre = None
+            assert pre.edge == robot.nearest_edge_robots(p)
+            assert pre.movers == list(robot.other_group_movers(p))
+            assert pre.ahead == list(robot.movers_outranking(p))
+            seen[("edge", len(pre.edge))] += 1
+            seen[("movers", bool(pre.movers), groups)] += 1
+            seen[("ahead", bool(pre.ahead))] += 1
+    assert {("edge", 0), ("edge", 1), ("edge", 2)} <= set(seen)
+    assert {("movers", True, 3), ("movers", False, 3), ("ahead", True), ("ahead", False)} <= set(seen)
+
+
+def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Counter]:
+    sim = Simulation(small_world(40.0, 30.0), controller="ggc", robots=90, groups=2, seed=3,
+                     max_ticks=ticks)
+    used = collections.Counter()
+    prepare = sim._prepare
+
+    def counting(robots, batch):
+        prepare(robots, batch)
+        used["answers"] += sum(r.pre is not None for r in robots)
+        used["movers met"] += sum(bool(r.pre and r.pre.movers) for r in robots)
+
+    sim._prepare = counting if prepared else None  # None: every robot answers for itself
+    for _ in range(ticks):
+        sim.step()
+    return sim, used
+
+
+def test_a_run_is_the_same_with_and_without_prepare():
+    (with_batch, used), (alone, _) = two_groups(True, 1500), two_groups(False, 1500)
+    assert with_batch.positions.tobytes() == alone.positions.tobytes()
+    assert with_batch.messages.tobytes() == alone.messages.tobytes()
+    assert used["answers"] > 5000 and used["movers met"] > 0, used
