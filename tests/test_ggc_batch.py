@@ -1,5 +1,6 @@
-"""GGC.prepare answers the movers' neighbourhood queries for a whole chunk at once: the same
-indices each robot finds alone, and runs the same to the bit with or without it."""
+"""GGC.prepare answers the movers' and waiting robots' neighbourhood queries for a whole chunk
+at once: the same answers each robot finds alone, and runs the same to the bit with or
+without it."""
 
 import collections
 
@@ -7,8 +8,16 @@ import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
-from controllers.ggc.batch import prepare_movers
-from controllers.ggc.robot import COVERAGE, STOP, GGCRobot
+from controllers.ggc.batch import prepare_chunk
+from controllers.ggc.robot import (
+    BLOCKED_BY_MOVER,
+    BLOCKED_BY_WAITING,
+    COVERAGE,
+    DETECTION,
+    NOT_BLOCKED,
+    STOP,
+    GGCRobot,
+)
 from swarmsim import Simulation
 from swarmsim.controller import NeighbourBatch, RobotSetup
 
@@ -24,12 +33,14 @@ def random_chunk(rng: np.random.Generator, groups: int, params: GGCParams):
                            group=int(rng.integers(1, groups + 1)), groups=groups)
         robot = GGCRobot(setup, params, np.random.default_rng(0))
         robot.status = int(rng.choice(STATUSES))
+        robot.grad = int(rng.integers(0, 6))
         robots.append(robot)
         p = random_perception(rng, int(rng.integers(0, 3 * SMALL_VIEW)),
-                              reach=float(rng.choice([3.0, 12.0])))
-        on_edge = rng.random(len(p.distances)) < 0.2  # exactly at yield_distance or d_cover
-        p.distances[on_edge] = rng.choice([params.yield_distance, params.d_cover],
-                                          size=int(on_edge.sum()))
+                              reach=float(rng.choice([2.0, 3.0, 12.0])))
+        on_edge = rng.random(len(p.distances)) < 0.2  # exactly at a query's reach
+        reaches = [params.yield_distance, params.d_cover, 1.5 * params.d_min,
+                   params.d_cover + params.arrive_tolerance]
+        p.distances[on_edge] = rng.choice(reaches, size=int(on_edge.sum()))
         p.distances.sort()
         perceptions.append(p)
     counts = [len(p.distances) for p in perceptions]
@@ -47,7 +58,7 @@ def test_prepared_answers_are_each_robots_own(follow_all):
         groups = int(rng.choice([1, 3]))
         robots, perceptions, batch = random_chunk(
             rng, groups, GGCParams(follow_other_formations=follow_all))
-        prepare_movers(robots, batch)
+        prepare_chunk(robots, batch)
         for robot, p in zip(robots, perceptions, strict=True):
             pre = robot.pre
             if robot.status not in (COVERAGE, STOP):
@@ -64,6 +75,33 @@ def test_prepared_answers_are_each_robots_own(follow_all):
     assert {("movers", True, 3), ("movers", False, 3), ("ahead", True), ("ahead", False)} <= set(seen)
 
 
+def test_prepared_waiting_answers_are_each_robots_own():
+    rng = np.random.default_rng(12)
+    seen = collections.Counter()
+    for _ in range(200):
+        groups = int(rng.choice([1, 3]))
+        robots, perceptions, batch = random_chunk(rng, groups, GGCParams())
+        prepare_chunk(robots, batch)
+        for robot, p in zip(robots, perceptions, strict=True):
+            pre = robot.pre_wait
+            if robot.status != DETECTION:
+                assert pre is None
+                continue
+            robot.pre_wait = None
+            surplus = robot.surplus_rule and robot.hears_surplus(p)
+            assert pre.surplus == surplus
+            grad = robot.gradient_from(p, 1.5 * robot.p.d_min)
+            assert pre.grad == grad
+            if grad is not None:
+                robot.grad = grad  # as detection() does before asking blocked()
+            assert pre.blocker == robot.blocked(p)
+            seen[("surplus", surplus)] += 1
+            seen[("grad", grad is None)] += 1
+            seen[pre.blocker] += 1
+    assert {("surplus", True), ("surplus", False), ("grad", True), ("grad", False),
+            NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER} <= set(seen), seen
+
+
 def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Counter]:
     sim = Simulation(small_world(40.0, 30.0), controller="ggc", robots=90, groups=2, seed=3,
                      max_ticks=ticks)
@@ -74,6 +112,7 @@ def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Coun
         prepare(robots, batch)
         used["answers"] += sum(r.pre is not None for r in robots)
         used["movers met"] += sum(bool(r.pre and r.pre.movers) for r in robots)
+        used["waiting"] += sum(r.pre_wait is not None for r in robots)
 
     sim._prepare = counting if prepared else None  # None: every robot answers for itself
     for _ in range(ticks):
@@ -85,4 +124,4 @@ def test_a_run_is_the_same_with_and_without_prepare():
     (with_batch, used), (alone, _) = two_groups(True, 1500), two_groups(False, 1500)
     assert with_batch.positions.tobytes() == alone.positions.tobytes()
     assert with_batch.messages.tobytes() == alone.messages.tobytes()
-    assert used["answers"] > 5000 and used["movers met"] > 0, used
+    assert used["answers"] > 5000 and used["movers met"] > 0 and used["waiting"] > 500, used

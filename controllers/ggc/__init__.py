@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from swarmsim.controller import NeighbourBatch, register
 
 from .aggregation import MAX_GROUPS
-from .batch import prepare_movers
+from .batch import prepare_chunk
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -37,8 +37,9 @@ class GGC(GGCRobot):
 
     @classmethod
     def prepare(cls, robots: list[GGCRobot], batch: NeighbourBatch) -> None:
-        """Movers' neighbourhood queries for a whole chunk at once (see batch.py)."""
-        prepare_movers(robots, batch)
+        """Movers' and waiting robots' neighbourhood queries for a whole chunk at once
+        (see batch.py)."""
+        prepare_chunk(robots, batch)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

@@ -1,13 +1,14 @@
-"""GGC's per-robot neighbourhood queries for many movers at once (numpy over a chunk's rows).
+"""GGC's per-robot neighbourhood queries for a whole chunk of robots at once (numpy).
 
 A mover asks three integer questions of its neighbourhood every tick: which are the nearest
 two robots whose edge it follows, which robots of another group in Coverage within d_cover
-outrank it (Section 4.3), and which moving robots with a larger id are within
-yield_distance (give way). Asked one robot at a time they cost ~10 us of numpy and Python
-overhead per mover; here they are masks over every row of the chunk at once, handed to each
-robot as Python lists (:class:`Precomputed`) that it uses in the same tick instead of asking.
-Only integer and boolean tests: the answers are the same indices.
-"""
+outrank it (Section 4.3), and which moving robots with a larger id are within yield_distance
+(give way). A waiting robot (Detection) asks three more: is a Surplus robot of its group near,
+what is its gradient (Algorithm 1), and does a neighbour within d_cover outrank it (Algorithm
+7). Asked one robot at a time they cost ~10-30 us of numpy and Python overhead per robot;
+here they are masks over every row of the chunk at once, handed to each robot
+(:class:`Precomputed`, :class:`WaitingAnswers`), which uses them in the same tick instead of
+asking. Only integer and boolean tests: the answers are the same."""
 
 from __future__ import annotations
 
@@ -15,9 +16,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, NeighbourBatch
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, NeighbourBatch
 
-from .statuses import ARRIVE, COVERAGE, STOP, SURPLUS
+from .statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS
+
+NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
+"""GGCRobot.blocked's answers."""
 
 
 class Precomputed(NamedTuple):
@@ -33,16 +37,50 @@ class Precomputed(NamedTuple):
     its direction filter)."""
 
 
-def prepare_movers(robots: list, batch: NeighbourBatch) -> None:
-    """Give each robot in Coverage or Stop its :class:`Precomputed` answers (``robot.pre``)."""
-    chosen = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
-    if not chosen:
+class WaitingAnswers(NamedTuple):
+    """A waiting robot's (Detection) answers for this tick."""
+
+    surplus: bool
+    """A Surplus robot of its group within d_cover + arrive_tolerance (GGCRobot.hears_surplus;
+    False when the surplus rule is off)."""
+    grad: int | None
+    """GGCRobot.gradient_from(p, 1.5 d_min)."""
+    blocker: int
+    """GGCRobot.blocked(p), judged with the gradient above (the robot takes it first)."""
+
+
+class Chunk(NamedTuple):
+    """A chunk's rows with, on each row, the listening robot's index, group and id."""
+
+    m: np.ndarray
+    d: np.ndarray
+    starts: np.ndarray
+    segment: np.ndarray
+    own_group: np.ndarray
+    own_id: np.ndarray
+
+
+def prepare_chunk(robots: list, batch: NeighbourBatch) -> None:
+    """Precompute the answers of the chunk's movers (``robot.pre``) and waiting robots
+    (``robot.pre_wait``); the other robots ask for themselves."""
+    movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
+    waiting = [k for k, r in enumerate(robots) if r.status == DETECTION]
+    if not (movers or waiting):
         return
+    segment = np.repeat(np.arange(len(robots)), np.diff(batch.starts))
+    chunk = Chunk(batch.messages, batch.distances, batch.starts, segment,
+                  np.array([r.group for r in robots])[segment],
+                  np.array([r.id for r in robots])[segment])
+    if movers:
+        prepare_movers(robots, movers, chunk)
+    if waiting:
+        prepare_waiting(robots, waiting, chunk)
+
+
+def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
+    """Give each chosen robot (Coverage or Stop) its :class:`Precomputed` answers."""
     p = robots[chosen[0]].p
-    m, d, starts = batch.messages, batch.distances, batch.starts
-    segment = np.repeat(np.arange(len(robots)), np.diff(starts))
-    own_group = np.array([r.group for r in robots])[segment]
-    own_id = np.array([r.id for r in robots])[segment]
+    m, d, own_group, own_id = chunk.m, chunk.d, chunk.own_group, chunk.own_id
     group, status, sender, moving = m["group"], m["status"], m["id"], m["moving"]
     edge = ~moving
     if not (p.follow_other_formations or robots[chosen[0]].groups == 1):
@@ -51,14 +89,52 @@ def prepare_movers(robots: list, batch: NeighbourBatch) -> None:
     movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
               & (status == COVERAGE))
     ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-    found = [_rows_by_robot(mask, segment, len(robots)) for mask in (edge, movers, ahead)]
-    start_of = starts.tolist()
+    found = [_rows_by_robot(mask, chunk.segment, len(robots)) for mask in (edge, movers, ahead)]
+    start_of = chunk.starts.tolist()
     (edge_rows, edge_first), (mover_rows, mover_first), (ahead_rows, ahead_first) = found
     for k in chosen:
         start = start_of[k]
         robots[k].pre = Precomputed(_rows_of(edge_rows, edge_first, k, start, limit=2),
                                     _rows_of(mover_rows, mover_first, k, start),
                                     _rows_of(ahead_rows, ahead_first, k, start))
+
+
+def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
+    """Give each chosen robot (Detection) its :class:`WaitingAnswers` (Algorithms 1 and 7)."""
+    first = robots[chosen[0]]
+    p, n = first.p, len(robots)
+    m, d, seg, own_group, own_id = chunk.m, chunk.d, chunk.segment, chunk.own_group, chunk.own_id
+    group, status, sender, moving, gradient = (m["group"], m["status"], m["id"], m["moving"],
+                                               m["gradient"])
+    mine = (group == own_group) & (sender != NO_SENDER)
+    surplus = np.zeros(n, dtype=bool)
+    if first.surplus_rule:
+        near = (d <= p.d_cover + p.arrive_tolerance) & (status == SURPLUS) & (group == own_group)
+        surplus = _any_by_robot(near, seg, n)
+    formed = ((d <= 1.5 * p.d_min) & mine & ~moving & (gradient < INF_GRADIENT)
+              & (status != COVERAGE))
+    best = np.full(n, INF_GRADIENT, dtype=np.int64)
+    np.minimum.at(best, seg[formed], gradient[formed])
+    grads = np.array([r.grad for r in robots], dtype=np.int64)
+    grads = np.where(best < INF_GRADIENT, best + 1, grads)  # the gradient each robot takes
+    rival = (d <= p.d_cover) & mine & (status != ARRIVE) & (status != SURPLUS) & ~m["enclosed"]
+    if first.groups > 1:
+        rival &= status != STOP  # a mover in Stop has left already (Section 4.3)
+    g = grads[seg]
+    rival &= (gradient > g) | ((gradient == g) & (sender > own_id))
+    by_waiting = _any_by_robot(rival & ~moving, seg, n).tolist()
+    by_any = _any_by_robot(rival, seg, n).tolist()
+    surplus, best = surplus.tolist(), best.tolist()
+    for k in chosen:
+        blocker = (BLOCKED_BY_WAITING if by_waiting[k] else BLOCKED_BY_MOVER if by_any[k]
+                   else NOT_BLOCKED)
+        grad = best[k] + 1 if best[k] < INF_GRADIENT else None
+        robots[k].pre_wait = WaitingAnswers(surplus[k], grad, blocker)
+
+
+def _any_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int) -> np.ndarray:
+    """(robots,) bool: does ``mask`` hold on any of each robot's rows?"""
+    return np.bincount(segment[mask], minlength=robots) > 0
 
 
 def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int

@@ -32,7 +32,7 @@ from controllers.views import any_of, within
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation, aggregation_fields
-from .batch import Precomputed
+from .batch import BLOCKED_BY_MOVER, BLOCKED_BY_WAITING, NOT_BLOCKED, Precomputed, WaitingAnswers
 from .params import GGCParams
 from .statuses import (  # noqa: F401 (re-exported)
     APPROACH,
@@ -53,7 +53,6 @@ from .statuses import (  # noqa: F401 (re-exported)
     SURPLUS,
 )
 
-NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                   ("enclosed", "?"), *AGGREGATION_FIELDS]
 """GGC's broadcast fields for up to MAX_GROUPS groups (a run uses :func:`message_fields`)."""
@@ -129,6 +128,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.initial_since = 0
         self.init_aggregation()
         self.pre: Precomputed | None = None  # this tick's answers from GGC.prepare, if any
+        self.pre_wait: WaitingAnswers | None = None
         self.handlers = {INITIAL: self.initial, DETECTION: self.detection,
                          COVERAGE: self.coverage, ARRIVE: self.arrive, STOP: self.stopped,
                          SURPLUS: self.arrive}  # by status; the others gather (aggregation.py)
@@ -175,7 +175,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             action = self.select_leaders(p)
         else:
             action = self.handlers.get(self.status, self.gather)(p)
-        self.pre = None  # it answered this perception only
+        self.pre = self.pre_wait = None  # they answered this perception only
         return action
 
     # ------------------------------------------------------------------ neighbour views
@@ -327,13 +327,14 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ Detection
     def detection(self, p: Perception) -> Action:
-        if self.surplus_rule and self.hears_surplus(p):
+        pre = self.pre_wait  # the same answers, found for the whole chunk at once
+        if self.surplus_rule and (pre.surplus if pre is not None else self.hears_surplus(p)):
             self.set_status(SURPLUS)  # my group's structure is full: stay where I am
             return self.act(sleep=True, wake_range=0.0)
-        grad = self.gradient_from(p, 1.5 * self.p.d_min)
+        grad = pre.grad if pre is not None else self.gradient_from(p, 1.5 * self.p.d_min)
         if grad is not None:
             self.grad = grad
-        blocker = self.blocked(p)
+        blocker = pre.blocker if pre is not None else self.blocked(p)
         if self.yield_count and len(self.waiting_near(p)) < self.yield_count:
             self.yield_count = 0  # a robot around me has left: try again
         elif (self.yield_count and self.p.d_cover <= self.p.yield_release
