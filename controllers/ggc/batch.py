@@ -89,13 +89,15 @@ def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
     movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
               & (status == COVERAGE))
     ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-    found = [_rows_by_robot(mask, chunk.segment, len(robots)) for mask in (edge, movers, ahead)]
+    nearest, second = _first_two_by_robot(edge, chunk.segment, len(robots))
+    mover_rows, mover_first = _rows_by_robot(movers, chunk.segment, len(robots))
+    ahead_rows, ahead_first = _rows_by_robot(ahead, chunk.segment, len(robots))
     start_of = chunk.starts.tolist()
-    (edge_rows, edge_first), (mover_rows, mover_first), (ahead_rows, ahead_first) = found
     for k in chosen:
         start = start_of[k]
-        robots[k].pre = Precomputed(_rows_of(edge_rows, edge_first, k, start, limit=2),
-                                    _rows_of(mover_rows, mover_first, k, start),
+        edge_k = ([] if nearest[k] < 0 else [nearest[k] - start] if second[k] < 0
+                  else [nearest[k] - start, second[k] - start])
+        robots[k].pre = Precomputed(edge_k, _rows_of(mover_rows, mover_first, k, start),
                                     _rows_of(ahead_rows, ahead_first, k, start))
 
 
@@ -145,13 +147,24 @@ def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
     return rows.tolist(), first.tolist()
 
 
-def _rows_of(rows: list[int], first: list[int], k: int, start: int,
-             limit: int | None = None) -> list[int]:
-    """Robot k's rows among ``rows`` (the first ``limit``), as indices into its own
-    perception."""
+def _first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
+                        ) -> tuple[list[int], list[int]]:
+    """Each robot's first and second row where ``mask`` holds (-1: none), without listing
+    the others (in a formation nearly every row is a stationary robot)."""
+    rows = np.flatnonzero(mask)
+    if len(rows) == 0:
+        return [-1] * robots, [-1] * robots
+    first = np.searchsorted(segment[rows], np.arange(robots + 1))
+    found = []
+    for j in (0, 1):
+        at = first[:-1] + j
+        found.append(np.where(at < first[1:], rows[np.minimum(at, len(rows) - 1)], -1).tolist())
+    return found[0], found[1]
+
+
+def _rows_of(rows: list[int], first: list[int], k: int, start: int) -> list[int]:
+    """Robot k's rows among ``rows``, as indices into its own perception."""
     a, b = first[k], first[k + 1]
     if a == b:
         return []
-    if limit is not None:
-        b = min(b, a + limit)
     return [r - start for r in rows[a:b]]
