@@ -22,6 +22,10 @@ from .statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 """GGCRobot.blocked's answers."""
+FIELDS = ("group", "status", "id", "moving", "gradient", "enclosed")
+"""The broadcast fields the queries read."""
+_new_tuple = tuple.__new__
+"""``_new_tuple(Cls, values)`` makes a NamedTuple without its Python-level __new__."""
 
 
 class Precomputed(NamedTuple):
@@ -50,9 +54,12 @@ class WaitingAnswers(NamedTuple):
 
 
 class Chunk(NamedTuple):
-    """A chunk's rows with, on each row, the listening robot's index, group and id."""
+    """A chunk's rows with, on each row, the listening robot's index, group and id.
 
-    m: np.ndarray
+    ``m`` holds the broadcast fields the queries read, each as its own contiguous array
+    (a comparison over a field of the structured rows is ~6x slower: it strides)."""
+
+    m: dict[str, np.ndarray]
     d: np.ndarray
     starts: np.ndarray
     segment: np.ndarray
@@ -68,7 +75,8 @@ def prepare_chunk(robots: list, batch: NeighbourBatch) -> None:
     if not (movers or waiting):
         return
     segment = np.repeat(np.arange(len(robots)), np.diff(batch.starts))
-    chunk = Chunk(batch.messages, batch.distances, batch.starts, segment,
+    fields = {name: np.ascontiguousarray(batch.messages[name]) for name in FIELDS}
+    chunk = Chunk(fields, batch.distances, batch.starts, segment,
                   np.array([r.group for r in robots])[segment],
                   np.array([r.id for r in robots])[segment])
     if movers:
@@ -93,12 +101,14 @@ def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
     mover_rows, mover_first = _rows_by_robot(movers, chunk.segment, len(robots))
     ahead_rows, ahead_first = _rows_by_robot(ahead, chunk.segment, len(robots))
     start_of = chunk.starts.tolist()
-    for k in chosen:
-        start = start_of[k]
-        edge_k = ([] if nearest[k] < 0 else [nearest[k] - start] if second[k] < 0
-                  else [nearest[k] - start, second[k] - start])
-        robots[k].pre = Precomputed(edge_k, _rows_of(mover_rows, mover_first, k, start),
-                                    _rows_of(ahead_rows, ahead_first, k, start))
+    for k in chosen:  # the hot loop: inlined, and tuple.__new__ skips NamedTuple's __new__
+        start, a, b = start_of[k], nearest[k], second[k]
+        edge_k = [] if a < 0 else [a - start] if b < 0 else [a - start, b - start]
+        a, b = mover_first[k], mover_first[k + 1]
+        movers_k = [r - start for r in mover_rows[a:b]] if a != b else []
+        a, b = ahead_first[k], ahead_first[k + 1]
+        ahead_k = [r - start for r in ahead_rows[a:b]] if a != b else []
+        robots[k].pre = _new_tuple(Precomputed, (edge_k, movers_k, ahead_k))
 
 
 def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
@@ -131,7 +141,7 @@ def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
         blocker = (BLOCKED_BY_WAITING if by_waiting[k] else BLOCKED_BY_MOVER if by_any[k]
                    else NOT_BLOCKED)
         grad = best[k] + 1 if best[k] < INF_GRADIENT else None
-        robots[k].pre_wait = WaitingAnswers(surplus[k], grad, blocker)
+        robots[k].pre_wait = _new_tuple(WaitingAnswers, (surplus[k], grad, blocker))
 
 
 def _any_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int) -> np.ndarray:
@@ -162,9 +172,3 @@ def _first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
     return found[0], found[1]
 
 
-def _rows_of(rows: list[int], first: list[int], k: int, start: int) -> list[int]:
-    """Robot k's rows among ``rows``, as indices into its own perception."""
-    a, b = first[k], first[k + 1]
-    if a == b:
-        return []
-    return [r - start for r in rows[a:b]]
