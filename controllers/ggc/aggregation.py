@@ -44,7 +44,6 @@ FAR = 1e9
 QUIET_CAP = 10_000
 
 
-
 def aggregation_fields(groups: int = MAX_GROUPS) -> list[tuple]:
     """The scattered start's broadcast fields: one leader distance and epoch per group."""
     return [("h", "i1"), ("handover", "i4"), ("ldist", "f4", (groups,)),

@@ -149,11 +149,18 @@ def _any_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int) -> np.ndar
     return np.bincount(segment[mask], minlength=robots) > 0
 
 
+def _row_spans(mask: np.ndarray, segment: np.ndarray, robots: int
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """The rows where ``mask`` holds, and where each robot's share of them begins (then the
+    end): robot k's are ``rows[first[k]:first[k + 1]]``."""
+    rows = np.flatnonzero(mask)
+    return rows, np.searchsorted(segment[rows], np.arange(robots + 1))
+
+
 def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
                    ) -> tuple[list[int], list[int]]:
-    """The rows where ``mask`` holds, and where each robot's share of them begins."""
-    rows = np.flatnonzero(mask)
-    first = np.searchsorted(segment[rows], np.arange(robots + 1))
+    """:func:`_row_spans` as Python lists (for masks that hold on few rows)."""
+    rows, first = _row_spans(mask, segment, robots)
     return rows.tolist(), first.tolist()
 
 
@@ -161,14 +168,11 @@ def _first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
                         ) -> tuple[list[int], list[int]]:
     """Each robot's first and second row where ``mask`` holds (-1: none), without listing
     the others (in a formation nearly every row is a stationary robot)."""
-    rows = np.flatnonzero(mask)
+    rows, first = _row_spans(mask, segment, robots)
     if len(rows) == 0:
         return [-1] * robots, [-1] * robots
-    first = np.searchsorted(segment[rows], np.arange(robots + 1))
     found = []
     for j in (0, 1):
         at = first[:-1] + j
         found.append(np.where(at < first[1:], rows[np.minimum(at, len(rows) - 1)], -1).tolist())
     return found[0], found[1]
-
-
