@@ -165,8 +165,8 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
     out = {}
     for k, v in value.items():
         if k not in DEFAULT_KEYS:
-            raise ConfigError(f"unknown default {v!r}; allowed: {sorted(DEFAULT_KEYS)}",
-                              source=source, key=f"defaults.{k}")
+            raise ConfigError(f"unknown run default {k!r} (value {v!r}); allowed: "
+                              f"{sorted(DEFAULT_KEYS)}", source=source, key=f"defaults.{k}")
         want = DEFAULT_KEYS[k]
         ok = isinstance(v, want) or (want is float and isinstance(v, int))
         if isinstance(v, bool) or not ok:
