@@ -302,6 +302,47 @@ def test_with_stop_on_target_only_a_mover_off_the_target_does_not_stop_for_other
         assert r.status == expected, flag
 
 
+def test_after_stop_patience_ticks_in_stop_a_robot_goes_on_and_passes_for_T_s():
+    view = perception([((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)])
+
+    def at(tick: int) -> Perception:
+        return dataclasses.replace(view, tick=tick)
+
+    r = robot(stop_patience=300, T_s=100)
+    r.status = COVERAGE
+    r.coverage(at(10))
+    assert r.status == STOP  # Section 4.3: another group's mover with priority
+    r.stopped(at(309))
+    assert r.status == STOP  # still there, and patience not yet used up
+    r.stopped(at(310))
+    assert r.status == COVERAGE  # waited stop_patience ticks: goes on
+    r.coverage(at(409))
+    assert r.status == COVERAGE  # and passes that mover for T_s ticks
+    r.coverage(at(410))
+    assert r.status == STOP
+    patient = robot()  # the default (0): waits as long as the mover is there
+    patient.status = COVERAGE
+    patient.coverage(at(10))
+    patient.stopped(at(100_000))
+    assert patient.status == STOP
+
+
+def test_stop_patience_counts_from_a_deadlock_stop_too():
+    view = perception([((2.0, 0.5), 9, 2, COVERAGE)])
+    r = robot(stop_patience=300, T_s=100)
+    r.status = COVERAGE
+    r.deadlock_stop(dataclasses.replace(view, tick=1000))
+    r.stopped(dataclasses.replace(view, tick=1100))  # T_s is over, the mover is still there
+    assert r.status == STOP
+    r.stopped(dataclasses.replace(view, tick=1300))
+    assert r.status == COVERAGE
+
+
+def test_stop_patience_must_not_be_negative():
+    with pytest.raises(ValueError, match="stop_patience"):
+        GGCParams(stop_patience=-1)
+
+
 def test_deadlock_episodes_open_at_a_detection_and_close_on_progress_or_settling():
     r = robot()
     r.set_status(COVERAGE)

@@ -121,6 +121,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         self.stepped_in = False
         self.groups = setup.groups
         self.resume_tick = 0
+        self.stop_since = 0  # the tick my current Stop began
+        self.pass_until = 0  # until this tick I do not Stop for other groups (stop_patience)
         self.scattered = setup.scattered
         self.enclosed = False
         self.turned_at = NO_SENDER
@@ -472,8 +474,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
                 self.yield_count = len(self.waiting_near(p))
                 return self.act()
         if ((p.on_target or not self.p.stop_on_target_only)
-                and self.other_group_mover(p)):
+                and p.tick >= self.pass_until and self.other_group_mover(p)):
             self.set_status(STOP)  # Section 4.3: avoid another group's moving robot
+            self.stop_since = p.tick
             self.collision_stops += 1
             return self.act()
         give_way = self.give_way(p, velocity)
@@ -767,6 +770,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def deadlock_stop(self, p: Perception) -> Action:
         self.set_status(STOP)
+        self.stop_since = p.tick
         self.resume_tick = p.tick + self.p.T_s
         return self.act()
 
@@ -795,11 +799,20 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def stopped(self, p: Perception) -> Action:
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
-        a deadlock, T_s ticks: Algorithm 6). Waiting does not count as making no progress."""
+        a deadlock, T_s ticks: Algorithm 6). Waiting does not count as making no progress.
+
+        With ``stop_patience`` > 0, a robot that has waited that many ticks goes on while
+        the mover is still there, and does not Stop for other groups for the next T_s ticks.
+        """
         self.progress_tick = p.tick
         self.odometer[:] = 0.0
-        if self.other_group_mover(p) or p.tick < self.resume_tick:
+        if p.tick < self.resume_tick:
             return self.act()
+        if self.other_group_mover(p):
+            patience = self.p.stop_patience
+            if not patience or p.tick - self.stop_since < patience:
+                return self.act()
+            self.pass_until = p.tick + self.p.T_s  # waited long enough: go, and pass
         self.set_status(COVERAGE)
         return self.coverage(p)
 
