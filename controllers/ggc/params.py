@@ -131,7 +131,7 @@ class GGCParams:
             Stop is within hearing, as the paper's Algorithm 5 says. The paper's rule packs
             some robots closer but clears jams: K, 3 groups, seeds 0-2, coverage at tick
             12,000 0.639, 0.583, 0.637 against 0.600, 0.597, 0.610 with the spacing rule.
-            On the large K (seed 0) the spacing rule does better: 0.762 at tick 44,000 where
+            On the large K (seed 0) the spacing rule does better: 0.765 at tick 45,000 where
             the default stays at 0.672 (no dense line of arrived robots along the leg's inner
             edge). On K with 3 groups it does worse: seeds 0 / 2 complete at 23,582 / 19,232
             (default 18,537 / 14,863) and seed 1 ends by the plateau at 0.985 (tick 34,001).
