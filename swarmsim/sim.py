@@ -20,9 +20,9 @@ from swarmsim.controller import (
     INF_GRADIENT,
     Action,
     NeighbourBatch,
-    Perception,
     RobotSetup,
     get_controller,
+    make_perception,
     message_dtype,
     run_message_fields,
     silent_message,
@@ -312,9 +312,11 @@ class Simulation:
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
         at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), moved[awake]
         deciding = [controllers[i] for i in awake.tolist()]
-        perceptions = [Perception(tick, offset_lists[k], distance_lists[k], message_lists[k],
-                                  on[k], probe_at(*at[k]), beacons[k], shift[k])
-                       for k in range(len(deciding))]
+        perceptions = [make_perception(tick, offsets, distances, messages, on_k, probe_at(x, y),
+                                       beacon, moved_k)
+                       for offsets, distances, messages, on_k, (x, y), beacon, moved_k
+                       in zip(offset_lists, distance_lists, message_lists, on, at, beacons,
+                              list(shift), strict=True)]
         if self._prepare is not None and heard is not None:
             starts = np.concatenate(([0], np.cumsum(counts)))
             self._prepare(deciding, NeighbourBatch(heard, np.concatenate(distance_lists),

@@ -29,7 +29,14 @@ import numpy as np
 
 from controllers.edges import CirclingWatch, ProgressWatch, turn_between
 from controllers.views import any_of, within
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup
+from swarmsim.controller import (
+    INF_GRADIENT,
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+)
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation, aggregation_fields
 from .batch import BLOCKED_BY_MOVER, BLOCKED_BY_WAITING, NOT_BLOCKED, Precomputed, WaitingAnswers
@@ -154,8 +161,8 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
-        return Action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
-                      wake_range, self.listen_range(), wake_on_motion)
+        return make_action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
+                           wake_range, self.listen_range(), wake_on_motion)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
