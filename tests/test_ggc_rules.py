@@ -327,6 +327,18 @@ def test_after_stop_patience_ticks_in_stop_a_robot_goes_on_and_passes_for_T_s():
     assert patient.status == STOP
 
 
+def test_on_the_target_a_robot_in_stop_waits_whatever_its_stop_patience():
+    view = dataclasses.replace(perception([((2.0, 0.5), 9, 2, COVERAGE)]), on_target=True,
+                               probe=lambda offset: True)
+    r = robot(stop_patience=300, T_s=100)
+    r.status = STOP
+    r.stop_since = 10
+    r.stopped(dataclasses.replace(view, tick=5000))
+    assert r.status == STOP  # the mover is still there: on the target, the paper's rule
+    r.stopped(dataclasses.replace(view, tick=5001, on_target=False))
+    assert r.status == COVERAGE  # off the target the same wait has used up its patience
+
+
 def test_stop_patience_counts_from_a_deadlock_stop_too():
     view = perception([((2.0, 0.5), 9, 2, COVERAGE)])
     r = robot(stop_patience=300, T_s=100)

@@ -106,15 +106,22 @@ class GGCParams:
             where the default completes, and seed 3 at 0.973 (tick 51,400; default 0.975);
             K-large at tick 5,000: 0.239 against 0.265 (movers that no longer stop beside
             their formation hold its waiting robots back longer).
-        stop_patience: a robot in Stop (Section 4.3) that has waited this many ticks while
-            another group's mover is still within d_cover goes on, and does not Stop for other
-            groups for the next T_s ticks (experimental; 0, the default: it waits as long as
-            the mover is there, the paper's rule). With ten groups on the large K, hundreds of
-            robots wait in Stop for movers that are jammed in the same crowd. Seed 0 with 500:
-            0.731 at tick 45,000, still rising slowly, where the default stays at 0.672 from
-            tick 38,000. But K, 3 groups: seeds 0 / 1 / 2 complete at 21,185 / 15,563 /
-            26,997 with 276,553 / 207,591 / 337,576 moved, against 18,537 / 17,157 / 14,863
-            and 245,881 / 230,636 / 205,262 by default: worse on the mean.
+        stop_patience: a robot in Stop (Section 4.3) off the target that has waited this
+            many ticks while another group's mover is still within d_cover goes on, and does
+            not Stop for other groups for the next T_s ticks (experimental; 0, the default: it
+            waits as long as the mover is there, the paper's rule). On the target it always
+            waits. With ten groups on the large K, hundreds of robots wait in Stop outside the
+            target for movers jammed in the same crowd. With 500, K, 3 groups, seeds 0-4
+            complete at 14,630 / 16,040 / 26,662 / 14,085 / 17,094 (mean 17,702) with
+            211,668 / 213,061 / 326,936 / 193,147 / 225,137 moved (mean 233,990), against
+            18,537 / 17,157 / 14,863 / 13,784 / 18,578 (16,584) and 245,881 / 230,636 /
+            205,262 / 183,117 / 239,097 (220,799) by default: better on three seeds, but
+            seed 2 left a hole inside the upper arm (0.984 at tick 20,000). house, seeds 0-4:
+            mean completion 42,150 against 35,321 (faster on seed 0 only). The large K, seed
+            0: 0.728 at tick 45,000, still rising slowly, where the default stays at 0.672
+            from tick 38,000. Applied on the target too (the option's first form) it was
+            worse on K (seeds 0-2 completed at 21,185 / 15,563 / 26,997), and the large K
+            reached 0.731 at 45,000.
         yield_release: a wedged robot back in Detection waits for a robot around it to leave
             first (``yield_count``); while d_cover <= yield_release (units; 0: never) it stops
             waiting once every waiting robot around it is yielding or enclosed too and it is

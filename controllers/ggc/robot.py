@@ -808,8 +808,9 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
         """Stop (Section 4.3): wait until no other group's mover is within d_cover (and, after
         a deadlock, T_s ticks: Algorithm 6). Waiting does not count as making no progress.
 
-        With ``stop_patience`` > 0, a robot that has waited that many ticks goes on while
-        the mover is still there, and does not Stop for other groups for the next T_s ticks.
+        With ``stop_patience`` > 0, a robot off the target that has waited that many ticks
+        goes on while the mover is still there, and does not Stop for other groups for the
+        next T_s ticks. On the target it waits as long as the paper says.
         """
         self.progress_tick = p.tick
         self.odometer[:] = 0.0
@@ -817,7 +818,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
             return self.act()
         if self.other_group_mover(p):
             patience = self.p.stop_patience
-            if not patience or p.tick - self.stop_since < patience:
+            if not patience or p.on_target or p.tick - self.stop_since < patience:
                 return self.act()
             self.pass_until = p.tick + self.p.T_s  # waited long enough: go, and pass
         self.set_status(COVERAGE)
