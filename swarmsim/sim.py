@@ -293,7 +293,7 @@ class Simulation:
                 moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
         pos, on_target = self.positions, self.on_target
         neighbour_lists, offset_lists, distance_lists = views
-        heard = None
+        heard, message_lists = None, []
         if neighbour_lists:
             heard_from = np.concatenate(neighbour_lists)
             # np.take: ~20x faster than fancy indexing for a structured dtype, same rows
