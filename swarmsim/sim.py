@@ -7,8 +7,10 @@ sleep are skipped until something within their sensing range moves or changes it
 
 from __future__ import annotations
 
+import gc
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -379,15 +381,16 @@ class Simulation:
         bar = _progress_bar(self.config.max_ticks, progress)
         start = time.perf_counter()
         try:
-            while self.stop_reason is None:
-                self.step()
-                if on_tick is not None:
-                    on_tick(self)
-                self.stop_reason = self._should_stop()
-                if bar is not None and (self.tick % 50 == 0 or self.stop_reason):
-                    bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%",
-                                        refresh=False)
-                    bar.update(self.tick - bar.n)  # redraws at most every mininterval
+            with _old_objects_frozen():
+                while self.stop_reason is None:
+                    self.step()
+                    if on_tick is not None:
+                        on_tick(self)
+                    self.stop_reason = self._should_stop()
+                    if bar is not None and (self.tick % 50 == 0 or self.stop_reason):
+                        bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%",
+                                            refresh=False)
+                        bar.update(self.tick - bar.n)  # redraws at most every mininterval
         finally:
             self.wall_seconds += time.perf_counter() - start
             if bar is not None:
@@ -443,6 +446,26 @@ class Simulation:
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
+
+
+@contextmanager
+def _old_objects_frozen() -> Iterator[None]:
+    """Keep the objects that exist now out of Python's full garbage collections for a while.
+
+    A run allocates little that lives long, but every full collection walks every object in
+    the process (controllers, world, modules): ~4 % of a K run (gen-2 collections, 1.5 s of
+    43 s over 2,500 ticks; 0.1 s frozen). Frozen objects are unfrozen afterwards, so a
+    discarded Simulation is collected as usual. Left alone if the caller froze objects
+    already (their GC, their rules). Changes no result: collection order decides nothing.
+    """
+    if gc.get_freeze_count():
+        yield
+        return
+    gc.freeze()
+    try:
+        yield
+    finally:
+        gc.unfreeze()
 
 
 def _clamp(velocities: np.ndarray, v_max: float) -> np.ndarray:

@@ -1,6 +1,8 @@
 """The tick loop: determinism, order independence, stopping rules and bad input."""
 
+import gc
 import json
+import weakref
 
 import numpy as np
 import pytest
@@ -77,6 +79,32 @@ def test_sleeping_changes_nothing_but_saves_work():
     assert [r["coverage"] for r in ta] == [r["coverage"] for r in tb]
     assert min(r["awake"] for r in ta[5:]) < 20  # robots really slept
     assert min(r["awake"] for r in tb[5:]) == 40
+
+
+def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
+    seen = []
+    sim = Simulation(square_world(), controller="dispersion", robots=10, seed=1, max_ticks=20)
+    sim.run(on_tick=lambda s: seen.append(gc.get_freeze_count()))
+    assert min(seen) > 0  # the objects from before the run sat out full collections
+    assert gc.get_freeze_count() == 0  # and were handed back afterwards
+    gone = weakref.ref(sim.controllers[0])
+    del sim
+    gc.collect()
+    assert gone() is None  # a finished run's robots are collected as usual
+
+
+def test_a_run_leaves_the_callers_own_frozen_objects_alone():
+    gc.freeze()
+    try:
+        before = gc.get_freeze_count()
+        sim = Simulation(square_world(), controller="dispersion", robots=10, seed=1,
+                         max_ticks=20)
+        seen = []
+        sim.run(on_tick=lambda s: seen.append(gc.get_freeze_count()))
+        assert max(seen) <= before  # the run froze nothing more (the sim's objects stay out)
+        assert gc.get_freeze_count() > before / 2  # and did not unfreeze the caller's
+    finally:
+        gc.unfreeze()
 
 
 def test_stops_on_stall_and_reports_it():
