@@ -505,7 +505,11 @@ def _progress_bar(total: int, enabled: bool):
 
     # redrawn twice a second on a terminal; in a log file (not a tty) every 30 s
     interval = 0.5 if sys.stderr.isatty() else 30.0
-    return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False, mininterval=interval)
+    # No bar and no time left: a run usually stops long before max_ticks (completion, plateau,
+    # stall), so a share of max_ticks and an ETA from it would mislead.
+    fmt = "tick {n_fmt} of at most {total_fmt} [{elapsed}, {rate_fmt}{postfix}]"
+    return tqdm(total=total, unit="tick", dynamic_ncols=True, leave=False, mininterval=interval,
+                bar_format=fmt)
 
 
 __all__ = ["INF_GRADIENT", "PhysicsConfig", "RunResult", "SimConfig", "Simulation"]

@@ -213,3 +213,18 @@ def test_the_python_api_and_the_command_line_run_the_same_controller_by_default(
     sim = Simulation("tiny", max_ticks=1)
     assert sim.controller_name == cli_default == "ggc"
     assert type(sim.controllers[0]).__module__.startswith("controllers.ggc")
+
+
+def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta():
+    from swarmsim.sim import _progress_bar
+
+    bar = _progress_bar(100_000, enabled=True)
+    try:
+        bar.update(3_250)
+        bar.set_postfix_str("coverage  37.1%", refresh=False)
+        text = str(bar)
+    finally:
+        bar.close()
+    assert text.startswith("tick 3250 of at most 100000 [")
+    assert "coverage  37.1%" in text
+    assert "%|" not in text and "<" not in text  # no bar, no time left: runs stop early
