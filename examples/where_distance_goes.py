@@ -7,7 +7,7 @@ Runs GGC (or --controller) like ``swarmsim run`` and keeps, per robot, the dista
 (units) and the tick it settled. Prints the distance of the robots in each status at the end
 (did the walking go to robots that found a place, or to robots that never did?) and every
 robot that settled after ``--late-from`` (tick, id, group, position, coverage then). On K with
-3 groups this is how the interior holes that end a run were found (README, GGC's known limits).
+3 groups this is how the interior holes that end a run were found (docs/ggc-findings.md).
 """
 
 from __future__ import annotations

@@ -766,7 +766,7 @@ class GGCRobot(Aggregation, CirclingWatch, ProgressWatch):
 
         With groups too, at any d_cover: other groups' movers and robots in Stop crowd round a
         formation, and a mover of its group stuck one unit from it blocked its rim for good
-        (house, 3 groups, seed 1: 116 robots never left; see the README's known limits).
+        (house, 3 groups, seed 1: 116 robots never left; see docs/ggc-findings.md, house).
         """
         reach = 0.9 * self.p.d_safe
         if self.p.d_cover <= self.p.yield_release or self.groups > 1:
