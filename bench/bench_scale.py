@@ -6,7 +6,10 @@ below it). After --warmup ticks it times --ticks ticks and reports, per size:
 
 - ms per tick (median of --repeats blocks) and microseconds per robot per tick;
 - growth: (tick cost at N / tick cost at the smallest N) / (N / smallest N). At most 1.0 means
-  the cost grows no worse than linearly with the robots;
+  the cost grows no worse than linearly with the robots. The same for the bare pymunk step
+  alone (``bare gr.``) and for the simulator's own part of a tick, tick - bare step
+  (``own gr.``): pymunk's step grows faster than linearly with a dense swarm, and how much
+  faster depends on the machine's caches and load;
 - peak RSS of that process, in MB (the whole Python process: interpreter, numpy, pymunk).
 
     python bench/bench_scale.py                          # 2000 5000 10000 robots, GGC
@@ -54,15 +57,19 @@ def main() -> None:
     print(f"{args.controller}: ms per tick (median of blocks), after {args.warmup} ticks;"
           " growth = cost ratio / size ratio against the smallest size (<= 1: linear or better)")
     print(f"{'robots':>7}{'awake':>7}{'tick ms':>9}{'us/robot':>10}{'bare ms':>9}"
-          f"{'ratio':>7}{'growth':>8}{'peak MB':>9}")
+          f"{'ratio':>7}{'growth':>8}{'bare gr.':>9}{'own gr.':>8}{'peak MB':>9}")
     base = None
     for n in sizes:
         r = measure_in_fresh_process(n, args.controller, args.warmup, args.ticks, args.repeats)
-        base = base or (n, r["tick"])
-        growth = (r["tick"] / base[1]) / (n / base[0])
+        own = r["tick"] - r["bare_step"]
+        base = base or (n, r["tick"], r["bare_step"], own)
+        size_ratio = n / base[0]
+        growth = [cost / base_cost / size_ratio
+                  for cost, base_cost in zip((r["tick"], r["bare_step"], own), base[1:],
+                                             strict=True)]
         print(f"{n:>7}{r['awake']:>7}{r['tick']:>9.2f}{1e3 * r['tick'] / n:>10.2f}"
-              f"{r['bare_step']:>9.2f}{r['tick'] / r['bare_step']:>7.1f}{growth:>8.2f}"
-              f"{r['peak_rss_mb']:>9.0f}", flush=True)
+              f"{r['bare_step']:>9.2f}{r['tick'] / r['bare_step']:>7.1f}{growth[0]:>8.2f}"
+              f"{growth[1]:>9.2f}{growth[2]:>8.2f}{r['peak_rss_mb']:>9.0f}", flush=True)
 
 
 if __name__ == "__main__":
