@@ -192,12 +192,24 @@ def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
     return args.frame_every or max(1, min(50, max_ticks // 600))
 
 
+def _check_width(width: int) -> None:
+    """Refuse a frame width the renderer cannot draw, before the run rather than at its first
+    frame."""
+    from swarmsim.render.frame import MIN_WIDTH
+
+    if width < MIN_WIDTH or width % 2:
+        raise ConfigError(f"must be an even number of pixels >= {MIN_WIDTH}, got {width!r}",
+                          key="--width")
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
 
     if args.fps <= 0:
         raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
+    if args.video or args.snapshot:
+        _check_width(args.width)
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))

@@ -109,6 +109,8 @@ class SimConfig:
             value = getattr(self, name)
             if not value > 0:
                 raise ConfigError(f"must be positive, got {value!r}", key=name)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ConfigError(f"must be a non-negative integer, got {self.seed!r}", key="seed")
         if not 0 <= self.eps0 < 1:
             raise ConfigError(f"must be in [0, 1), got {self.eps0!r}", key="eps0")
         if self.groups > self.robots:

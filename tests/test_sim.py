@@ -174,6 +174,9 @@ def test_cli_run_writes_outputs(tmp_path, capsys):
     (["run", "tiny", "--set", "novalue"], "KEY=VALUE"),
     (["run", "/no/such/file.toml"], "/no/such/file.toml"),
     (["run", "tiny", "--controller", "dispersion", "--robots", "-4"], "robots"),
+    (["run", "tiny", "--seed", "-1"], "key 'seed': must be a non-negative integer, got -1"),
+    (["run", "tiny", "--snapshot", "x.png", "--width", "10"], "key '--width'"),
+    (["run", "tiny", "--video", "x.mp4", "--width", "321"], "got 321"),
 ])
 def test_cli_bad_input_is_one_clear_line(argv, needle, capsys):
     assert main(argv) == 2
