@@ -144,8 +144,10 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
                           key=f"{key}.outline")
     poly = Polygon(shell, holes)
     if not poly.is_valid:
-        raise ConfigError(f"invalid polygon ({explain_validity(poly)}): {table['outline']!r}",
-                          source=source, key=f"{key}.outline")
+        # A valid outline with bad holes (outside it, crossing it or each other): name the holes.
+        part = "holes" if holes and Polygon(shell).is_valid else "outline"
+        raise ConfigError(f"invalid polygon ({explain_validity(poly)}): {table[part]!r}",
+                          source=source, key=f"{key}.{part}")
     if poly.area <= 0:
         raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
                           key=f"{key}.outline")

@@ -108,6 +108,15 @@ def test_self_intersecting_outline(tmp_path):
                  "Self-intersection")
 
 
+def test_hole_outside_the_outline_names_the_holes(tmp_path):
+    path = write(tmp_path, world_text(target="[target]\noutline = [[0, 20], [30, 20], "
+                                             "[30, 44], [0, 44]]\n"
+                                             "holes = [[[40, 50], [41, 50], [41, 51]]]\n"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "target.holes", "[[[40, 50], [41, 50], [41, 51]]]",
+                 "Hole lies outside shell")
+
+
 def test_zero_area_outline(tmp_path):
     path = write(tmp_path, world_text(target="[target]\noutline = [[0, 20], [10, 30], "
                                              "[20, 40]]\n"))
