@@ -84,3 +84,23 @@ def test_bad_physics_config():
         PhysicsConfig(radius=-1)
     with pytest.raises(ValueError, match="mode"):
         PhysicsConfig(mode="soft")
+
+
+def test_infinite_spin_traction_locks_rotation_without_a_gear_joint():
+    """spin_traction = inf: robots never turn and each has one joint (the drive), not two;
+    they still track their command and push each other."""
+    pos = np.array([[10.0, 10.0], [12.0, 10.3]])  # the second is hit off-centre
+
+    def head_on(p):
+        return np.array([[0.1, 0.0], [-0.1, 0.0]])
+
+    spinning = Physics(square_world(), pos)
+    locked = Physics(square_world(), pos, PhysicsConfig(spin_traction=float("inf")))
+    assert len(spinning.space.constraints) == 4 and len(locked.space.constraints) == 2
+    for physics in (spinning, locked):
+        drive(physics, head_on, 40)
+    assert locked.contacts.robot_robot > 0
+    assert all(b.angle == 0.0 and b.angular_velocity == 0.0 for b in locked._robots)
+    assert any(b.angle != 0.0 for b in spinning._robots)  # the default's robots do turn
+    _, vel = locked.read()
+    assert np.isfinite(vel).all()
