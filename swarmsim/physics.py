@@ -4,8 +4,8 @@ Units: lengths in the paper's units, time in ticks (one tick = one unit of pymun
 mass 1 per robot, velocities in units per tick.
 
 Each robot is a dynamic body with a Circle shape, pulled toward its commanded velocity by a
-force-limited PivotJoint (and a GearJoint against spinning) to its own kinematic control body:
-pymunk's tank-example pattern. Robots therefore push each other for real and the contact solver
+force-limited PivotJoint (and a GearJoint against spinning, unless spin_traction is inf) to its
+own kinematic control body: pymunk's tank-example pattern. Robots therefore push each other for real and the contact solver
 keeps overlap tiny, while an unobstructed robot tracks its command within a tick. Walls around
 the arena and obstacle outlines are static segments (concave shapes work: pymunk.Poly would take
 the convex hull). All body IO goes through pymunk.batch.
@@ -39,8 +39,8 @@ class PhysicsConfig:
         radius: robot body radius, units (0.4: robots d_safe = 1 apart do not touch).
         traction: largest force the drive can apply, mass*units/tick^2 (ground friction).
         spin_traction: largest torque against spinning; inf: robots never turn (an
-            infinite moment and no gear joint, which saves about half of pymunk's step
-            at 10,000 robots; results differ from the default's).
+            infinite moment and no gear joint, which saves ~40 % of pymunk's step at
+            2,000-10,000 robots; results differ from the default's).
         friction: Coulomb friction between bodies.
         substeps: pymunk steps per tick (dt = 1 / substeps).
         iterations: contact solver iterations per step.
