@@ -5,10 +5,11 @@ mass 1 per robot, velocities in units per tick.
 
 Each robot is a dynamic body with a Circle shape, pulled toward its commanded velocity by a
 force-limited PivotJoint (and a GearJoint against spinning, unless spin_traction is inf) to its
-own kinematic control body: pymunk's tank-example pattern. Robots therefore push each other for real and the contact solver
-keeps overlap tiny, while an unobstructed robot tracks its command within a tick. Walls around
-the arena and obstacle outlines are static segments (concave shapes work: pymunk.Poly would take
-the convex hull). All body IO goes through pymunk.batch.
+own kinematic control body: pymunk's tank-example pattern. Robots therefore push each other
+for real and the contact solver keeps overlap tiny, while an unobstructed robot tracks its
+command within a tick. Walls around the arena and obstacle outlines are static segments
+(concave shapes work: pymunk.Poly would take the convex hull). All body IO goes through
+pymunk.batch.
 """
 
 from __future__ import annotations
