@@ -195,11 +195,12 @@ def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
 def _check_width(width: int) -> None:
     """Refuse a frame width the renderer cannot draw, before the run rather than at its first
     frame."""
-    from swarmsim.render.frame import MIN_WIDTH
+    from swarmsim.render.frame import check_width
 
-    if width < MIN_WIDTH or width % 2:
-        raise ConfigError(f"must be an even number of pixels >= {MIN_WIDTH}, got {width!r}",
-                          key="--width")
+    try:
+        check_width(width)
+    except ValueError as exc:
+        raise ConfigError(str(exc).removeprefix("width "), key="--width") from None
 
 
 def cmd_run(args: argparse.Namespace) -> int:

@@ -56,6 +56,15 @@ from swarmsim.world import World
 COLOR_BY = ("gradient", "group", "status")
 MIN_WIDTH = 64
 
+
+def check_width(width: Any) -> None:
+    """Raise ValueError unless ``width`` (pixels) is an even integer >= MIN_WIDTH (H.264 needs
+    even frame sides)."""
+    if (isinstance(width, bool) or not isinstance(width, (int, np.integer))
+            or width < MIN_WIDTH or width % 2):
+        raise ValueError(f"width must be an even integer >= {MIN_WIDTH}, got {width!r}")
+
+
 def _even(x: float, multiple: int) -> int:
     return max(multiple, round(x / multiple) * multiple)
 
@@ -88,9 +97,7 @@ class Renderer:
         if color_by not in COLOR_BY:
             raise ValueError(f"color_by must be one of {', '.join(map(repr, COLOR_BY))}; "
                              f"got {color_by!r}")
-        if (isinstance(width, bool) or not isinstance(width, (int, np.integer))
-                or width < MIN_WIDTH or width % 2):
-            raise ValueError(f"width must be an even integer >= {MIN_WIDTH}, got {width!r}")
+        check_width(width)
         if not min_radius_px > 0:
             raise ValueError(f"min_radius_px must be positive, got {min_radius_px!r}")
         self.world = world
