@@ -8,16 +8,8 @@ import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
-from controllers.ggc.batch import prepare_chunk
-from controllers.ggc.robot import (
-    BLOCKED_BY_MOVER,
-    BLOCKED_BY_WAITING,
-    COVERAGE,
-    DETECTION,
-    NOT_BLOCKED,
-    STOP,
-    GGCRobot,
-)
+from controllers.ggc.batch import BLOCKED_BY_MOVER, BLOCKED_BY_WAITING, NOT_BLOCKED, prepare_chunk
+from controllers.ggc.robot import COVERAGE, DETECTION, STOP, GGCRobot
 from swarmsim import Simulation
 from swarmsim.controller import NeighbourBatch, RobotSetup
 

@@ -128,7 +128,7 @@ def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped(
 def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
     """Algorithm 7 waits for neighbours of larger gradient; with groups, one in Stop (Section
     4.3) has left already, and may wait there for another group's mover for good."""
-    from controllers.ggc.robot import BLOCKED_BY_WAITING, NOT_BLOCKED
+    from controllers.ggc.batch import BLOCKED_BY_WAITING, NOT_BLOCKED
 
     p = perception([((3.0, 0.0), 9, 1, STOP)])
     p.messages["gradient"][0] = 7
@@ -431,7 +431,7 @@ def test_boundary_fill_must_be_a_known_rule():
 
 def _valley_with_numpy(r, p, a, b):
     """valley_follow as it was written on numpy 2-vectors (the reference)."""
-    from controllers.ggc.robot import unit
+    from controllers.ggc.geometry import unit
 
     ra, rb = p.offsets[a] / p.distances[a], p.offsets[b] / p.distances[b]
     if ra @ rb >= 0:

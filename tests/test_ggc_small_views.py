@@ -10,21 +10,17 @@ import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
+from controllers.ggc.batch import BLOCKED_BY_MOVER, BLOCKED_BY_WAITING, NOT_BLOCKED
+from controllers.ggc.geometry import ENCLOSED_GAP, SMALL_VIEW, widest_gap
 from controllers.ggc.robot import (
     ARRIVE,
-    BLOCKED_BY_MOVER,
-    BLOCKED_BY_WAITING,
     COVERAGE,
     DETECTION,
-    ENCLOSED_GAP,
     INITIAL,
     MESSAGE_FIELDS,
-    NOT_BLOCKED,
-    SMALL_VIEW,
     STOP,
     SURPLUS,
     GGCRobot,
-    widest_gap,
 )
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Perception, RobotSetup, message_dtype
 

@@ -1,6 +1,9 @@
 """GGC: gradient-and-grouping self-organising coverage (the paper's controller).
 
-``--controller ggc``. See robot.py for the state machine and params.py for every parameter.
+``--controller ggc``. robot.py holds the state machine and the Initial status (travel);
+detection.py, coverage.py, surplus.py and collisions.py the other statuses' rules (mixins of
+GGCRobot); aggregation.py the scattered start; batch.py the chunk-wide neighbourhood queries;
+params.py every parameter.
 """
 
 from __future__ import annotations

@@ -129,7 +129,7 @@ class GGCParams:
             rim ends up yielding to itself and 287 robots never leave the formation). The
             bound keeps d_cover 6 runs as they were: there the rule fires twice in K's first
             2,500 ticks (one group, seed 0) and changes the run, though it never deadlocked.
-            The same bound widens ``wedged`` (robot.py): a robot stuck outside the target
+            The same bound widens ``wedged`` (collisions.py): a robot stuck outside the target
             rejoins its formation from 1.5 d_min away, not only when touching it (with groups
             at any d_cover).
         spaced_deadlock_arrive: with groups, a deadlocked mover on the target arrives only at
