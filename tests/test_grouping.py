@@ -6,8 +6,20 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from controllers.ggc.statuses import ARRIVE, FORMED, GATHERING, INITIAL
+from controllers.ggc import GGCParams
+from controllers.ggc.robot import MESSAGE_FIELDS, GGCRobot
+from controllers.ggc.statuses import (
+    APPROACH,
+    ARRIVE,
+    COVERAGE,
+    DETECTION,
+    FORMED,
+    GATHERING,
+    INITIAL,
+    SURPLUS,
+)
 from swarmsim import Simulation
+from swarmsim.controller import Perception, RobotSetup, message_dtype
 from swarmsim.world import world_from_dict
 
 from .test_ggc import small_world
@@ -125,3 +137,22 @@ def test_broadcasts_carry_one_leader_distance_per_group(groups):
         sim.step()
     heard_of_last_leader = sim.messages["ldist"][:, groups - 1] < 1e9
     assert heard_of_last_leader.sum() > 10
+
+
+def test_a_robot_not_formed_in_time_covers_on_its_own():
+    """aggregation_timeout: a robot of a group still gathering that long after leader selection
+    covers on its own (Detection, then Coverage); it does not stop for good as Surplus."""
+    params = GGCParams()
+    robot = GGCRobot(RobotSetup(7, group=2, groups=3, scattered=True), params,
+                     np.random.default_rng(0))
+    assert robot.status == APPROACH
+    alone = Perception(tick=robot.selection_ticks + params.aggregation_timeout + 1,
+                       offsets=np.zeros((0, 2)), distances=np.zeros(0),
+                       messages=np.zeros(0, dtype=message_dtype(MESSAGE_FIELDS)),
+                       on_target=False, probe=lambda offset: False,
+                       beacon=np.array([1.0, 0.0]), moved=np.zeros(2))
+    action = robot.step(alone)
+    assert DETECTION in robot.history
+    assert robot.status in (DETECTION, COVERAGE)
+    assert robot.status != SURPLUS and robot.surplus == 0
+    assert np.hypot(*action.velocity) > 0  # nobody to wait for: it heads for the beacon

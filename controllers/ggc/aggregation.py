@@ -173,7 +173,7 @@ class Aggregation:
         if self.status == FORMED:
             return self.formed(p)
         if p.tick - self.selection_ticks > self.p.aggregation_timeout and self.status in GATHERING:
-            return self.give_up(p)
+            return self.cover_alone(p)
         return self.approach(p)
 
     def own(self, p: Perception, statuses: tuple[int, ...]) -> np.ndarray:
@@ -264,8 +264,11 @@ class Aggregation:
         self.initial_since = p.tick
         self.grad = 0 if self.leader else self.grad
 
-    def give_up(self, p: Perception) -> Action:
-        """Not formed in time (cut off from the group): cover on my own from now on."""
+    def cover_alone(self, p: Perception) -> Action:
+        """Not formed in time (cut off from the group): cover on my own from now on.
+
+        (Named apart from SurplusLap.give_up, which stops a mover for good: until 2026-11-27
+        that method shadowed this one, and such robots stopped as Surplus where they were.)"""
         from .statuses import DETECTION
 
         self.set_status(DETECTION)
