@@ -28,13 +28,12 @@ Every robot has a clock, so the phases follow from the tick (T = ``T_settle``):
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from controllers.views import any_of, within
 from swarmsim.controller import NO_SENDER, Action, Perception
 
+from .geometry import unit
 from .statuses import APPROACH, FORMED
 
 MAX_GROUPS = 16
@@ -51,11 +50,6 @@ def aggregation_fields(groups: int = MAX_GROUPS) -> list[tuple]:
 
 
 AGGREGATION_FIELDS = aggregation_fields()
-
-
-def unit(v: np.ndarray) -> np.ndarray:
-    n = math.hypot(float(v[0]), float(v[1]))
-    return v / n if n > 1e-12 else np.zeros(2)
 
 
 def status_in(status: np.ndarray, statuses: tuple[int, ...]) -> np.ndarray:
