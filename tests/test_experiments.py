@@ -20,6 +20,13 @@ from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from
 from swarmsim.experiments import reproduce as rp
 from swarmsim.experiments.runner import Sweep
 from swarmsim.experiments.table import read_table
+from swarmsim.experiments.verdicts import (
+    NOT_CONSISTENT,
+    NOT_MEASURED,
+    PARTLY,
+    claims_fig18,
+    claims_fig21,
+)
 from swarmsim.faults import FaultPlan
 from swarmsim.sim import Simulation
 
@@ -536,3 +543,50 @@ def test_distance_claim_is_judged_where_robots_suffice_on_distance_to_final_cove
     assert "8: 156401" in claim.measured and note.verdict != rp.CONSISTENT
     ctx.conditions[2] = _distance_stats(8, 230_000, 230_662)  # 8 moves more than 6
     assert rp.dcover_distance_claims(ctx, "fig19")[0].verdict != rp.CONSISTENT
+
+
+def _cover_stats(value: float, coverage: float | None, settle: float | None) -> rp.CondStats:
+    cond = rp.Condition(f"value = {value}", value, "ggc", {})
+    one = (None, None, 0)
+    done = int(coverage is not None)
+    cov = (coverage, 0.0, done) if done else one
+    return rp.CondStats(cond, 1, done, 1 - done, cov, one, one,
+                        (settle, 0.0, 1) if settle is not None else one, one, {}, {}, [])
+
+
+@dataclass
+class _FiguresContext:
+    setup: rp.PaperSetup
+    figures: dict
+
+    def stats(self, key: str, index: int = 0, require_done: bool = False):
+        return self.figures[key]
+
+
+def _claim(claims_list, start):
+    return next(c for c in claims_list if c.text.startswith(start))
+
+
+def test_fig18_same_coverage_is_not_measured_when_the_groups_runs_failed():
+    one = [_cover_stats(d, 0.95, 1000.0) for d in (6, 8)]
+    ctx = _FiguresContext(rp.PaperSetup(world="K"), {
+        "fig17": one, "fig18": [_cover_stats(d, None, None) for d in (6, 8)]})
+    same = _claim(claims_fig18(ctx), "For d_cover <= 8 the final coverage is the same")
+    assert same.verdict == NOT_MEASURED and "6: n/a" in same.measured
+    ctx.figures["fig18"] = [_cover_stats(d, 0.96, 900.0) for d in (6, 8)]
+    same = _claim(claims_fig18(ctx), "For d_cover <= 8 the final coverage is the same")
+    assert same.verdict == rp.CONSISTENT and "6: 1.0 points" in same.measured
+
+
+def test_fig21_claim_fails_when_neither_speed_nor_full_coverage_holds():
+    slower = [_cover_stats(k, 0.90, t) for k, t in ((1, 1000.0), (3, 2000.0), (4, 3000.0))]
+    ctx = _FiguresContext(rp.PaperSetup(world="K"), {"fig21": slower})
+    claim = _claim(claims_fig21(ctx), "For K < 6")
+    assert claim.verdict == NOT_CONSISTENT
+    faster_not_full = [_cover_stats(k, 0.90, t) for k, t in ((1, 3000.0), (3, 2000.0),
+                                                              (4, 1000.0))]
+    ctx.figures["fig21"] = faster_not_full
+    assert _claim(claims_fig21(ctx), "For K < 6").verdict == PARTLY
+    ctx.figures["fig21"] = [_cover_stats(k, 0.995, t) for k, t in ((1, 3000.0), (3, 2000.0),
+                                                                   (4, 1000.0))]
+    assert _claim(claims_fig21(ctx), "For K < 6").verdict == rp.CONSISTENT

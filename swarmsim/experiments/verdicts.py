@@ -53,6 +53,18 @@ def _speed(a: CondStats, b: CondStats) -> tuple[float | None, float | None, str]
     return a.settle_cov[0], b.settle_cov[0], "mean tick at 99% of final coverage"
 
 
+def _speed_pairs(pairs: list[tuple[str, CondStats, CondStats]]) -> tuple[str, str, list[str]]:
+    """"x vs y" texts of :func:`_speed` for labelled pairs of conditions, with the metric
+    named once in front when every pair uses the same one, else after each pair; and each
+    pair's verdict that the first is faster. Returns (metric, texts joined, verdicts)."""
+    measured = [(label, *_speed(a, b)) for label, a, b in pairs]
+    hows = {how for *_, how in measured}
+    one_how = hows.pop() if len(hows) == 1 else ""
+    texts = [f"{label}: {_tick(x)} vs {_tick(y)}" + ("" if one_how else f" ({how})")
+             for label, x, y, how in measured]
+    return one_how, "; ".join(texts), [_less(x, y) for _, x, y, _ in measured]
+
+
 def _combine(verdicts: Sequence[str]) -> str:
     """All comparisons hold: consistent; some: partly; none: not; none measured: not measured."""
     measured = [v for v in verdicts if v != NOT_MEASURED]
@@ -146,24 +158,34 @@ def claims_fig18(ctx: Context) -> list[Claim]:
                             "run fig17 too to compare", NOT_MEASURED), _robots_note(ctx, "fig18")]
     a, b = _by_value(one), _by_value(three)
     common = [d for d in b if d in a]
-    faster = [_less(*_speed(b[d], a[d])[:2]) for d in common]
-    text = "; ".join(f"d_cover {num_text(d)}: {_tick(_speed(b[d], a[d])[0])} vs "
-                     f"{_tick(_speed(b[d], a[d])[1])}" for d in common)
+    how, text, faster = _speed_pairs([(f"d_cover {num_text(d)}", b[d], a[d]) for d in common])
     out.append(Claim("With the same d_cover, 3 groups reach stable coverage sooner than 1 group",
-                     f"3 groups vs 1 group ({_speed(b[common[0]], a[common[0]])[2]}): {text}",
+                     "3 groups vs 1 group" + (f" ({how})" if how else "") + f": {text}",
                      _combine(faster)))
-    same = [d for d in common if d <= 8]
-    diffs = {d: abs((_final_cov(b[d]) or 0) - (_final_cov(a[d]) or 0)) for d in same}
-    out.append(Claim("For d_cover <= 8 the final coverage is the same with and without groups",
-                     "|3 groups - 1 group|: " + ", ".join(f"{num_text(d)}: {100 * v:.1f} points"
-                                                          for d, v in diffs.items()),
-                     CONSISTENT if all(v <= 0.02 for v in diffs.values()) else NOT_CONSISTENT))
+    out.append(_same_coverage_claim(a, b, [d for d in common if d <= 8]))
     if 10 in common:
         out.append(Claim("At d_cover = 10 grouping lowers the coverage greatly",
                          f"final coverage 3 groups {_pct(_final_cov(b[10]))} vs 1 group "
                          f"{_pct(_final_cov(a[10]))}",
                          _less(_final_cov(b[10]), _final_cov(a[10]), 0.03)))
     return out + [_robots_note(ctx, "fig18")]
+
+
+def _same_coverage_claim(one: dict[Any, CondStats], three: dict[Any, CondStats],
+                         values: list[Any]) -> Claim:
+    """Fig18's "for d_cover <= 8 the same final coverage with and without groups", judged
+    only where both final coverages were measured (2 points of tolerance)."""
+    diffs = {}
+    for d in values:
+        x, y = _final_cov(three[d]), _final_cov(one[d])
+        diffs[d] = None if x is None or y is None else abs(x - y)
+    known = [v for v in diffs.values() if v is not None]
+    verdict = (NOT_MEASURED if not diffs or len(known) < len(diffs)
+               else CONSISTENT if all(v <= 0.02 for v in known) else NOT_CONSISTENT)
+    text = ", ".join(f"{num_text(d)}: " + ("n/a" if v is None else f"{100 * v:.1f} points")
+                     for d, v in diffs.items())
+    return Claim("For d_cover <= 8 the final coverage is the same with and without groups",
+                 "|3 groups - 1 group|: " + (text or "none"), verdict)
 
 
 def dcover_distance_claims(ctx: Context, key: str) -> list[Claim]:
@@ -220,20 +242,20 @@ def claims_fig21(ctx: Context) -> list[Claim]:
         out.append(Claim("3 groups complete faster than 1 group",
                          f"{how}: K=3 {_tick(x)} vs K=1 {_tick(y)}", _less(x, y)))
     low = [st[k] for k in sorted(st) if k < 6]
-    full = all((_final_cov(s) or 0) >= 1 - 0.02 for s in low)
     trend = _trend([_settle(s) for s in low], decreasing=True, tol=0.05)
+    covs = [_final_cov(s) for s in low]
+    full = (NOT_MEASURED if None in covs
+            else CONSISTENT if all(c >= 1 - 0.02 for c in covs) else NOT_CONSISTENT)
     out.append(Claim("For K < 6, more groups cover faster and coverage reaches 100%",
                      "tick at 99% of final coverage: " + _series_text(low, _settle, _tick)
                      + "; final coverage: " + _series_text(low, _final_cov, _pct),
-                     trend if full or trend == NOT_MEASURED else PARTLY))
+                     NOT_MEASURED if trend == NOT_MEASURED else _combine([trend, full])))
     if 6 in st and any(k > 6 for k in st):
         high = [st[k] for k in sorted(st) if k > 6]
-        slower = [_less(*_speed(st[6], s)[:2]) for s in high]
+        how, text, slower = _speed_pairs([(f"K=6 vs K={num_text(s.cond.value)}", st[6], s)
+                                          for s in high])
         out.append(Claim("More than 6 groups slow coverage down",
-                         f"{_speed(st[6], high[0])[2]}: K=6 {_tick(_speed(st[6], high[0])[0])}, "
-                         + ", ".join(f"K={num_text(s.cond.value)} {_tick(_speed(st[6], s)[1])}"
-                                     for s in high),
-                         _combine(slower)))
+                         (f"{how}: " if how else "") + text, _combine(slower)))
         top = high[-1]
         out.append(Claim("From 6 to 10 groups the coverage reached decreases",
                          f"final coverage K=6 {_pct(_final_cov(st[6]))}, "
