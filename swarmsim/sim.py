@@ -79,6 +79,23 @@ class Simulation:
                  robots: int | None = None, groups: int | None = None, seed: int = 0,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):
+        self._configure(world, controller, robots, groups, seed, d_cover, max_ticks, settings)
+        self._setup()
+
+    @classmethod
+    def check(cls, world: World | str, controller: str = "ggc", robots: int | None = None,
+              groups: int | None = None, seed: int = 0, d_cover: float | None = None,
+              max_ticks: int | None = None, settings: Mapping[str, Any] | None = None) -> None:
+        """Check a run's world, controller and settings as the constructor does, without
+        building the run (no layout, no bodies: milliseconds). Raises ConfigError naming the
+        key and value. Sweeps and reproductions check every run this way before the first."""
+        cls.__new__(cls)._configure(world, controller, robots, groups, seed, d_cover,
+                                    max_ticks, settings)
+
+    def _configure(self, world: World | str, controller: str, robots: int | None,
+                   groups: int | None, seed: int, d_cover: float | None,
+                   max_ticks: int | None, settings: Mapping[str, Any] | None) -> None:
+        """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
         self.controller_cls = get_controller(controller)
         self.controller_name = controller
@@ -92,7 +109,6 @@ class Simulation:
         if most is not None and self.config.groups > most:
             raise ConfigError(f"value {self.config.groups}: controller {controller!r} supports at "
                               f"most {most} groups", key="groups")
-        self._setup()
 
     def _merge_settings(self, robots, groups, seed, d_cover, max_ticks,
                         settings: Mapping[str, Any]) -> dict[str, Any]:

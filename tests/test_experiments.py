@@ -590,3 +590,22 @@ def test_fig21_claim_fails_when_neither_speed_nor_full_coverage_holds():
     ctx.figures["fig21"] = [_cover_stats(k, 0.995, t) for k, t in ((1, 3000.0), (3, 2000.0),
                                                                    (4, 1000.0))]
     assert _claim(claims_fig21(ctx), "For K < 6").verdict == rp.CONSISTENT
+
+
+@pytest.mark.parametrize("grid, message", [
+    ('groups = [0, 2]', "key 'groups': must be positive, got 0 (in the run with groups=0"),
+    ('mode = ["ghost", "bogus"]', "'bogus' (in the run with mode='bogus'"),
+])
+def test_a_bad_value_in_a_grid_is_refused_before_any_run(tmp_path, grid, message):
+    path = write_spec(tmp_path, f'world = "tiny"\ncontroller = "dispersion"\n[grid]\n{grid}\n')
+    with pytest.raises(ConfigError) as err:
+        load_spec(path)
+    assert message in str(err.value) and str(path) in str(err.value)
+
+
+def test_reproduce_refuses_a_bad_setting_before_any_run():
+    setup = rp.setup_with(rp.PAPER, extra={"eps": 0.02})
+    with pytest.raises(ConfigError, match="key 'eps': unknown parameter"):
+        rp.plan("fig17", setup, reps=1)
+    with pytest.raises(ConfigError, match="unknown world 'nosuch'"):
+        rp.plan("fig17", rp.setup_with(rp.PAPER, world="nosuch"), reps=1)

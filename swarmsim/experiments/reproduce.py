@@ -46,7 +46,7 @@ from swarmsim.experiments.figures import (
 )
 from swarmsim.experiments.report import versions_line, write_figure, write_report
 from swarmsim.experiments.runner import DONE, RunStore, Sweep
-from swarmsim.experiments.spec import RunSpec, unique_runs
+from swarmsim.experiments.spec import RunSpec, check_runs, unique_runs
 from swarmsim.experiments.verdicts import (
     CONSISTENT,
     claims_fig17,
@@ -126,7 +126,9 @@ def plan(which: str | Sequence[str], setup: PaperSetup = PAPER, reps: int = 3,
         raise ConfigError(f"must be >= 1, got {reps!r}", key="--reps")
     if max_ticks is not None and max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {max_ticks!r}", key="--max-ticks")
-    return {k: figure_runs(k, setup, reps, max_ticks) for k in figure_keys(which)}
+    runs = {k: figure_runs(k, setup, reps, max_ticks) for k in figure_keys(which)}
+    check_runs(unique_runs(r for rs in runs.values() for r in rs), "reproduce")
+    return runs
 
 
 def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = PAPER,

@@ -295,6 +295,28 @@ def check_settings(spec: SweepSpec) -> None:
                                   source=spec.source, key=where)
             for v in values:
                 _reraise(lambda v=v, k=k, d=known[k]: coerce(v, d, k), spec.source, where)
+    check_runs(spec.runs(), spec.source)
+
+
+def check_runs(runs: Iterable[RunSpec], source: str) -> None:
+    """Check every distinct run setting (world, controller, settings, seed) as
+    :meth:`Simulation.check` does, before any run starts: a bad value (``groups = 0``, an
+    unknown mode, a negative distance) is one ConfigError naming the run's grid values, not a
+    failed run per grid point."""
+    from swarmsim.sim import Simulation
+    from swarmsim.world import load_world
+
+    worlds: dict[str, Any] = {}
+    for run in runs:
+        ref = run.world_ref or run.world
+        if ref not in worlds:
+            worlds[ref] = _reraise(lambda ref=ref: load_world(ref), source, "world")
+        try:
+            Simulation.check(worlds[ref], controller=run.controller, seed=run.seed,
+                             settings=dict(run.settings))
+        except ConfigError as exc:
+            where = ", ".join(f"{k}={v!r}" for k, v in {**run.labels, "seed": run.seed}.items())
+            raise ConfigError(f"{exc} (in the run with {where})", source=source) from None
 
 
 def _reraise(fn, source: str, key: str):
