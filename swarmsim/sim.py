@@ -375,8 +375,11 @@ class Simulation:
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""
-        self.failed[np.asarray(robots, dtype=np.intp)] = True
+        robots = np.asarray(robots, dtype=np.intp)
+        self.failed[robots] = True
         self.messages[self.failed] = self.silent
+        if hasattr(self, "_changed_msg"):  # fell silent: wakes sleeping neighbours next tick
+            self._changed_msg[robots] = True
 
     # ----------------------------------------------------------------------------- running
     def _should_stop(self) -> str | None:

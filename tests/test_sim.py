@@ -81,6 +81,20 @@ def test_sleeping_changes_nothing_but_saves_work():
     assert min(r["awake"] for r in tb[5:]) == 40
 
 
+def test_sleeping_changes_nothing_when_robots_fail_either():
+    """A robot that fails falls silent: that wakes its sleeping neighbours as any changed
+    broadcast does (it did not, and failure runs depended on allow_sleep)."""
+    def run(allow_sleep):
+        sim = Simulation("tiny", seed=0, max_ticks=600,
+                         settings={"allow_sleep": allow_sleep, "failures": 5,
+                                   "failure_phase": "tick", "failure_tick": 300})
+        res = sim.run()
+        return sim.positions, [r["coverage"] for r in res.timeseries]
+
+    (pa, ca), (pb, cb) = run(True), run(False)
+    assert np.array_equal(pa, pb) and ca == cb
+
+
 def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
     seen = []
     sim = Simulation(square_world(), controller="dispersion", robots=10, seed=1, max_ticks=20)
