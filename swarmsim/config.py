@@ -111,8 +111,9 @@ class SimConfig:
                 raise ConfigError(f"must be positive, got {value!r}", key=name)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"must be a non-negative integer, got {self.seed!r}", key="seed")
-        if not 0 <= self.eps0 < 1:
-            raise ConfigError(f"must be in [0, 1), got {self.eps0!r}", key="eps0")
+        for name in ("eps0", "plateau_delta"):
+            if not 0 <= getattr(self, name) < 1:
+                raise ConfigError(f"must be in [0, 1), got {getattr(self, name)!r}", key=name)
         if self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots "
                               f"(robots = {self.robots})", key="groups")
@@ -135,6 +136,10 @@ class SimConfig:
                                      and self.failure_tick < 1):
             raise ConfigError(f"must be >= 1 with failure_phase 'tick', got {self.failure_tick!r}",
                               key="failure_tick")
+        if self.failure_tick and self.failure_phase != "tick":
+            raise ConfigError(f"is used only with failure_phase 'tick' (got {self.failure_tick!r} "
+                              f"with failure_phase {self.failure_phase!r}): set failure_phase "
+                              "too", key="failure_tick")
 
 
     def _check_imperfections(self) -> None:
@@ -240,6 +245,11 @@ def build_configs(settings: Mapping[str, Any], params_cls: type
         params = params_cls(**ctrl_kw)
     except (TypeError, ValueError) as exc:
         raise ConfigError(str(exc), key=_named_key(str(exc), ctrl_kw)) from None
+    speed = ctrl_kw.get("v")
+    if speed is not None and speed > sim.v_max:
+        raise ConfigError(f"{speed!r} is faster than the engine's top speed v_max = {sim.v_max!r}"
+                          f", which caps every robot's speed: set v_max too (v_max={speed!r})",
+                          key="v")
     return sim, phys, params
 
 

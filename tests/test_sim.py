@@ -148,12 +148,23 @@ def test_completion_tick_when_target_covered():
     ({"settings": {"start": "anywhere"}}, "start"),
     ({"settings": {"radius": -1.0}}, "radius"),
     ({"settings": {"deadband": -1.0}}, "deadband"),
+    ({"settings": {"plateau_delta": -1.0}}, "plateau_delta"),
+    ({"settings": {"failures": 3, "failure_tick": 50}}, "failure_tick"),  # phase not 'tick'
+    ({"settings": {"v": 0.2}}, "v"),  # faster than v_max caps it
 ])
 def test_bad_parameters_are_named(kw, key):
     """Every bad value is reported as "key 'NAME'", whichever layer validates it."""
     kw.setdefault("robots", 30)
     with pytest.raises(ConfigError, match=f"key '{key}'"):
         Simulation(square_world(), controller="dispersion", **kw)
+
+
+def test_a_speed_above_v_max_is_accepted_with_v_max_and_a_lower_v_max_caps_v():
+    fast = Simulation(square_world(), controller="dispersion", robots=30,
+                      settings={"v": 0.2, "v_max": 0.2})
+    slow = Simulation(square_world(), controller="dispersion", robots=30,
+                      settings={"v_max": 0.05})
+    assert fast.params.v == 0.2 and slow.config.v_max == 0.05
 
 
 def test_unknown_controller_is_named():
