@@ -203,6 +203,27 @@ def _check_width(width: int) -> None:
         raise ConfigError(str(exc).removeprefix("width "), key="--width") from None
 
 
+def _make_folder(key: str, folder: str | Path) -> None:
+    """Create ``folder`` (and its parents) now, so that a path that cannot be written is one
+    error naming the option before any work, not a traceback after it."""
+    try:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ConfigError(f"cannot create the folder {str(folder)!r} ({exc.strerror})",
+                          key=key) from None
+
+
+def _check_output_paths(args: argparse.Namespace) -> None:
+    """The folders that run's --out, --video and --snapshot write to, made before the run."""
+    if args.out:
+        _make_folder("--out", args.out)
+    for key, path in (("--video", args.video), ("--snapshot", args.snapshot)):
+        if path:
+            _make_folder(key, Path(path).parent)
+            if Path(path).is_dir():
+                raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
@@ -211,6 +232,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
     if args.video or args.snapshot:
         _check_width(args.width)
+    _check_output_paths(args)
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))
@@ -236,6 +258,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments import load_spec, run_sweep
 
     runs = load_spec(args.spec).runs()
+    _make_folder("--out", args.out)
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
@@ -249,6 +272,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out))
         return 0
+    _make_folder("--out", args.out)
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
                           args.scheduler, args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")
@@ -260,6 +284,7 @@ def cmd_study(args: argparse.Namespace) -> int:
 
     if args.max_ticks is not None and args.max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
+    _make_folder("--out", args.out)
     setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
                        groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
                        noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,

@@ -210,6 +210,21 @@ def test_cli_bad_input_is_one_clear_line(argv, needle, capsys):
     assert "Traceback" not in err
 
 
+@pytest.mark.parametrize("option", ["--out", "--snapshot", "--video"])
+def test_an_output_path_that_cannot_be_written_is_refused_before_the_run(option, tmp_path,
+                                                                        capsys, monkeypatch):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    path = blocker / ("run" if option == "--out" else "x.mp4" if option == "--video" else "x.png")
+    ticks = []
+    step = Simulation.step
+    monkeypatch.setattr(Simulation, "step", lambda self: (ticks.append(1), step(self)))
+    code = main(["run", "tiny", "--max-ticks", "50", "--quiet", option, str(path)])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and f"key '{option}': cannot create the folder" in err
+    assert "Traceback" not in err and ticks == []  # refused before the first tick
+
+
 def test_python_api_example_runs():
     from swarmsim import load_world
 
