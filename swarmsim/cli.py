@@ -32,8 +32,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run one simulation",
                        description="Run one simulation and print a one-line summary.")
     p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
-    p.add_argument("--controller", default="ggc",
-                   help="controller name or module:Class (default: ggc)")
+    p.add_argument("--controller",
+                   help="controller name or module:Class (default: the world's, else ggc)")
     p.add_argument("--robots", type=int, help="number of robots (default: the world's)")
     p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
     p.add_argument("--d-cover", type=float, dest="d_cover",

@@ -38,6 +38,8 @@ from swarmsim.sensing import FloorSensor, NeighbourSearch, rows, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
+DEFAULT_CONTROLLER = "ggc"
+"""The controller of a run that names none, in a world that names none (the paper's GGC)."""
 DEFAULT_SETTLED = ("Arrive", "Arrived")
 """Status names that mean "done, standing still" unless a controller says SETTLED_STATUSES."""
 
@@ -64,8 +66,9 @@ class Simulation:
 
     Args:
         world: a World or the name/path of a world file.
-        controller: registered controller name (default "ggc", the paper's method, as on the
-            command line; e.g. "dispersion", "kilobot") or "module:Class".
+        controller: registered controller name (default: the world's ``defaults.controller``,
+            else "ggc", the paper's method, as on the command line; e.g. "dispersion",
+            "kilobot") or "module:Class".
         robots: number of robots (default: the world's ``defaults.robots``).
         groups: number of groups K (default: the world's ``defaults.groups``, else 1).
         seed: the one seed that decides the run.
@@ -75,7 +78,7 @@ class Simulation:
             ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
     """
 
-    def __init__(self, world: World | str, controller: str = "ggc",
+    def __init__(self, world: World | str, controller: str | None = None,
                  robots: int | None = None, groups: int | None = None, seed: int = 0,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):
@@ -83,7 +86,7 @@ class Simulation:
         self._setup()
 
     @classmethod
-    def check(cls, world: World | str, controller: str = "ggc", robots: int | None = None,
+    def check(cls, world: World | str, controller: str | None = None, robots: int | None = None,
               groups: int | None = None, seed: int = 0, d_cover: float | None = None,
               max_ticks: int | None = None, settings: Mapping[str, Any] | None = None) -> None:
         """Check a run's world, controller and settings as the constructor does, without
@@ -92,11 +95,12 @@ class Simulation:
         cls.__new__(cls)._configure(world, controller, robots, groups, seed, d_cover,
                                     max_ticks, settings)
 
-    def _configure(self, world: World | str, controller: str, robots: int | None,
+    def _configure(self, world: World | str, controller: str | None, robots: int | None,
                    groups: int | None, seed: int, d_cover: float | None,
                    max_ticks: int | None, settings: Mapping[str, Any] | None) -> None:
         """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
+        controller = controller or self.world.defaults.get("controller", DEFAULT_CONTROLLER)
         self.controller_cls = get_controller(controller)
         self.controller_name = controller
         if getattr(self.controller_cls, "requires_beacon", False) and self.world.beacon is None:
@@ -114,7 +118,7 @@ class Simulation:
                         settings: Mapping[str, Any]) -> dict[str, Any]:
         merged: dict[str, Any] = {}
         defaults = self.world.defaults
-        for key in ("robots", "groups", "max_ticks"):
+        for key in ("robots", "groups", "max_ticks", "start"):
             if key in defaults:
                 merged[key] = defaults[key]
         if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):

@@ -3,6 +3,7 @@
 import gc
 import json
 import weakref
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -253,9 +254,19 @@ def test_the_python_api_and_the_command_line_run_the_same_controller_by_default(
     from swarmsim.cli import build_parser
 
     cli_default = build_parser().parse_args(["run", "tiny"]).controller
-    sim = Simulation("tiny", max_ticks=1)
-    assert sim.controller_name == cli_default == "ggc"
+    sim = Simulation("tiny", controller=cli_default, max_ticks=1)
+    assert sim.controller_name == Simulation("tiny", max_ticks=1).controller_name == "ggc"
     assert type(sim.controllers[0]).__module__.startswith("controllers.ggc")
+
+
+def test_a_world_file_may_name_the_controller_and_the_start(tmp_path):
+    tiny = (Path(__file__).parents[1] / "worlds" / "tiny.toml").read_text()
+    assert tiny.rstrip().splitlines()[-4] == "[defaults]"  # the last table: append to it
+    path = tmp_path / "w.toml"
+    path.write_text(tiny + 'controller = "dispersion"\nstart = "random"\n')
+    sim = Simulation(str(path), max_ticks=1)
+    assert sim.controller_name == "dispersion" and sim.config.start == "random"
+    assert Simulation(str(path), controller="ggc", max_ticks=1).controller_name == "ggc"
 
 
 def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta():
