@@ -48,7 +48,8 @@ class SimConfig:
         stop_on_complete: stop at the completion tick.
         probe_range: longest floor-probe offset a robot may look at, units.
         wake_eps: displacement (units) that counts as "moved" for waking sleeping robots.
-        decide_order: "index" or "shuffled" (a check: results must not depend on it).
+        decide_order: "index" or "shuffled": the order controllers are called in each tick (a
+            check: results must not depend on it; sensing and noise are drawn in index order).
         allow_sleep: honour controllers' sleep requests (a check: results must not depend on it).
         failures: number of robots that fail during the run (paper Section 6.6; 0 = none). They
             stop moving and communicating but stay in the way. See swarmsim/faults.py for the

@@ -22,6 +22,7 @@ from swarmsim.controller import (
     INF_GRADIENT,
     Action,
     NeighbourBatch,
+    Perception,
     RobotSetup,
     get_controller,
     make_perception,
@@ -263,10 +264,7 @@ class Simulation:
                 self.asleep[drift] = False
         else:
             self._ref_positions = self.positions.copy()
-        awake = np.flatnonzero(~self.asleep & ~self.failed)
-        if self.config.decide_order == "shuffled":
-            awake = self._order_rng.permutation(awake)
-        return awake
+        return np.flatnonzero(~self.asleep & ~self.failed)
 
     def _wake_near(self, search: NeighbourSearch, changed: np.ndarray,
                    by_message: np.ndarray) -> None:
@@ -343,9 +341,18 @@ class Simulation:
             starts = np.concatenate(([0], np.cumsum(counts)))
             self._prepare(deciding, NeighbourBatch(heard, np.concatenate(distance_lists),
                                                    starts))
-        actions: list[Action] = [robot.step(p) for robot, p in zip(deciding, perceptions,
-                                                                   strict=True)]
-        self._apply(awake, actions, new_messages, velocities)
+        self._apply(awake, self._step_all(deciding, perceptions), new_messages, velocities)
+
+    def _step_all(self, robots: list, perceptions: list[Perception]) -> list[Action]:
+        """Each robot's action, its controller called in index order or, with decide_order
+        "shuffled", in a random order (a check: no controller may depend on another's call).
+        Sensing, noise and message loss are drawn in index order either way."""
+        if self.config.decide_order != "shuffled":
+            return [robot.step(p) for robot, p in zip(robots, perceptions, strict=True)]
+        actions: list[Action] = [None] * len(robots)  # type: ignore[list-item]
+        for k in self._order_rng.permutation(len(robots)).tolist():
+            actions[k] = robots[k].step(perceptions[k])
+        return actions
 
     def _apply(self, awake: np.ndarray, actions: list[Action], new_messages: np.ndarray,
                velocities: np.ndarray) -> None:

@@ -45,6 +45,16 @@ def test_shuffled_decision_order_changes_nothing():
     assert np.array_equal(sa.positions, sb.positions)
 
 
+def test_shuffled_decision_order_changes_nothing_with_noise_and_message_loss_either():
+    """Noise and message loss are drawn in index order, whatever order controllers are
+    called in (they were drawn in the calling order: a shuffled run differed from tick 2)."""
+    noisy = {"distance_noise": 0.05, "bearing_noise": 0.05, "message_loss": 0.1}
+    a, ta, sa = run(settings=noisy)
+    b, tb, sb = run(settings={**noisy, "decide_order": "shuffled"})
+    assert a == b and ta == tb
+    assert np.array_equal(sa.positions, sb.positions)
+
+
 def test_deciding_in_chunks_changes_nothing(monkeypatch):
     """Sensing and deciding a few awake robots at a time (to bound memory) is the same run,
     with sensing noise and message loss drawn in pieces."""
