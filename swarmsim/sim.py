@@ -449,8 +449,19 @@ class Simulation:
         out["failed_robots"] = int(self.failed.sum())
         extra = getattr(self.controller_cls, "summarize", None)
         if extra is not None:
-            out.update(extra(self.controllers))
+            out.update(self._controller_summary(extra))
         return out
+
+    def _controller_summary(self, summarize: Callable[[list], dict]) -> dict:
+        """The controller class's own summary figures; its ``status_counts`` count failed
+        robots as "Failed", not under the status they had when they failed."""
+        summary = summarize(self.controllers)
+        if "status_counts" in summary and self.failed.any():
+            working = [c for c, failed in zip(self.controllers, self.failed.tolist(),
+                                              strict=True) if not failed]
+            counts = {**summarize(working)["status_counts"], "Failed": int(self.failed.sum())}
+            summary["status_counts"] = dict(sorted(counts.items()))
+        return summary
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""

@@ -45,6 +45,13 @@ def test_shuffled_decision_order_changes_nothing():
     assert np.array_equal(sa.positions, sb.positions)
 
 
+def test_failed_robots_are_counted_as_failed_in_the_status_counts():
+    sim = Simulation("tiny", seed=0, max_ticks=100,
+                     settings={"failures": 3, "failure_phase": "tick", "failure_tick": 50})
+    counts = sim.run().summary["status_counts"]
+    assert counts["Failed"] == 3 and sum(counts.values()) == 40
+
+
 def test_shuffled_decision_order_changes_nothing_with_noise_and_message_loss_either():
     """Noise and message loss are drawn in index order, whatever order controllers are
     called in (they were drawn in the calling order: a shuffled run differed from tick 2)."""
