@@ -270,7 +270,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
     setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set))
     if args.dry_run:
-        print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out))
+        print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
+                               args.retry_failed))
         return 0
     _make_folder("--out", args.out)
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,

@@ -609,3 +609,16 @@ def test_reproduce_refuses_a_bad_setting_before_any_run():
         rp.plan("fig17", setup, reps=1)
     with pytest.raises(ConfigError, match="unknown world 'nosuch'"):
         rp.plan("fig17", rp.setup_with(rp.PAPER, world="nosuch"), reps=1)
+
+
+def test_dry_run_counts_failed_runs_apart_from_those_to_run(tmp_path):
+    plan = rp.plan("fig17", rp.setup_with(rp.PAPER, world="tiny", robots=5), reps=1,
+                   max_ticks=20)
+    runs = plan["fig17"]
+    failed = tmp_path / "runs" / runs[0].run_id
+    failed.mkdir(parents=True)
+    (failed / "error.txt").write_text("boom\n")
+    text = rp.describe_plan(plan, tmp_path)
+    assert f"0 done, 1 failed, {len(runs) - 1} to run" in text and "--retry-failed" in text
+    again = rp.describe_plan(plan, tmp_path, retry_failed=True)
+    assert f"0 done, 1 failed, {len(runs)} to run" in again

@@ -149,9 +149,11 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
 
 
-def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = None) -> str:
+def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = None,
+                  retry_failed: bool = False) -> str:
     """One line per figure: runs, and how many are already done in ``out``; with ``out``,
-    a rough estimate of the CPU time still to go."""
+    how many failed and a rough estimate of the CPU time still to go (failed runs count as
+    to run only with ``retry_failed``, as in :func:`reproduce`)."""
     store = RunStore(Path(out) / "runs") if out else None
     lines = []
     for key, rs in runs.items():
@@ -160,16 +162,20 @@ def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = No
         lines.append(f"{key}: {len(rs)} runs ({done} done) over {', '.join(labels)}")
     total = unique_runs(r for rs in runs.values() for r in rs)
     lines.append(f"total: {len(total)} distinct runs"
-                 + (_time_to_go(Sweep(total, out, runs_dir=store.dir)) if store else ""))
+                 + (_time_to_go(Sweep(total, out, runs_dir=store.dir), retry_failed)
+                    if store else ""))
     return "\n".join(lines)
 
 
-def _time_to_go(sweep: Sweep) -> str:
-    """', N done, M to run: about H CPU-hours at the mean of the finished runs' wall time'
-    (runs of different conditions differ a lot: a rough guide)."""
+def _time_to_go(sweep: Sweep, retry_failed: bool = False) -> str:
+    """', N done, F failed, M to run: about H CPU-hours at the mean of the finished runs'
+    wall time' (runs of different conditions differ a lot: a rough guide)."""
     done = sweep.done_count()
-    left = len(sweep.runs) - done
-    text = f", {done} done, {left} to run"
+    failed = sweep.failed_count()
+    left = len(sweep.pending(retry_failed))
+    text = f", {done} done" + (f", {failed} failed" if failed else "") + f", {left} to run"
+    if failed and not retry_failed:
+        text += " (--retry-failed runs the failed ones again)"
     if done and left:
         mean = sweep.run_seconds() / done
         text += (f": about {left * mean / 3600:.1f} CPU-hours at the finished runs' mean "
