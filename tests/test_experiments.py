@@ -622,3 +622,11 @@ def test_dry_run_counts_failed_runs_apart_from_those_to_run(tmp_path):
     assert f"0 done, 1 failed, {len(runs) - 1} to run" in text and "--retry-failed" in text
     again = rp.describe_plan(plan, tmp_path, retry_failed=True)
     assert f"0 done, 1 failed, {len(runs)} to run" in again
+
+
+def test_set_robots_is_the_setup_robot_count_that_claims_judge():
+    setup = rp.setup_with(rp.PAPER, extra={"robots": 40})
+    assert setup.robots == 40 and "robots" not in setup.extra
+    assert setup == rp.setup_with(rp.PAPER, robots=40)
+    with pytest.raises(ConfigError, match="disagree"):
+        rp.setup_with(rp.PAPER, robots=30, extra={"robots": 40})

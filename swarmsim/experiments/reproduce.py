@@ -185,13 +185,21 @@ def _time_to_go(sweep: Sweep, retry_failed: bool = False) -> str:
 
 def setup_with(setup: PaperSetup = PAPER, world: str | None = None, robots: int | None = None,
                extra: Mapping[str, Any] | None = None) -> PaperSetup:
-    """A copy of ``setup`` with another world, robot count or extra settings."""
+    """A copy of ``setup`` with another world, robot count or extra settings (``robots``
+    among them counts as the robot count: the claims judge it)."""
+    extra = dict(extra or {})
+    if "robots" in extra:
+        given = extra.pop("robots")
+        if robots is not None and robots != given:
+            raise ConfigError(f"--robots {robots} and --set robots={given} disagree",
+                              key="robots")
+        robots = given
     changes: dict[str, Any] = {}
     if world is not None:
         changes["world"] = world
     if robots is not None:
-        if robots < 1:
-            raise ConfigError(f"must be >= 1, got {robots!r}", key="--robots")
+        if isinstance(robots, bool) or not isinstance(robots, int) or robots < 1:
+            raise ConfigError(f"must be an integer >= 1, got {robots!r}", key="robots")
         changes["robots"] = robots
     if extra:
         changes["extra"] = {**setup.extra, **extra}
