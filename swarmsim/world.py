@@ -291,4 +291,9 @@ def load_world(name_or_path: str | Path) -> World:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", source=str(path)) from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
+                          source=str(path)) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read the file ({exc.strerror})", source=str(path)) from None
     return world_from_dict(data, source=str(path))

@@ -630,3 +630,10 @@ def test_set_robots_is_the_setup_robot_count_that_claims_judge():
     assert setup == rp.setup_with(rp.PAPER, robots=40)
     with pytest.raises(ConfigError, match="disagree"):
         rp.setup_with(rp.PAPER, robots=30, extra={"robots": 40})
+
+
+def test_a_spec_that_is_not_utf8_is_one_clear_error(tmp_path):
+    path = tmp_path / "spec.toml"
+    path.write_bytes('world = "tiny"\n# r\xe9sum\xe9\n'.encode("latin-1"))
+    with pytest.raises(ConfigError, match="not a UTF-8 text file"):
+        load_spec(path)

@@ -184,3 +184,10 @@ def test_invalid_toml_syntax(tmp_path):
     path = write(tmp_path, 'name = "t"\n[target\noutline = [[0, 0]]\n')
     msg = load_error(path)
     assert_names(msg, str(path), "not valid TOML", "line 2")
+
+
+def test_a_file_that_is_not_utf8_is_named(tmp_path):
+    path = tmp_path / "latin1.toml"
+    path.write_bytes('name = "Gen\xe8ve"\n'.encode("latin-1"))
+    msg = load_error(path)
+    assert_names(msg, str(path), "not a UTF-8 text file")

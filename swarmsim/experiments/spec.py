@@ -155,6 +155,11 @@ def load_spec(path: str | Path) -> SweepSpec:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"not valid TOML: {exc}", source=source) from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
+                          source=source) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read the file ({exc.strerror})", source=source) from None
     return spec_from_dict(data, source=source, base_dir=str(path.parent))
 
 
