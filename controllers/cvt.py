@@ -292,6 +292,7 @@ class CVT:
 
     def step(self, p: Perception) -> Action:
         self.map.move(p.moved)
+        sampled_with = (self.extent, self.heard, self.reach)
         mine = self.cell(p)
         rest = False
         if len(mine):
@@ -315,6 +316,10 @@ class CVT:
         moving = bool(v.any())
         if not moving:
             self.status = RESTING if p.on_target else SEEKING
+            # Asleep, the robot promises the same answer to the same perception: keep the
+            # sampling disc this answer came from (cell() sized the next tick's from it, and a
+            # resampled centroid can move the robot: sleeping runs differed from awake ones).
+            self.extent, self.heard, self.reach = sampled_with
         return self.act(v, moving)
 
 

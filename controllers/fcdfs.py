@@ -196,7 +196,7 @@ class FCDFS(FormationTravel):
 
     # ------------------------------------------------------------------ messages
     def act(self, velocity=(0.0, 0.0), sleep: bool = False,
-            wake_range: float | None = None) -> Action:
+            wake_range: float | None = None, wake_tick: int | None = None) -> Action:
         c = self.goal if (self.status == MOVING and self.goal is not None) else self.cell
         # the gradient field keeps the formation gradient (travel parents are chosen by it);
         # robots on the lattice show their lattice distance from the door instead
@@ -206,7 +206,7 @@ class FCDFS(FormationTravel):
                float(self.travel[0]), float(self.travel[1]), self.door, self.pdir, self.touch,
                self.hops, c[0], c[1])
         return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
-                      self.listen_range())
+                      self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper)."""
@@ -260,7 +260,8 @@ class FCDFS(FormationTravel):
             if p.tick >= self.p.init_timeout:
                 self.cmd = CMD_HALT
                 return self.halt(p)
-            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min,
+                            wake_tick=self.p.init_timeout)  # then the timeout above
         if cmd == CMD_HALT:
             parent = self.travel_parent(p)
             self.door, self.pdir = int(parent["door"]), int(parent["pdir"])
@@ -307,7 +308,7 @@ class FCDFS(FormationTravel):
         if len(at):
             door = p.offsets[int(at[0])]
             if m["moving"][int(at[0])]:  # the door robot is still stepping in: wait
-                return self.act(sleep=True, wake_range=float(np.hypot(*door)) + 0.5)
+                return self.queue_sleep(float(np.hypot(*door)) + 0.5)
             candidate = float(np.hypot(*door)) <= self.p.door_radius
             if candidate:
                 entered = self.try_enter(p, door)
@@ -318,17 +319,23 @@ class FCDFS(FormationTravel):
             goal = door - np.array(AXES[self.pdir], dtype=float) * 0.6 * self.p.door_radius
             wake = self.p.clearance + self.p.door_radius + 0.5 if candidate else None
             if float(np.hypot(*goal)) <= self.p.queue_gap:
-                return self.act(sleep=True, wake_range=wake or self.p.queue_gap + 0.5)
+                return self.queue_sleep(wake or self.p.queue_gap + 0.5)
         else:
             wake = None
             parents = np.flatnonzero(link & (m["hops"] < self.hops))
             if not len(parents):
-                return self.act(sleep=True, wake_range=2.0 * self.p.d_min)
+                return self.queue_sleep(2.0 * self.p.d_min)
             goal = p.offsets[int(parents[0])]
         heading = unit(goal)
         if not self.clear_ahead(p, heading):
-            return self.act(sleep=True, wake_range=wake or self.p.queue_gap + 0.5)
+            return self.queue_sleep(wake or self.p.queue_gap + 0.5)
         return self.act(heading * self.p.v)
+
+    def queue_sleep(self, wake_range: float) -> Action:
+        """Sleep in the queue until a robot within ``wake_range`` moves, or within the range at
+        which a queued robot makes way for an entering one (avoid_range + 0.5): a shorter
+        wake range slept through it."""
+        return self.act(sleep=True, wake_range=max(wake_range, self.p.avoid_range + 0.5))
 
     def clear_ahead(self, p: Perception, heading: np.ndarray) -> bool:
         """No robot within queue_gap in a 60-degree cone around ``heading``."""

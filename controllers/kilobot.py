@@ -219,11 +219,11 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
 
     # ------------------------------------------------------------------ messages
     def act(self, velocity=(0.0, 0.0), sleep: bool = False,
-            wake_range: float | None = None) -> Action:
+            wake_range: float | None = None, wake_tick: int | None = None) -> Action:
         msg = (self.id, self.status, self.grad, self.group, self.leader,
                self.status in MOVING, self.cmd, float(self.travel[0]), float(self.travel[1]))
         return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
-                      self.listen_range())
+                      self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper)."""
@@ -260,7 +260,8 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         if cmd is None:
             if p.tick >= self.p.init_timeout:
                 self.status = WAIT
-            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min,
+                            wake_tick=self.p.init_timeout)  # then the timeout above
         if cmd == CMD_HALT:
             self.status = WAIT
             return self.act()
@@ -299,7 +300,10 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         nearest = int(structure[0])
         velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
         self.heading = unit(velocity)
-        trapped = self.circling(p, nearest) or self.stuck(p)
+        circled = self.circling(p, nearest)
+        if circled:
+            self.circled = 0.0  # count the next lap afresh: one lap, one trap
+        trapped = circled or self.stuck(p)
         self.traps = self.traps + 1 if trapped else self.traps
         if self.should_join(p, nearest) or (trapped and (p.on_target or self.traps > 2)):
             self.status = JOINED

@@ -178,6 +178,8 @@ class Action:
         wake_on_motion: with ``sleep``, False promises that neighbours merely moving within the
             wake range cannot change this robot's action: only a changed broadcast (or being
             moved itself) wakes it.
+        wake_tick: with ``sleep``, the tick at which the robot is woken whatever happens (a
+            timeout of its own: its promise holds only until then). None = no such tick.
     """
 
     velocity: tuple[float, float] = (0.0, 0.0)
@@ -186,6 +188,7 @@ class Action:
     wake_range: float | None = None
     listen: float | None = None
     wake_on_motion: bool = True
+    wake_tick: int | None = None
 
 
 # Fast makers for the two objects made once per awake robot per tick (K with 3 groups: about
@@ -197,8 +200,8 @@ class Action:
 _new = object.__new__
 (_p_tick, _p_offsets, _p_distances, _p_messages, _p_on_target, _p_probe, _p_beacon,
  _p_moved) = (vars(Perception)[name].__set__ for name in Perception.__slots__)
-(_a_velocity, _a_message, _a_sleep, _a_wake_range, _a_listen,
- _a_wake_on_motion) = (vars(Action)[name].__set__ for name in Action.__slots__)
+(_a_velocity, _a_message, _a_sleep, _a_wake_range, _a_listen, _a_wake_on_motion,
+ _a_wake_tick) = (vars(Action)[name].__set__ for name in Action.__slots__)
 
 
 def make_perception(tick: int, offsets: np.ndarray, distances: np.ndarray,
@@ -219,7 +222,8 @@ def make_perception(tick: int, offsets: np.ndarray, distances: np.ndarray,
 
 def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: tuple | None = None,
                 sleep: bool = False, wake_range: float | None = None,
-                listen: float | None = None, wake_on_motion: bool = True) -> Action:
+                listen: float | None = None, wake_on_motion: bool = True,
+                wake_tick: int | None = None) -> Action:
     """``Action(...)``, faster."""
     a = _new(Action)
     _a_velocity(a, velocity)
@@ -228,6 +232,7 @@ def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: tuple | Non
     _a_wake_range(a, wake_range)
     _a_listen(a, listen)
     _a_wake_on_motion(a, wake_on_motion)
+    _a_wake_tick(a, wake_tick)
     return a
 
 

@@ -39,6 +39,8 @@ from swarmsim.sensing import FloorSensor, NeighbourSearch, rows, split_bounds
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
+NEVER = np.iinfo(np.int64).max
+"""wake_tick of a sleeping robot that set no timeout."""
 DEFAULT_CONTROLLER = "ggc"
 """The controller of a run that names none, in a world that names none (the paper's GGC)."""
 DEFAULT_SETTLED = ("Arrive", "Arrived")
@@ -171,6 +173,7 @@ class Simulation:
         self.wake_range = np.full(self.n, self.sensing_range)
         self.listen = np.full(self.n, self.sensing_range)
         self.wake_on_motion = np.ones(self.n, dtype=bool)
+        self.wake_tick = np.full(self.n, NEVER, dtype=np.int64)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
@@ -255,6 +258,7 @@ class Simulation:
         """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
         sleeping = self.asleep & ~self.failed
         if sleeping.any():
+            self.asleep[sleeping & (self.wake_tick <= self.tick)] = False  # their own timeouts
             drift = np.hypot(*(self.positions - self._ref_positions).T) > self.config.wake_eps
             by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
             changed = drift | by_message
@@ -381,6 +385,7 @@ class Simulation:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
+                self.wake_tick[i] = NEVER if action.wake_tick is None else int(action.wake_tick)
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 

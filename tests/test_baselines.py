@@ -139,3 +139,51 @@ def test_min_sq_distance_sums_exactly_as_the_3d_formula():
         others = rng.normal(size=(int(rng.integers(1, 25)), 2)) * 9
         plain = ((q[:, None, :] - others[None, :, :]) ** 2).sum(axis=2).min(axis=1)
         assert min_sq_distance(q, others).tobytes() == plain.tobytes()
+
+
+@pytest.mark.parametrize("name, ticks, start", [
+    ("fcdfs", 700, ""),  # a queued robot slept through an entering one (differed at 564)
+    ("fcdfs", 500, "random"),  # no gradient heard: init_timeout never fired while asleep
+    ("kilobot", 600, "random"),  # the same (differed at 402)
+    ("cvt", 600, ""),  # a resting robot resampled its cell after waking (differed at 429)
+])
+def test_sleeping_changes_nothing(name, ticks, start):
+    """A sleeping robot must act exactly as if it had been asked every tick."""
+    def state(allow_sleep):
+        sim = Simulation("tiny", controller=name, seed=0, max_ticks=ticks,
+                         settings={"allow_sleep": allow_sleep, "start": start,
+                                   "stop_on_complete": False})
+        sim.run()
+        return sim.positions, sim.messages.tobytes(), sim.asleep.sum()
+
+    (slept, said_asleep, asleep), (awake, said_awake, _) = state(True), state(False)
+    assert np.array_equal(slept, awake) and said_asleep == said_awake
+    assert asleep > 0  # robots really slept
+
+
+def test_kilobot_counts_one_trap_per_lap_round_a_robot_off_the_target():
+    """Circling a robot off the target traps a Kilobot once per full lap: it heads for the
+    beacon, and stops for good only when trapped a third time (the lap count was never reset,
+    so it stopped two ticks after its first lap)."""
+    import math
+
+    from controllers.kilobot import JOINED, OUTSIDE, WAIT, Kilobot, KilobotParams
+    from swarmsim.controller import RobotSetup, make_perception, message_dtype
+
+    params = KilobotParams()
+    robot = Kilobot(RobotSetup(robot_id=10), params, np.random.default_rng(0))
+    robot.status, robot.grad = OUTSIDE, 5
+    msg = np.zeros(1, dtype=message_dtype(Kilobot.MESSAGE_FIELDS))
+    msg["id"], msg["status"], msg["gradient"], msg["moving"] = 3, WAIT, 4, False
+    laps = []
+    for tick in range(160):  # 0.12 radians a tick: a lap every ~52 ticks
+        angle = -0.12 * tick
+        offset = -params.d_cover * np.array([math.cos(angle), math.sin(angle)])
+        p = make_perception(tick, offset[None, :], np.array([params.d_cover]), msg, False,
+                            lambda o: False, np.array([1.0, 0.0]), np.zeros(2))
+        robot.step(p)
+        if robot.traps > len(laps):
+            laps.append(tick)
+        if robot.status == JOINED:
+            break
+    assert len(laps) >= 2 and laps[1] - laps[0] > 40  # a lap apart, not a tick

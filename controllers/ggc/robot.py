@@ -150,9 +150,10 @@ class GGCRobot(DetectionRules, CoverageRules, CollisionRules, SurplusLap, Aggreg
                 self.in_deadlock = False  # settled: an open deadlock episode is over
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
-            wake_range: float | None = None, wake_on_motion: bool = True) -> Action:
+            wake_range: float | None = None, wake_on_motion: bool = True,
+            wake_tick: int | None = None) -> Action:
         return make_action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
-                           wake_range, self.listen_range(), wake_on_motion)
+                           wake_range, self.listen_range(), wake_on_motion, wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
@@ -227,7 +228,8 @@ class GGCRobot(DetectionRules, CoverageRules, CollisionRules, SurplusLap, Aggreg
         if grad is None:
             if p.tick - self.initial_since >= self.p.init_timeout:
                 self.set_status(DETECTION)
-            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min,
+                            wake_tick=self.initial_since + self.p.init_timeout)
         self.grad = grad
         own = m["group"] == self.group
         self.touch = self.touching_in(p, m, own)
