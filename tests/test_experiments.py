@@ -7,6 +7,7 @@ import os
 import socket
 import subprocess
 import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -188,6 +189,36 @@ def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
     again = run_sweep(runs, out, workers=1, progress=False)  # its process is gone: stale
     assert again.ran == 1 and again.busy == 0 and (held / "summary.json").is_file()
     assert not list(out.glob("runs/*/claim.json")) and not list(out.glob("runs/*/.claim*"))
+
+
+def test_two_processes_taking_over_one_stale_claim_do_not_both_win(tmp_path, monkeypatch):
+    """While this process judges a stale claim, another process tries to take it over too:
+    exactly one of them may win (the second used to delete the first one's fresh claim)."""
+    run_dir = tmp_path / "runs" / "r1"
+    run_dir.mkdir(parents=True)
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    (run_dir / "claim.json").write_text(_claim_held_by(gone.pid))  # stale: its process is gone
+    script = ("import sys; from pathlib import Path; from swarmsim.experiments import claims; "
+              "print('trying', flush=True); print(claims.claim(Path(sys.argv[1])), flush=True)")
+    judged = claims.holder
+    others = []
+
+    def holder_while_another_process_claims(path):
+        found = judged(path)
+        if not others:  # once, while this process holds its judgement
+            other = subprocess.Popen([sys.executable, "-c", script, str(run_dir)],
+                                     stdout=subprocess.PIPE, text=True)
+            others.append(other)
+            assert other.stdout.readline().strip() == "trying"
+            time.sleep(0.5)  # time enough to claim, unless it must wait for this process
+        return found
+
+    monkeypatch.setattr(claims, "holder", holder_while_another_process_claims)
+    mine = claims.claim(run_dir)
+    theirs = others[0].communicate(timeout=60)[0].strip()
+    assert [mine, theirs] == [True, "False"]
+    assert json.loads((run_dir / "claim.json").read_text())["pid"] == os.getpid()
 
 
 def test_runs_are_claimed_one_at_a_time_so_a_sweep_started_later_shares_the_rest(tmp_path):

@@ -13,10 +13,13 @@ import json
 import os
 import socket
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
 CLAIM_FILE = "claim.json"
+TAKEOVER_LOCK = ".takeover.lock"
 
 
 def _process_key(pid: int) -> str | None:
@@ -77,17 +80,42 @@ def claim(run_dir: Path) -> bool:
     mine = run_dir / f".claim.{os.getpid()}.tmp"
     mine.write_text(json.dumps(_me()))
     try:
-        for _ in range(2):
+        try:
+            _link(mine, path)
+            return True
+        except FileExistsError:
+            pass
+        with _takeover_lock(run_dir.parent):  # judge and replace as one step
+            if holder(run_dir) is not None:
+                return False
+            path.unlink(missing_ok=True)  # stale: the process that made it is gone
             try:
                 _link(mine, path)
                 return True
-            except FileExistsError:
-                if holder(run_dir) is not None:
-                    return False
-                path.unlink(missing_ok=True)  # stale: the process that made it is gone
-        return False
+            except FileExistsError:  # another process claimed it in between (not stale)
+                return False
     finally:
         mine.unlink(missing_ok=True)
+
+
+@contextmanager
+def _takeover_lock(runs_dir: Path) -> Iterator[None]:
+    """An exclusive lock (flock on ``runs_dir/.takeover.lock``) while a process judges a
+    claim stale and replaces it: without it two processes could both judge the same stale
+    claim, the second deleting the first one's fresh claim, and both run the run. Claims
+    are taken over only from processes on this host, so a host-local lock suffices; where
+    there is no fcntl (Windows) there is no lock."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    with open(runs_dir / TAKEOVER_LOCK, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def _link(src: Path, dst: Path) -> None:
