@@ -668,3 +668,23 @@ def test_a_spec_that_is_not_utf8_is_one_clear_error(tmp_path):
     path.write_bytes('world = "tiny"\n# r\xe9sum\xe9\n'.encode("latin-1"))
     with pytest.raises(ConfigError, match="not a UTF-8 text file"):
         load_spec(path)
+
+
+def test_a_report_over_several_invocations_names_every_code_version(tmp_path):
+    """REPORT.md collects every figure reproduced in the folder: its code line counts all
+    their runs (it counted only the last invocation's), and each section names its setup."""
+    setup = rp.PaperSetup(world="tiny", controller="dispersion", d_cover_values=(4, 6),
+                          failure_counts=(0, 3))
+    out = tmp_path / "repro"
+    rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
+    for path in (out / "runs").glob("*/summary.json"):  # as if made by older code
+        summary = json.loads(path.read_text())
+        path.write_text(json.dumps({**summary, "code_version": "0.0.9+gOLD"}))
+    rp.reproduce("fig23", out, rp.setup_with(setup, robots=30), reps=1, max_ticks=25,
+                 workers=1, progress=False)
+    report = (out / "REPORT.md").read_text()
+    assert "Warning: these runs were made by 2 code versions" in report
+    assert "0.0.9+gOLD (2 runs)" in report
+    fig17 = (out / "fig17" / "REPORT.md").read_text()
+    assert "robots world default" in fig17 and "Code: 0.1" in fig17  # as when it was made
+    assert "robots 30" in (out / "fig23" / "REPORT.md").read_text()

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import os
 import secrets
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -17,6 +19,7 @@ from swarmsim.experiments.figures import (
     num_text,
     panel_runs,
 )
+from swarmsim.experiments.spec import unique_runs
 from swarmsim.experiments.table import write_table
 from swarmsim.experiments.verdicts import _pct, _tick
 from swarmsim.output import atomic_write_text, write_csv
@@ -95,8 +98,8 @@ def figure_section(fig: Figure, ctx: Context, panels: Sequence[Panel],
     n_failed = sum(s.failed for st in stats_by_panel for s in st)
     parts = [f"## {fig.title}", "", f"![{fig.key}]({image})", "",
              f"Runs: {n_done} of {n_runs} done, {n_failed} failed "
-             f"(world {ctx.setup.world}, seeds 0..{ctx.reps - 1}"
-             + (f", max_ticks {ctx.max_ticks}" if ctx.max_ticks else "") + ")."]
+             f"(seeds 0..{ctx.reps - 1}" + (f", max_ticks {ctx.max_ticks}" if ctx.max_ticks else "")
+             + f"). {setup_line(ctx.setup)} {versions_line(figure_versions(fig, ctx))}"]
     for panel, st in zip(panels, stats_by_panel, strict=True):
         rows = [[s.cond.label, f"{s.done}/{s.runs}", s.stop_text(), _mean_sd(s.coverage, _pct),
                  f"{_tick(s.completion[0])} ({s.completion[2]}/{s.done})",
@@ -138,6 +141,38 @@ def write_figure(fig: Figure, ctx: Context, out: Path) -> Path:
     return fig_dir
 
 
+def setup_line(setup: PaperSetup) -> str:
+    """The setup a figure (or this reproduction) was made with, in one sentence."""
+    return (f"World {setup.world!r}, controller {setup.controller!r}, robots "
+            f"{setup.robots or 'world default'}, d_cover {num_text(setup.d_cover)} and "
+            f"{setup.groups} groups where not varied"
+            + (f", extra settings {dict(setup.extra)}" if setup.extra else "") + ".")
+
+
+def figure_versions(fig: Figure, ctx: Context) -> Counter[str]:
+    """How many of a figure's finished runs each code version made."""
+    runs = [run for panel in ctx.panels(fig.key)
+            for rs in panel_runs(panel, ctx.setup, ctx.reps, ctx.max_ticks) for run in rs]
+    rows = (ctx.sweep.row(run) for run in unique_runs(runs))
+    return Counter(str(r.get("code_version") or "unrecorded") for r in rows
+                   if r is not None and not r.get("error"))
+
+
+def store_totals(runs_dir: Path) -> tuple[Counter[str], float]:
+    """Code versions (with run counts) and summed wall seconds of every finished run in a
+    store: the figures of one folder may come from several invocations."""
+    versions: Counter[str] = Counter()
+    seconds = 0.0
+    for summary in sorted(runs_dir.glob("*/summary.json")):
+        try:
+            data = json.loads(summary.read_text())
+        except (OSError, ValueError):
+            continue
+        versions[str(data.get("code_version") or "unrecorded")] += 1
+        seconds += float(data.get("wall_seconds") or 0.0)
+    return versions, seconds
+
+
 def versions_line(versions: Mapping[str, int]) -> str:
     """The report's line on which code made the runs; a warning when it is more than one."""
     listed = ", ".join(f"{v} ({n} runs)" for v, n in sorted(versions.items()))
@@ -162,10 +197,8 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
     sections = [(out / k / "section.md").read_text() for k in keys
                 if (out / k / "section.md").is_file()]
     head = ["# Reproduction of the paper's Section 6 experiments", "",
-            f"World {setup.world!r}, controller {setup.controller!r}, robots "
-            f"{setup.robots or 'world default'}, d_cover {num_text(setup.d_cover)} and "
-            f"{setup.groups} groups where not varied"
-            + (f", extra settings {dict(setup.extra)}" if setup.extra else "") + ".",
+            (f"This run of the command: {setup_line(setup)} Each figure's section names the "
+             "setup and code it was made with."),
             ("Curves are means over seeds on a common tick grid (a run that stopped holds its "
              "last value); bands span min-max. Verdicts compare the measured means with the "
              "paper's statements; 'tick at 99% of final coverage' is when a curve becomes flat."),

@@ -11,7 +11,9 @@ Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditi
 (mean, sd per condition), ``<fig>.png`` (mean curves with a min-max band, on a common tick
 grid; runs that stopped early hold their last value) and ``REPORT.md`` (the paper's claims next
 to what was measured, with a verdict); ``DIR/REPORT.md`` collects every figure reproduced so
-far in DIR, ``DIR/results.csv`` every run.
+far in DIR (its code and run-time lines count every finished run in ``DIR/runs``, and each
+figure's section names the setup and code it was made with), ``DIR/results.csv`` the runs of
+the figures asked for this time.
 
 Robot counts: the paper uses 603 robots on 'K' for every figure. At d_cover = 1 or 2 a lattice
 over K needs ~15,300 / ~3,800 robots, so 603 cannot fill it; we keep 603 (the world's default)
@@ -44,7 +46,12 @@ from swarmsim.experiments.figures import (
     num_text,
     panel_runs,
 )
-from swarmsim.experiments.report import versions_line, write_figure, write_report
+from swarmsim.experiments.report import (
+    store_totals,
+    versions_line,
+    write_figure,
+    write_report,
+)
 from swarmsim.experiments.runner import DONE, RunStore, Sweep
 from swarmsim.experiments.spec import RunSpec, check_runs, unique_runs
 from swarmsim.experiments.verdicts import (
@@ -144,8 +151,8 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     ctx = Context(sweep, setup, reps, max_ticks, get_figure)
     for key in runs:
         write_figure(FIGURES[key], ctx, out)
-    path = write_report(out, list(FIGURES), setup, sweep.code_versions(),
-                        sweep.run_seconds())
+    versions, seconds = store_totals(out / "runs")  # every figure of the folder's runs
+    path = write_report(out, list(FIGURES), setup, versions, seconds)
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
 
 
