@@ -688,3 +688,14 @@ def test_a_report_over_several_invocations_names_every_code_version(tmp_path):
     fig17 = (out / "fig17" / "REPORT.md").read_text()
     assert "robots world default" in fig17 and "Code: 0.1" in fig17  # as when it was made
     assert "robots 30" in (out / "fig23" / "REPORT.md").read_text()
+
+
+def test_a_second_spec_in_the_same_folder_says_the_first_ones_runs_are_not_in_its_table(
+        tmp_path):
+    out = tmp_path / "out"
+    first = spec_from_dict({**TINY, "grid": {"robots": [20, 21]}}).runs()
+    second = spec_from_dict({**TINY, "grid": {"robots": [21, 22]}}).runs()
+    assert "other runs" not in run_sweep(first, out, workers=1, progress=False).line()
+    line = run_sweep(second, out, workers=1, progress=False).line()
+    assert "note: 1 other runs in the runs folder" in line
+    assert len(read_table(out / "results.csv")) == 2

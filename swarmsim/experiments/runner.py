@@ -136,6 +136,7 @@ class SweepReport:
     versions: Mapping[str, int] = field(default_factory=dict)
     busy: int = 0
     done: int = 0
+    others: int = 0
 
     def line(self) -> str:
         text = (f"{self.total} runs: {self.done} done ({self.ran} run now, {self.skipped} already "
@@ -146,6 +147,9 @@ class SweepReport:
         if len(self.versions) > 1:
             listed = ", ".join(f"{v} ({n})" for v, n in sorted(self.versions.items()))
             text += f"\nwarning: the table mixes runs made by different code: {listed}"
+        if self.others:
+            text += (f"\nnote: {self.others} other runs in the runs folder (another spec's?) "
+                     "are not in this table: it holds the runs of this command")
         return text
 
 
@@ -239,7 +243,13 @@ class Sweep:
         return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
                            tally["ran"], self.failed_count(), self.table_path,
                            self.code_versions(), busy=tally["busy"],
-                           done=self.done_count())
+                           done=self.done_count(), others=self.other_runs())
+
+    def other_runs(self) -> int:
+        """Finished or failed runs in the store that are not this sweep's."""
+        mine = {run.run_id for run in self.runs}
+        return sum(1 for p in self.store.dir.glob("*") if p.name not in mine
+                   and ((p / "summary.json").is_file() or (p / "error.txt").is_file()))
 
     def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
                  on_result, tally: Counter[str]) -> None:
