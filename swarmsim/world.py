@@ -87,7 +87,8 @@ class World:
 
     @property
     def spawn_area(self) -> float:
-        return float(sum(p.area for p in self.spawns))
+        """Area of the spawn areas, units^2 (overlapping areas counted once)."""
+        return float(shapely.union_all(self.spawns).area)
 
     def max_random_robots(self, spacing: float) -> int:
         """Robots that random sequential placement at ``spacing`` fits in the spawn areas, safely.
@@ -176,8 +177,24 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
                               key=f"defaults.{k}")
         if want in (int, float) and v <= 0:
             raise ConfigError(f"must be positive, got {v!r}", source=source, key=f"defaults.{k}")
+        if k == "start" and v not in ("random", "formation"):
+            raise ConfigError(f"must be 'random' or 'formation', got {v!r}", source=source,
+                              key="defaults.start")
+        if k == "controller":
+            _check_controller_name(v, source)
         out[k] = v
     return MappingProxyType(out)
+
+
+def _check_controller_name(name: str, source: str) -> None:
+    """A world's default controller must exist (named with the file and key)."""
+    from swarmsim.controller import get_controller
+
+    try:
+        get_controller(name)
+    except ConfigError as exc:
+        message = str(exc).removeprefix("key 'controller': ")
+        raise ConfigError(message, source=source, key="defaults.controller") from None
 
 
 def _beacon(value: Any, source: str) -> tuple[float, float]:
@@ -220,7 +237,7 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
     if not spawns:
         raise ConfigError("at least one [[spawn]] area is needed", source=source, key="spawn")
     obstacles = _polygon_list(data.get("obstacles", []), source, "obstacles")
-    _check_overlaps(spawns, obstacles, source)
+    _check_overlaps(spawns, obstacles, target, source)
     beacon = _beacon(data["beacon"], source) if "beacon" in data else None
     arena = _arena(data.get("arena", {}), source, [target, *spawns, *obstacles])
     description = data.get("description", "")
@@ -233,8 +250,13 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
 
 
 def _check_overlaps(spawns: tuple[Polygon, ...], obstacles: tuple[Polygon, ...],
-                    source: str) -> None:
+                    target: Polygon, source: str) -> None:
     for i, sp in enumerate(spawns):
+        on_target = sp.intersection(target).area
+        if on_target > 1e-9:  # robots would start on the target, covering it at tick 0
+            raise ConfigError(f"spawn area {_coords(sp)} overlaps the target (overlap area "
+                              f"{on_target:g}): robots must start off the target",
+                              source=source, key=f"spawn[{i}].outline")
         for j, ob in enumerate(obstacles):
             overlap = sp.intersection(ob).area
             if overlap > 1e-9:
@@ -251,7 +273,8 @@ def _coords(poly: Polygon) -> list[list[float]]:
 def world_path(name_or_path: str | Path) -> Path:
     """Resolve a world name (``"K"``) or a path to a ``.toml`` file."""
     p = Path(name_or_path)
-    if p.suffix == ".toml" or p.exists():
+    shipped = any((d / f"{name_or_path}.toml").is_file() for d in _world_dirs())
+    if p.suffix == ".toml" or p.is_file() or (p.exists() and not shipped):
         if not p.is_file():
             raise ConfigError(f"world file not found: {str(p)!r}", key="world")
         return p

@@ -191,3 +191,30 @@ def test_a_file_that_is_not_utf8_is_named(tmp_path):
     path.write_bytes('name = "Gen\xe8ve"\n'.encode("latin-1"))
     msg = load_error(path)
     assert_names(msg, str(path), "not a UTF-8 text file")
+
+
+def test_a_spawn_area_overlapping_the_target_is_refused(tmp_path):
+    spawn = "[[spawn]]\noutline = [[0, 0], [30, 0], [30, 25], [0, 25]]\n"  # 5 units into it
+    path = write(tmp_path, world_text(spawn=spawn))
+    assert_names(load_error(path), str(path), "spawn[0].outline", "overlaps the target")
+
+
+def test_overlapping_spawn_areas_count_their_area_once(tmp_path):
+    path = write(tmp_path, world_text(extra=SPAWN))  # the same area twice
+    assert load_world(path).spawn_area == pytest.approx(30 * 8)
+
+
+@pytest.mark.parametrize("default, key", [('start = "grid"', "defaults.start"),
+                                          ('controller = "nosuch"', "defaults.controller")])
+def test_a_bad_run_default_names_the_file_and_key(tmp_path, default, key):
+    path = write(tmp_path, world_text(extra=f"[defaults]\n{default}\n"))
+    assert_names(load_error(path), str(path), f"key '{key}'")
+
+
+def test_a_folder_named_like_a_shipped_world_does_not_hide_it(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "K").mkdir()  # e.g. made by 'swarmsim run K --out K'
+    assert load_world("K").name == "K"
+    (tmp_path / "mine").mkdir()
+    with pytest.raises(ConfigError, match="world file not found: 'mine'"):
+        load_world("mine")
