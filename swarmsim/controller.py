@@ -41,6 +41,8 @@ A controller that steps many robots a tick may return ``make_action(...)`` inste
 from __future__ import annotations
 
 import importlib
+import os
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
@@ -288,6 +290,7 @@ def get_controller(name: str) -> type:
     """A controller class by registered name or ``module:Class``."""
     if ":" in name:
         mod_name, _, cls_name = name.partition(":")
+        _importable_from_here()
         try:
             mod = importlib.import_module(mod_name)
         except ImportError as exc:
@@ -303,6 +306,15 @@ def get_controller(name: str) -> type:
         raise ConfigError(f"unknown controller {name!r}; available: {', '.join(sorted(_REGISTRY))}"
                           " (or module:Class)", key="controller")
     return _REGISTRY[name]
+
+
+def _importable_from_here() -> None:
+    """Let ``module:Class`` name a module in the current folder, as ``python -m swarmsim``
+    does (the installed ``swarmsim`` command does not put the current folder on sys.path).
+    Appended, so that it never shadows an installed module."""
+    here = os.getcwd()
+    if here not in sys.path and "" not in sys.path:
+        sys.path.append(here)
 
 
 def _check_controller_class(cls: Any, name: str) -> None:

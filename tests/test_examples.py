@@ -36,3 +36,14 @@ def test_where_distance_goes_ledger_adds_up_to_the_runs_distance():
     settled = ledger.settled_at >= 0
     assert settled.sum() == result.summary["status_counts"]["Arrive"] > 0
     assert len(ledger.late) == int((ledger.settled_at > 300).sum()) > 0
+
+
+def test_the_swarmsim_command_finds_a_controller_module_in_the_current_folder():
+    """The command in examples/my_controller.py's docstring, run as a user would from the
+    repository (the installed script does not put the current folder on sys.path)."""
+    command = Path(sys.executable).parent / "swarmsim"
+    out = subprocess.run([str(command), "run", "tiny", "--controller",
+                          "examples.my_controller:GoToLight", "--max-ticks", "50", "--quiet"],
+                         cwd=ROOT, capture_output=True, text=True, timeout=300, check=False)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "tiny examples.my_controller:GoToLight" in out.stdout
