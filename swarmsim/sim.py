@@ -116,6 +116,17 @@ class Simulation:
         if most is not None and self.config.groups > most:
             raise ConfigError(f"value {self.config.groups}: controller {controller!r} supports at "
                               f"most {most} groups", key="groups")
+        reach = self._probe_range()
+        for name in getattr(self.controller_cls, "probe_params", ()):
+            value = getattr(self.params, name)
+            if not 0 < value <= reach:
+                raise ConfigError(f"must be in (0, {reach:g}], got {value!r}: a floor probe reaches"
+                                  " probe_range at most (set probe_range too)", key=name)
+
+    def _probe_range(self) -> float:
+        """How far a robot's floor probe reaches, units: the engine's probe_range, or more if
+        the controller class needs it (``min_probe_range``)."""
+        return max(self.config.probe_range, getattr(self.controller_cls, "min_probe_range", 0.0))
 
     def _merge_settings(self, robots, groups, seed, d_cover, max_ticks,
                         settings: Mapping[str, Any]) -> dict[str, Any]:
@@ -148,7 +159,7 @@ class Simulation:
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
         self.physics = Physics(self.world, positions, self.physics_config)
-        probe_range = max(cfg.probe_range, getattr(self.controller_cls, "min_probe_range", 0.0))
+        probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
         self.sensing_range = float(self.controller_cls.sensing_range(self.params))
         if cfg.sensing_limit > 0:

@@ -177,6 +177,23 @@ def test_bad_parameters_are_named(kw, key):
         Simulation(square_world(), controller="dispersion", **kw)
 
 
+@pytest.mark.parametrize("settings, key", [
+    ({"boundary_probe": 3.0}, "boundary_probe"),  # beyond the probe range: crashed mid-run
+    ({"boundary_probe": -2.0}, "boundary_probe"),  # probing the wrong way
+    ({"probe_distance": 2.5}, "probe_distance"),
+    ({"h_max": 200}, "h_max"),  # broadcast as int8: crashed at tick 0
+])
+def test_bad_ggc_parameters_are_named_before_the_run(settings, key):
+    with pytest.raises(ConfigError, match=f"key '{key}'"):
+        Simulation(square_world(), controller="ggc", robots=30, settings=settings)
+
+
+def test_a_longer_ggc_probe_is_accepted_with_a_longer_probe_range():
+    sim = Simulation(square_world(), controller="ggc", robots=30,
+                     settings={"probe_distance": 2.5, "probe_range": 3.0}, max_ticks=1)
+    assert sim.params.probe_distance == 2.5 and sim.floor.probe_range == 3.0
+
+
 def test_a_speed_above_v_max_is_accepted_with_v_max_and_a_lower_v_max_caps_v():
     fast = Simulation(square_world(), controller="dispersion", robots=30,
                       settings={"v": 0.2, "v_max": 0.2})

@@ -32,6 +32,8 @@ class GGC(GGCRobot):
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True
+    probe_params = ("probe_distance", "boundary_probe")
+    """Parameters that are floor-probe lengths (checked against the probe range)."""
 
     @classmethod
     def message_fields_for(cls, groups: int) -> list[tuple]:

@@ -248,5 +248,7 @@ class GGCParams:
             if getattr(self, name) < 0:
                 raise ValueError(f"GGC parameter {name} must be >= 0, got "
                                  f"{getattr(self, name)!r}")
+        if self.h_max > 127:  # broadcast as int8
+            raise ValueError(f"GGC parameter h_max must be <= 127, got {self.h_max!r}")
         if self.theta > 2 * self.d_cover:
             raise ValueError(f"theta ({self.theta}) must not exceed 2 * d_cover (Section 4.4)")
