@@ -178,8 +178,9 @@ class Action:
         listen: how far (units) to sense on the next tick; a robot may listen less than its
             sensing range when it needs less (cheaper). None = the full sensing range.
         wake_on_motion: with ``sleep``, False promises that neighbours merely moving within the
-            wake range cannot change this robot's action: only a changed broadcast (or being
-            moved itself) wakes it.
+            wake range cannot change this robot's action: only a changed broadcast, a
+            neighbour pushed out of place (moved without being told to) or being moved itself
+            wakes it.
         wake_tick: with ``sleep``, the tick at which the robot is woken whatever happens (a
             timeout of its own: its promise holds only until then). None = no such tick.
     """

@@ -273,9 +273,12 @@ class Simulation:
             drift = np.hypot(*(self.positions - self._ref_positions).T) > self.config.wake_eps
             by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
             changed = drift | by_message
+            # a robot that moved without being told to was pushed: that wakes even sleepers
+            # that asked not to be woken by motion (a pushed neighbour is not a passing mover)
+            pushed = drift & ~self.velocities.any(axis=1)
             self._ref_positions[drift] = self.positions[drift]
             if changed.any():
-                self._wake_near(search, np.flatnonzero(changed), by_message)
+                self._wake_near(search, np.flatnonzero(changed), by_message | pushed)
                 self.asleep[drift] = False
         else:
             self._ref_positions = self.positions.copy()
@@ -285,7 +288,8 @@ class Simulation:
                    by_message: np.ndarray) -> None:
         """Wake sleepers that have a changed robot within their wake range.
 
-        Sleepers that asked not to be woken by motion only wake for changed broadcasts.
+        Sleepers that asked not to be woken by motion only wake for changed broadcasts and
+        pushed robots (``by_message``: the robots that wake those too).
         """
         margin = 2 * self.config.v_max + self.config.wake_eps
         reach = float(self.wake_range.max()) + margin

@@ -86,6 +86,18 @@ def test_same_seed_same_run_and_sleep_changes_nothing():
     assert a.summary["coverage"] > 0.2
 
 
+def test_sleep_changes_nothing_at_d_cover_1_where_movers_push_the_formation():
+    """A waiting robot blocked by a waiting neighbour sleeps until a broadcast changes; when
+    movers push that neighbour out of d_cover it must wake too (it slept on: coverage 0.159
+    with sleep against 0.187 without, tiny, 1,500 ticks)."""
+    def summary(allow_sleep):
+        sim = Simulation("tiny", seed=0, max_ticks=1500, d_cover=1.0,
+                         settings={"allow_sleep": allow_sleep})
+        return {k: v for k, v in sim.run().summary.items() if k != "wall_seconds"}
+
+    assert summary(True) == summary(False)
+
+
 @pytest.mark.parametrize("bad", [{"d_cover": 0.5}, {"v": -1.0}, {"orbit": 2}, {"theta": 20.0},
                                  {"T_r": 0}])
 def test_bad_ggc_parameters_are_named(bad):
