@@ -156,3 +156,33 @@ def test_a_robot_not_formed_in_time_covers_on_its_own():
     assert robot.status in (DETECTION, COVERAGE)
     assert robot.status != SURPLUS and robot.surplus == 0
     assert np.hypot(*action.velocity) > 0  # nobody to wait for: it heads for the beacon
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_every_group_keeps_a_leader_when_two_leaders_pick_the_same_robot(seed):
+    """Leaders hand over on the same tick and may pick the same robot, which takes over one
+    group only: the other leader must stay (5 groups on tiny lost a group on most seeds)."""
+    sim = scattered("tiny", robots=40, groups=5, seed=seed)
+    for _ in range(sim.controllers[0].selection_ticks + 1):
+        sim.step()
+    assert sorted(c.group for c in sim.controllers if c.leader) == [1, 2, 3, 4, 5]
+
+
+def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monkeypatch):
+    from swarmsim import spawn
+
+    layout = spawn.random_layout
+
+    def one_far_away(world, n, spacing, rng):
+        out = layout(world, n, spacing, rng)
+        out[0] = (-8.0, 0.0)  # over R_c = 15 from every spawn point: hears nobody
+        return out
+
+    monkeypatch.setattr(spawn, "random_layout", one_far_away)
+    sim = scattered("tiny", robots=40, groups=1, seed=0, aggregation_timeout=300)
+    robot = sim.controllers[0]
+    start = sim.positions[0].copy()
+    for _ in range(robot.gather_deadline + 100):
+        sim.step()
+    assert DETECTION in robot.history and robot.status in (COVERAGE, ARRIVE)
+    assert np.hypot(*(sim.positions[0] - start)) > 5  # on its way to the beacon

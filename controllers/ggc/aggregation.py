@@ -87,7 +87,8 @@ class Aggregation:
         """One Bellman-Ford step of every leader's distance field (newest epoch wins)."""
         m = p.messages
         ok = m["id"] != NO_SENDER
-        if self.leader:
+        source = self.leader and self.handover == NO_SENDER  # handing over: no longer one
+        if source:
             k = self.group - 1
             if p.tick % self.p.T_settle == 0:
                 self.lepoch[k] += 1  # refresh: the field follows the leader's moves
@@ -101,7 +102,7 @@ class Aggregation:
         best = np.where(epochs == newest, through, FAR).min(axis=0)
         newer = newest > self.lepoch[:g]
         fresh = np.where(newer, best, np.minimum(self.ldist[:g], best))
-        if self.leader:
+        if source:
             fresh[self.group - 1] = 0.0
             newer[self.group - 1] = False
         self.ldist[:g] = np.minimum(fresh, FAR)
@@ -114,12 +115,24 @@ class Aggregation:
         if not self.leader:
             self.take_over(p)
         elif self.handover != NO_SENDER:
-            if p.tick > self.handover_tick:  # handed over last tick: an ordinary robot now
-                self.leader, self.group, self.handover = False, 0, NO_SENDER
-                self.status = self.history[-1] = APPROACH
+            self.settle_handover(p)
         elif self.h > 0 and p.tick % self.p.T_settle == self.p.T_settle - 1:
             self.hand_over(p, m)
         return self.act()
+
+    def settle_handover(self, p: Perception) -> None:
+        """Two ticks after handing over (its broadcast, then the successor's), step down if the
+        successor now leads my group; otherwise (two leaders picked the same robot, and it
+        took over the other group) stay leader."""
+        if p.tick < self.handover_tick + 2:
+            return
+        m = p.messages
+        successor = (m["id"] == self.handover) & m["leader"] & (m["group"] == self.group)
+        if any_of(successor):
+            self.leader, self.group, self.handover = False, 0, NO_SENDER
+            self.status = self.history[-1] = APPROACH
+        else:
+            self.handover = NO_SENDER
 
     def take_over(self, p: Perception) -> None:
         m = p.messages
@@ -161,14 +174,20 @@ class Aggregation:
         from .statuses import FORMED, GATHERING
 
         self.update_fields(p)
+        if p.tick >= self.gather_deadline and self.status in GATHERING:
+            return self.cover_alone(p)  # also a robot that never heard of a group
         if self.group == 0:
             self.join_group(p)
             return self.act()
         if self.status == FORMED:
             return self.formed(p)
-        if p.tick - self.selection_ticks > self.p.aggregation_timeout and self.status in GATHERING:
-            return self.cover_alone(p)
         return self.approach(p)
+
+    @property
+    def gather_deadline(self) -> int:
+        """The tick from which a robot not yet formed covers on its own (aggregation_timeout
+        ticks after leader selection)."""
+        return self.selection_ticks + self.p.aggregation_timeout + 1
 
     def own(self, p: Perception, statuses: tuple[int, ...]) -> np.ndarray:
         m = p.messages
@@ -183,7 +202,9 @@ class Aggregation:
         velocity = self.toward_leader(p)
         if velocity is None or self.must_pend(p, velocity):
             self.set_status(PEND)
-            return self.act(sleep=velocity is None, wake_range=1.5 * self.p.d_min)
+            # no way down the field yet: what can change that is any neighbour's broadcast
+            # (toward_leader reads them all), or the timeout
+            return self.act(sleep=velocity is None, wake_tick=self.gather_deadline)
         self.set_status(APPROACH if not len(formed) or p.distances[formed[0]] > 3 * self.p.d_min
                         else JOIN)
         return self.act(velocity)
