@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -46,7 +47,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
-                   help="a video frame every K ticks (default: about 600 frames per run)")
+                   help="a video frame every K ticks (default: max_ticks / 600, at most 50: "
+                        "a K run of 18,500 ticks gets ~370 frames)")
     p.add_argument("--color-by", default="gradient", dest="color_by",
                    choices=("gradient", "group", "status"), help="robot colouring in videos")
     p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
@@ -211,10 +213,19 @@ def _make_folder(key: str, folder: str | Path) -> None:
     except OSError as exc:
         raise ConfigError(f"cannot create the folder {str(folder)!r} ({exc.strerror})",
                           key=key) from None
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise ConfigError(f"cannot write in the folder {str(folder)!r} ({exc.strerror})",
+                          key=key) from None
 
 
 def _check_output_paths(args: argparse.Namespace) -> None:
-    """The folders that run's --out, --video and --snapshot write to, made before the run."""
+    """The folders that run's --out, --video and --snapshot write to, made (and found
+    writable) before the run."""
+    if args.snapshot and Path(args.snapshot).suffix.lower() != ".png":
+        raise ConfigError(f"must be a .png file, got {str(args.snapshot)!r}", key="--snapshot")
     if args.out:
         _make_folder("--out", args.out)
     for key, path in (("--video", args.video), ("--snapshot", args.snapshot)):

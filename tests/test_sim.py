@@ -237,6 +237,7 @@ def test_cli_run_writes_outputs(tmp_path, capsys):
     (["run", "tiny", "--seed", "-1"], "key 'seed': must be a non-negative integer, got -1"),
     (["run", "tiny", "--snapshot", "x.png", "--width", "10"], "key '--width'"),
     (["run", "tiny", "--video", "x.mp4", "--width", "321"], "got 321"),
+    (["run", "tiny", "--snapshot", "x.jpg"], "key '--snapshot': must be a .png file"),
 ])
 def test_cli_bad_input_is_one_clear_line(argv, needle, capsys):
     assert main(argv) == 2
