@@ -119,6 +119,14 @@ def test_color_by_changes_robot_colour():
     assert len(set(colours.values())) == 3
 
 
+def test_a_robot_that_has_broadcast_nothing_is_grey_by_status_as_the_legend_says():
+    from swarmsim.render.palette import NONE_GREY
+
+    r = bare(make_world(), width=400, color_by="status")
+    cols = r.robot_colors(make_snapshot(np.zeros((2, 2)), status=np.array([-1, 0])))
+    assert tuple(cols[0]) == NONE_GREY and tuple(cols[1]) != NONE_GREY
+
+
 def test_gradient_cycle_and_infinite_gradient():
     w = make_world()
     r = bare(w, width=400, color_by="gradient")

@@ -256,9 +256,9 @@ class Renderer:
             pal = np.vstack([np.uint8(NONE_GREY), GROUP_PALETTE])
             idx = np.where(g <= 0, 0, (g - 1) % len(GROUP_PALETTE) + 1)
         else:
-            s = msgs["status"].astype(np.int64)
-            pal = STATUS_PALETTE
-            idx = s % len(STATUS_PALETTE)
+            s = msgs["status"].astype(np.int64)  # -1: nothing heard yet (tick 0)
+            pal = np.vstack([STATUS_PALETTE, np.uint8(NONE_GREY)])
+            idx = np.where(s < 0, len(STATUS_PALETTE), s % len(STATUS_PALETTE))
         return pal, idx
 
     def _draw_robots(self, surf: pygame.Surface, snap: Snapshot) -> None:

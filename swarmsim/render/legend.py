@@ -49,6 +49,7 @@ def _items(font: pygame.font.Font, key: tuple, contacts: bool) -> list[pygame.Su
     elif key[0] == "status":
         items += [_swatch(font, "disc", tuple(STATUS_PALETTE[i % len(STATUS_PALETTE)]), str(name))
                   for i, name in enumerate(key[1])]
+        items.append(_swatch(font, "disc", NONE_GREY, "none"))  # nothing broadcast yet
     else:
         items.append(_swatch(font, "disc", NONE_GREY, "none"))
         ids = key[1]
