@@ -14,6 +14,9 @@ from swarmsim.errors import ConfigError
 from swarmsim.world import World
 
 MAX_TRIES_PER_ROBOT = 400
+BOX_TRIES = 20
+"""Formation centres are drawn in the spawn region's bounding box while at least one draw in
+BOX_TRIES lands in the region; below that, piece by piece (see formation_centres)."""
 
 
 def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator) -> np.ndarray:
@@ -84,10 +87,14 @@ def formation_centres(world: World, k: int, radius: float,
     shapely.prepare(region)
     xmin, ymin, xmax, ymax = region.bounds
     cand = []
-    while len(cand) < 200 * k:
+    for _ in range(200 * k * BOX_TRIES):
+        if len(cand) == 200 * k:
+            break
         x, y = rng.uniform(xmin, xmax), rng.uniform(ymin, ymax)
         if shapely.contains_xy(region, x, y):
             cand.append((x, y))
+    else:  # the region fills little of its box (pieces far apart): draw piece by piece
+        cand = _points_in(region, 200 * k, rng, world.source)
     cand = np.array(cand)
     chosen = [0]
     dist = np.hypot(*(cand - cand[0]).T)
@@ -96,6 +103,32 @@ def formation_centres(world: World, k: int, radius: float,
         chosen.append(nxt)
         dist = np.minimum(dist, np.hypot(*(cand - cand[nxt]).T))
     return cand[chosen]
+
+
+def _points_in(region, count: int, rng: np.random.Generator, source: str) -> np.ndarray:
+    """(count, 2) points uniformly at random in ``region`` (a polygon or several): each
+    point's piece is drawn by area, then the point within that piece's bounding box, so pieces
+    far apart (a box mostly empty) cost no more than one piece."""
+    pieces = list(getattr(region, "geoms", [region]))
+    areas = np.array([piece.area for piece in pieces])
+    which = rng.choice(len(pieces), size=count, p=areas / areas.sum())
+    out = np.empty((count, 2))
+    for j, piece in enumerate(pieces):
+        slots = np.flatnonzero(which == j)
+        shapely.prepare(piece)
+        xmin, ymin, xmax, ymax = piece.bounds
+        found = 0
+        for _ in range(MAX_TRIES_PER_ROBOT * max(len(slots), 1)):
+            if found == len(slots):
+                break
+            x, y = rng.uniform(xmin, xmax), rng.uniform(ymin, ymax)
+            if shapely.contains_xy(piece, x, y):
+                out[slots[found]] = (x, y)
+                found += 1
+        else:
+            raise ConfigError("could not place the formations' centres in the spawn areas",
+                              source=source, key="spawn")
+    return out
 
 
 def formation_layout(world: World, n: int, k: int, spacing: float, rng: np.random.Generator

@@ -218,3 +218,24 @@ def test_a_folder_named_like_a_shipped_world_does_not_hide_it(tmp_path, monkeypa
     (tmp_path / "mine").mkdir()
     with pytest.raises(ConfigError, match="world file not found: 'mine'"):
         load_world("mine")
+
+
+def test_formations_start_in_spawn_areas_far_apart():
+    """Two small spawn squares at opposite corners: formation centres were drawn in their
+    common bounding box until enough landed, which for 112 robots took minutes."""
+    import numpy as np
+
+    from swarmsim import spawn
+    from swarmsim.world import world_from_dict
+
+    def square(x0, y0, x1, y1):
+        return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+    world = world_from_dict({"name": "diagonal", "target": {"outline": square(30, 30, 70, 70)},
+                             "spawn": [{"outline": square(0, 0, 10, 10)},
+                                       {"outline": square(90, 90, 100, 100)}]})
+    positions, groups, leaders = spawn.formation_layout(world, 112, 2, 1.0,
+                                                        np.random.default_rng(0))
+    assert len(positions) == 112 and sorted(set(groups.tolist())) == [1, 2]
+    corner = positions[leaders] > 50  # one leader in each corner square
+    assert sorted(corner.all(axis=1).tolist()) == [False, True]
