@@ -116,6 +116,12 @@ class Simulation:
         if most is not None and self.config.groups > most:
             raise ConfigError(f"value {self.config.groups}: controller {controller!r} supports at "
                               f"most {most} groups", key="groups")
+        body = 2 * self.physics_config.radius
+        for name in ("spawn_spacing", "formation_spacing"):
+            if getattr(self.config, name) < body:
+                raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "
+                                  f"(2 x radius = {body:g}): robots would start overlapping",
+                                  key=name)
         reach = self._probe_range()
         for name in getattr(self.controller_cls, "probe_params", ()):
             value = getattr(self.params, name)
@@ -216,7 +222,8 @@ class Simulation:
             setups = [RobotSetup(i, leader=i in lead, group=int(g), groups=cfg.groups)
                       for i, g in enumerate(groups)]
             return positions, setups
-        positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng)
+        positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng,
+                                        clearance=self.physics_config.radius)
         leaders = role_rng.choice(cfg.robots, size=cfg.groups, replace=False)
         group_of = {int(r): k + 1 for k, r in enumerate(leaders)}
         setups = [RobotSetup(i, leader=i in group_of, group=group_of.get(i, 0), groups=cfg.groups,

@@ -19,14 +19,16 @@ BOX_TRIES = 20
 BOX_TRIES lands in the region; below that, piece by piece (see formation_centres)."""
 
 
-def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator) -> np.ndarray:
-    """(n, 2) centres uniformly at random in the spawn areas, pairwise >= ``spacing`` apart."""
+def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator,
+                  clearance: float = 0.0) -> np.ndarray:
+    """(n, 2) centres uniformly at random in the spawn areas, pairwise >= ``spacing`` apart
+    and at least ``clearance`` (the body radius, units) from obstacles and the arena walls."""
     limit = world.max_random_robots(spacing)
     if n > limit:
         raise ConfigError(f"spawn areas (total area {world.spawn_area:.0f}) cannot hold {n} robots"
                           f" at spacing {spacing} (at most {limit})", source=world.source,
                           key="robots")
-    spawn = shapely.union_all(world.spawns)
+    spawn = _clear_of_walls(world, shapely.union_all(world.spawns), clearance)
     shapely.prepare(spawn)
     xmin, ymin, xmax, ymax = spawn.bounds
     cell = spacing / math.sqrt(2)
@@ -45,6 +47,19 @@ def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator
         grid[(int(x // cell), int(y // cell))] = placed
         placed += 1
     return out
+
+
+def _clear_of_walls(world: World, spawn, clearance: float):
+    """``spawn`` without the parts within ``clearance`` of an obstacle or the arena walls (the
+    same shape, and so the same draws, where it keeps clear of them anyway)."""
+    if clearance <= 0:
+        return spawn
+    x0, y0, x1, y1 = world.arena
+    inside = shapely.box(x0 + clearance, y0 + clearance, x1 - clearance, y1 - clearance)
+    walls = [ob.buffer(clearance) for ob in world.obstacles]
+    if spawn.within(inside) and not any(spawn.intersects(w) for w in walls):
+        return spawn
+    return shapely.difference(spawn.intersection(inside), shapely.union_all(walls))
 
 
 def _crowded(grid: dict, out: np.ndarray, x: float, y: float, cell: float, spacing: float) -> bool:

@@ -239,3 +239,35 @@ def test_formations_start_in_spawn_areas_far_apart():
     assert len(positions) == 112 and sorted(set(groups.tolist())) == [1, 2]
     corner = positions[leaders] > 50  # one leader in each corner square
     assert sorted(corner.all(axis=1).tolist()) == [False, True]
+
+
+def test_a_random_start_keeps_robots_clear_of_obstacles_and_walls():
+    """A spawn area touching an obstacle and the arena wall: centres used to be checked
+    only against the spawn area, so bodies started inside the obstacle and the wall."""
+    import numpy as np
+    import shapely
+
+    from swarmsim import Simulation
+    from swarmsim.world import world_from_dict
+
+    def square(x0, y0, x1, y1):
+        return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+    world = world_from_dict({"name": "tight", "target": {"outline": square(0, 30, 20, 50)},
+                             "spawn": [{"outline": square(0, 0, 20, 10)}],
+                             "obstacles": [{"outline": square(20, 0, 25, 10)}],
+                             "arena": {"margin": 0.1}})
+    sim = Simulation(world, controller="dispersion", robots=100, seed=0,
+                     settings={"start": "random"})
+    pos, radius = sim.positions, sim.physics_config.radius
+    gap = shapely.distance(world.obstacles[0], shapely.points(pos))
+    x0, y0, x1, y1 = world.arena
+    walls = np.minimum.reduce([pos[:, 0] - x0, pos[:, 1] - y0, x1 - pos[:, 0], y1 - pos[:, 1]])
+    assert gap.min() >= radius and walls.min() >= radius
+
+
+def test_a_start_spacing_below_a_body_width_is_refused():
+    from swarmsim import Simulation
+
+    with pytest.raises(ConfigError, match="key 'spawn_spacing'.*robots would start overlapping"):
+        Simulation("tiny", settings={"radius": 0.6, "start": "random"})
