@@ -112,10 +112,15 @@ class Simulation:
         merged = self._merge_settings(robots, groups, seed, d_cover, max_ticks, settings or {})
         self.config, self.physics_config, self.params = build_configs(merged,
                                                                       self.controller_cls.Params)
+        self._check_configs()
+
+    def _check_configs(self) -> None:
+        """Checks that span the engine's, the physics' and the controller's settings."""
         most = getattr(self.controller_cls, "max_groups", None)
         if most is not None and self.config.groups > most:
-            raise ConfigError(f"value {self.config.groups}: controller {controller!r} supports at "
-                              f"most {most} groups", key="groups")
+            raise ConfigError(f"value {self.config.groups}: controller "
+                              f"{self.controller_name!r} supports at most {most} groups",
+                              key="groups")
         body = 2 * self.physics_config.radius
         for name in ("spawn_spacing", "formation_spacing"):
             if getattr(self.config, name) < body:
