@@ -26,8 +26,11 @@ class GGCParams:
             (Algorithm 1; default d_safe = 1).
         R_c: communication range: robots hear broadcasts within it (Table 2: 15).
         v: speed (Table 2: 0.1 per tick).
-        gradient_reach: a moving robot takes its gradient from stationary neighbours within
-            gradient_reach * d_cover (Kilobot's gradient distance / edge distance, ~1.3).
+        gradient_reach: robots sense at least gradient_reach * d_cover (the sensing range is
+            the largest of R_c, this and d_cover + 2; with R_c = 15 it matters only for
+            d_cover > 11). A mover's gradient is its nearest stationary robot's plus one (with
+            groups: its own group's nearest within 1.5 d_cover), whatever this value
+            (Algorithm 2, line 8; see coverage.py, follow_gradient).
         radial_gain: edge following: radial correction per unit of distance error.
         arrive_tolerance: a robot beside an arrived robot of its gradient stops once it is at
             least d_cover - arrive_tolerance from it.

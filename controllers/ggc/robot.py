@@ -12,7 +12,8 @@ Statuses (Figure 3): Initial -> Detection -> Coverage -> Arrive.
   and no moving robot is within d_cover + d_safe (Algorithm 7).
 * Coverage: follow the edge of the stationary robots at d_cover from the nearest one (move
   away if closer, approach if farther, rotate around it; Algorithm 2), orbiting in one fixed
-  sense; gradient = 1 + min gradient of stationary neighbours within gradient_reach * d_cover.
+  sense; gradient = 1 + the gradient of the nearest stationary neighbour (with groups: of its
+  own group, within 1.5 d_cover).
   Stop (Arrive) on the target when the probe ahead leaves it, or beside an arrived robot whose
   gradient is >= ours, at d_cover from it. A robot outside the target never stops.
 * Robust edges: a robot that circles one robot all the way round, or moves less than theta in
