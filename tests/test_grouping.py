@@ -173,8 +173,8 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
 
     layout = spawn.random_layout
 
-    def one_far_away(world, n, spacing, rng):
-        out = layout(world, n, spacing, rng)
+    def one_far_away(world, n, spacing, rng, **options):
+        out = layout(world, n, spacing, rng, **options)
         out[0] = (-8.0, 0.0)  # over R_c = 15 from every spawn point: hears nobody
         return out
 
