@@ -273,15 +273,15 @@ def _coords(poly: Polygon) -> list[list[float]]:
 def world_path(name_or_path: str | Path) -> Path:
     """Resolve a world name (``"K"``) or a path to a ``.toml`` file."""
     p = Path(name_or_path)
-    shipped = any((d / f"{name_or_path}.toml").is_file() for d in _world_dirs())
-    if p.suffix == ".toml" or p.is_file() or (p.exists() and not shipped):
+    if p.suffix != ".toml" and not p.is_file():  # a name, unless only a folder has it
+        for candidate in _world_dirs():
+            f = candidate / f"{name_or_path}.toml"
+            if f.is_file():
+                return f
+    if p.suffix == ".toml" or p.exists():
         if not p.is_file():
             raise ConfigError(f"world file not found: {str(p)!r}", key="world")
         return p
-    for candidate in _world_dirs():
-        f = candidate / f"{name_or_path}.toml"
-        if f.is_file():
-            return f
     names = ", ".join(available_worlds()) or "none"
     raise ConfigError(f"unknown world {str(name_or_path)!r}; shipped worlds: {names}",
                       key="world")
