@@ -148,6 +148,22 @@ def test_interrupted_sweep_resumes_without_redoing_runs(tmp_path):
     assert third.ran == 0 and third.skipped == 6
 
 
+def test_a_table_before_any_run_finished_has_the_runs_columns(tmp_path):
+    runs = spec_from_dict({**TINY, "grid": {"d_cover": [4, 6]}}).runs()
+
+    def stop_at_once(run, status):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        Sweep(runs, tmp_path).run(workers=1, progress=False, on_result=stop_at_once)
+    Sweep(runs, tmp_path / "empty").write_table()
+    header = (tmp_path / "empty" / "results.csv").read_text().splitlines()
+    assert header == ["run_id,world,controller,max_ticks,d_cover,seed,error"]
+    text = (tmp_path / "results.csv").read_text().splitlines()
+    assert text[0].startswith("run_id,world,controller,max_ticks,d_cover,seed,") and text[0].endswith(",error")
+    assert len(text) == 2
+
+
 def test_failing_run_is_recorded_and_others_finish(tmp_path):
     # tiny's spawn band holds at most ~150 robots: 500 makes that run fail
     runs = spec_from_dict({**TINY, "grid": {"robots": [20, 500, 25]}}).runs()

@@ -195,7 +195,8 @@ class Sweep:
 
     def write_table(self) -> None:
         rows = [r for r in (self.row(run) for run in self.runs) if r is not None]
-        write_table(self.table_path, rows)
+        lead = list(run_row(self.runs[0])) if self.runs else []
+        write_table(self.table_path, rows, lead)
 
     def _finished_rows(self) -> list[dict[str, Any]]:
         """Table rows of the runs that finished without error."""

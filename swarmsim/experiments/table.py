@@ -50,9 +50,13 @@ def run_row(run, summary: Mapping[str, Any] | None = None, error: str | None = N
     return row
 
 
-def table_text(rows: Sequence[Mapping[str, Any]]) -> str:
-    """CSV text with columns in first-appearance order and the error column last."""
-    columns: list[str] = []
+def table_text(rows: Sequence[Mapping[str, Any]], lead: Sequence[str] = ()) -> str:
+    """CSV text with columns in first-appearance order and the error column last.
+
+    ``lead`` names columns that come first and are written even with no rows (a sweep's
+    run id, parameters and seed), so that a table of no finished run still has its header.
+    """
+    columns: list[str] = [k for k in lead if k != ERROR_COLUMN]
     for row in rows:
         columns.extend(k for k in row if k not in columns and k != ERROR_COLUMN)
     columns.append(ERROR_COLUMN)
@@ -68,9 +72,10 @@ def _cell(value: Any) -> Any:
     return "" if value is None else value
 
 
-def write_table(path: str | Path, rows: Sequence[Mapping[str, Any]]) -> None:
-    """Write the tidy table atomically."""
-    atomic_write_text(path, table_text(rows))
+def write_table(path: str | Path, rows: Sequence[Mapping[str, Any]],
+                lead: Sequence[str] = ()) -> None:
+    """Write the tidy table atomically (``lead``: see :func:`table_text`)."""
+    atomic_write_text(path, table_text(rows, lead))
 
 
 def read_table(path: str | Path) -> list[dict[str, str]]:
