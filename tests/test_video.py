@@ -48,3 +48,26 @@ def test_sim_render_shows_robots_where_they_are():
         px, py = (round(v) for v in renderer.world_to_pixel((x, y)))
         assert np.abs(frame[py, px].astype(int) - background[py, px]).sum() > 30
     np.testing.assert_array_equal(before, sim.positions)  # drawing moved nothing
+
+
+def test_sigterm_during_a_video_run_ends_like_ctrl_c_and_leaves_no_partial_file(tmp_path):
+    """`kill` (or a batch system's time limit) during `swarmsim run --video` removes the hidden
+    partial video and exits 130, as Ctrl-C does (SIGTERM's default would leave the file)."""
+    import signal
+    import sys
+    import time
+
+    cmd = [sys.executable, "-m", "swarmsim", "run", "tiny", "--video", "v.mp4", "--quiet",
+           "--max-ticks", "10000000", "--set", "stop_on_complete=false",
+           "--set", "plateau_ticks=10000000"]
+    proc = subprocess.Popen(cmd, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob(".v.mp4.*")) and time.monotonic() < deadline:
+        assert proc.poll() is None, proc.stderr.read()
+        time.sleep(0.1)
+    assert list(tmp_path.glob(".v.mp4.*")), "no partial video appeared"
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err
+    assert list(tmp_path.iterdir()) == []
