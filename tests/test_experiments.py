@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import socket
@@ -259,6 +260,65 @@ def test_runs_are_claimed_one_at_a_time_so_a_sweep_started_later_shares_the_rest
         other.kill()
         other.wait()
     assert report.ran == 2 and report.busy == 1 and report.skipped == 1
+
+
+def _descendants(pid: int) -> set[int]:
+    """Live processes under ``pid`` (Linux /proc)."""
+    children: dict[int, list[int]] = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if fields[0] != "Z":
+            children.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    found, todo = set(), [pid]
+    while todo:
+        kids = children.get(todo.pop(), [])
+        found.update(kids)
+        todo.extend(kids)
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
+def test_sigterm_stops_a_sweep_and_its_worker_processes(tmp_path):
+    """`kill` of a sweep (a batch system's time limit) must not leave its workers running."""
+    import signal
+
+    path = write_spec(tmp_path, 'world = "tiny"\ncontroller = "ggc"\nseeds = [0, 1, 2]\n'
+                      "[params]\nmax_ticks = 10000000\nstop_on_complete = false\n"
+                      "plateau_ticks = 10000000\n")
+    cmd = [sys.executable, "-m", "swarmsim", "sweep", str(path), "--out", "o", "--workers", "2",
+           "--quiet"]
+    proc = subprocess.Popen(cmd, cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    workers: set[int] = set()
+    try:
+        deadline = time.monotonic() + 120
+        while len(list(tmp_path.glob("o/runs/*/claim.json"))) < 2:
+            assert proc.poll() is None and time.monotonic() < deadline, proc.stderr.read()
+            time.sleep(0.1)
+        workers = _descendants(proc.pid)
+        assert workers
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+        assert proc.returncode == 130, err
+        assert "run the same command again to resume" in err
+        deadline = time.monotonic() + 30
+        while any(map(_alive, workers)) and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert not [w for w in workers if _alive(w)]
+        assert not list(tmp_path.glob("o/runs/*/claim.json"))
+    finally:
+        for pid in [proc.pid, *workers]:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
 
 
 def test_two_sweep_processes_on_one_folder_never_run_a_run_twice(tmp_path):
