@@ -8,6 +8,9 @@ Runs GGC (or --controller) like ``swarmsim run`` and keeps, per robot, the dista
 (did the walking go to robots that found a place, or to robots that never did?) and every
 robot that settled after ``--late-from`` (tick, id, group, position, coverage then). On K with
 3 groups this is how the interior holes that end a run were found (docs/ggc-findings.md).
+It also splits the distance by the status each robot had as it moved, and by whether it was
+driven (a velocity commanded that tick) or pushed (moved by contacts with none commanded):
+travel in formation shows as Initial, walking to a place as Coverage.
 """
 
 from __future__ import annotations
@@ -42,10 +45,20 @@ class Ledger:
         self.late_from = late_from
         self.late: list[tuple[int, int, np.ndarray, float]] = []
         self._last = sim.positions
+        self._status = sim.messages["status"].copy()
+        n_status = len(sim.statuses) + 1  # the last row: no status (-1)
+        self.driven = np.zeros(n_status)  # units moved, by status during the move
+        self.pushed = np.zeros(n_status)
 
     def __call__(self, sim: Simulation) -> None:
-        self.distance += np.hypot(*(sim.positions - self._last).T)
+        step = np.hypot(*(sim.positions - self._last).T)
+        self.distance += step
         self._last = sim.positions
+        driven = sim.velocities.any(axis=1)  # what the robots were told this tick
+        # the status each robot decided this tick with (its broadcast of the tick before)
+        np.add.at(self.driven, self._status[driven], step[driven])
+        np.add.at(self.pushed, self._status[~driven], step[~driven])
+        self._status = sim.messages["status"].copy()
         settled = np.isin(sim.messages["status"], self.settled_codes)
         for i in np.flatnonzero(settled & (self.settled_at < 0)).tolist():
             self.settled_at[i] = sim.tick
@@ -63,6 +76,10 @@ def report(sim: Simulation, ledger: Ledger, summary: dict) -> None:
         share = 100 * distance[mine].sum() / max(distance.sum(), 1e-12)
         print(f"  {name:<10} {int(mine.sum()):5d} robots  {distance[mine].sum():10.0f} units"
               f"  ({share:4.1f} %)")
+    print("by the status robots moved in (driven: velocity commanded; pushed: none):")
+    names = [*sim.statuses, "none"]
+    for k in np.flatnonzero(ledger.driven + ledger.pushed).tolist():
+        print(f"  {names[k]:<10} driven {ledger.driven[k]:10.0f}  pushed {ledger.pushed[k]:8.0f}")
     print(f"settled after tick {ledger.late_from}: {len(ledger.late)}")
     names = sim.messages.dtype.names or ()
     for tick, i, (x, y), coverage in ledger.late:

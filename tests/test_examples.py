@@ -36,6 +36,11 @@ def test_where_distance_goes_ledger_adds_up_to_the_runs_distance():
     settled = ledger.settled_at >= 0
     assert settled.sum() == result.summary["status_counts"]["Arrive"] > 0
     assert len(ledger.late) == int((ledger.settled_at > 300).sum()) > 0
+    split = ledger.driven + ledger.pushed
+    assert abs(split.sum() - total) < 1e-6 * total
+    coverage = sim.statuses.index("Coverage")
+    assert ledger.driven[coverage] > 0.5 * total  # robots walk to their places in Coverage
+    assert ledger.driven[sim.statuses.index("Arrive")] == 0  # arrived robots are never driven
 
 
 def test_the_swarmsim_command_finds_a_controller_module_in_the_current_folder():
