@@ -324,17 +324,14 @@ def _dispatch(args: argparse.Namespace) -> int:
         return 130
 
 
-def _interrupt(signum: int, frame: Any) -> None:
-    raise KeyboardInterrupt
-
-
 @contextlib.contextmanager
 def _terminate_as_interrupt() -> Iterator[None]:
     """Treat SIGTERM (``kill``, a batch system's time limit) like Ctrl-C while a command runs,
     so that it ends the same way: partial video files are removed, a sweep keeps its finished
     runs and says how to resume. Only in the main thread (where Python allows handlers)."""
     try:
-        previous = signal.signal(signal.SIGTERM, _interrupt)
+        # Python's own Ctrl-C handler: raises KeyboardInterrupt
+        previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
     except ValueError:  # not the main thread
         yield
         return
