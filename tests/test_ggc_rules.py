@@ -460,3 +460,24 @@ def test_valley_following_in_floats_matches_numpy_to_the_bit():
             assert got.tobytes() == want.tobytes()
             checked += 1
     assert checked > 100  # robots on opposite sides: the valley case itself was compared
+
+
+def test_a_mover_stuck_in_a_closed_valley_turns_round_when_it_goes_again():
+    """A robot leaving an uneven formation from a corner of two touching formation robots
+    follows the 'valley' between them by its heading, which pointed into the corner. At the
+    dead end it flipped only its orbit sense, which a valley ignores: rejoining and leaving
+    again it pushed into the same corner for good, and two such robots took turns at it
+    while the rest of the formation waited (K, 1 group, scattered start, seed 4: 229 robots
+    never left). Turning round means the heading too."""
+    corner = perception([((0.01, -0.8), 7, 1, DETECTION), ((0.8, 0.02), 8, 1, DETECTION)])
+    into = np.array([0.7, -0.7])  # toward the corner between the two
+    r = robot(groups=1)
+    r.start_coverage(corner)
+    r.heading = into.copy()
+    assert r.coverage(corner).velocity @ into > 0  # the heading leads it into the corner
+    r.odometer[:] = 0.0
+    at_dead_end = dataclasses.replace(corner, tick=corner.tick + r.p.T_r)
+    r.coverage(at_dead_end)
+    assert r.status == DETECTION and r.yield_count == 2  # wedged: it waits its turn again
+    r.start_coverage(at_dead_end)
+    assert r.coverage(at_dead_end).velocity @ into < 0  # and then leaves the other way

@@ -51,6 +51,7 @@ class CoverageRules:
                 self.set_status(ARRIVE)
                 return self.act()
             self.sense = -self.sense  # a dead end: try the other way round
+            self.heading = -self.heading  # (a valley is followed by heading, not sense)
             self.circled = 0.0
             self.restart_lap(whole=False)
             if p.on_target:  # Algorithm 6: wait T_s, then resume
