@@ -468,7 +468,7 @@ def test_a_mover_stuck_in_a_closed_valley_turns_round_when_it_goes_again():
     dead end it flipped only its orbit sense, which a valley ignores: rejoining and leaving
     again it pushed into the same corner for good, and two such robots took turns at it
     while the rest of the formation waited (K, 1 group, scattered start, seed 4: 229 robots
-    never left). Turning round means the heading too."""
+    never left). Rejoining, it now turns its heading round too."""
     corner = perception([((0.01, -0.8), 7, 1, DETECTION), ((0.8, 0.02), 8, 1, DETECTION)])
     into = np.array([0.7, -0.7])  # toward the corner between the two
     r = robot(groups=1)

@@ -51,13 +51,15 @@ class CoverageRules:
                 self.set_status(ARRIVE)
                 return self.act()
             self.sense = -self.sense  # a dead end: try the other way round
-            self.heading = -self.heading  # (a valley is followed by heading, not sense)
             self.circled = 0.0
             self.restart_lap(whole=False)
             if p.on_target:  # Algorithm 6: wait T_s, then resume
                 return self.deadlock_stop(p)
             if self.wedged(p):
                 self.set_status(DETECTION)  # wait until the robots around me have gone
+                # and then leave the other way: a valley is followed by heading, not sense,
+                # and it pushed into the same corner each time (K, 1 group, scattered, seed 4)
+                self.heading = -self.heading
                 self.yield_count = len(self.waiting_near(p))
                 return self.act()
         if ((p.on_target or not self.p.stop_on_target_only)
