@@ -59,7 +59,7 @@ def test_registered_and_declared(name):
     ("fcdfs", {"turn": 2}), ("fcdfs", {"cell": 7.0}),
 ])
 def test_params_are_validated(name, bad):
-    with pytest.raises(ValueError):
+    with pytest.raises(ValueError, match=next(iter(bad))):  # the message names the parameter
         get_controller(name).Params(**bad)
 
 

@@ -61,6 +61,15 @@ def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
     assert on[arrived].mean() > 0.95
     moved_far = [c for c in sim.controllers if c.status == ARRIVE and c.grad == INF_GRADIENT]
     assert not moved_far
+    # spacing: each arrived robot's nearest arrived neighbour about d_cover (6) away (rule b
+    # stops at d_cover - arrive_tolerance or more; a deadlocked mover may stop a little closer)
+    settled = sim.positions[np.array([c.status == ARRIVE for c in sim.controllers])]
+    gaps = np.hypot(*(settled[:, None] - settled[None]).transpose(2, 0, 1))
+    np.fill_diagonal(gaps, np.inf)
+    nearest = gaps.min(axis=1)
+    assert len(settled) >= 20
+    assert nearest.min() > 0.8 * sim.params.d_cover, nearest.min()
+    assert abs(np.median(nearest) - sim.params.d_cover) < 0.5, np.median(nearest)
 
 
 def test_gradient_grows_outward_from_the_leader():
@@ -84,6 +93,8 @@ def test_same_seed_same_run_and_sleep_changes_nothing():
     cols = lambda r: [(x["tick"], x["coverage"], x["total_distance"]) for x in r.timeseries]
     assert cols(a) == cols(b) == cols(c)
     assert a.summary["coverage"] > 0.2
+    assert min(x["awake"] for x in a.timeseries[1:]) < 60  # robots really slept
+    assert min(x["awake"] for x in b.timeseries) == 60
 
 
 def test_sleep_changes_nothing_at_d_cover_1_where_movers_push_the_formation():
@@ -93,16 +104,20 @@ def test_sleep_changes_nothing_at_d_cover_1_where_movers_push_the_formation():
     def summary(allow_sleep):
         sim = Simulation("tiny", seed=0, max_ticks=1500, d_cover=1.0,
                          settings={"allow_sleep": allow_sleep})
-        return {k: v for k, v in sim.run().summary.items() if k != "wall_seconds"}
+        result = sim.run()
+        fewest_awake = min(x["awake"] for x in result.timeseries[1:])
+        return {k: v for k, v in result.summary.items() if k != "wall_seconds"}, fewest_awake
 
-    assert summary(True) == summary(False)
+    (slept, fewest), (awake, _) = summary(True), summary(False)
+    assert slept == awake
+    assert fewest < slept["robots"]  # robots really slept
 
 
 @pytest.mark.parametrize("bad", [{"d_cover": 0.5}, {"v": -1.0}, {"orbit": 2}, {"theta": 20.0},
                                  {"T_r": 0}])
 def test_bad_ggc_parameters_are_named(bad):
     key = next(iter(bad))
-    with pytest.raises(ConfigError, match=key):
+    with pytest.raises(ConfigError, match=f"key '{key}'"):
         Simulation(small_world(), controller="ggc", robots=20, settings=bad)
 
 

@@ -107,10 +107,13 @@ def test_sleeping_changes_nothing_when_robots_fail_either():
                          settings={"allow_sleep": allow_sleep, "failures": 5,
                                    "failure_phase": "tick", "failure_tick": 300})
         res = sim.run()
-        return sim.positions, [r["coverage"] for r in res.timeseries]
+        assert res.summary["failed_robots"] == 5
+        fewest_awake = min(r["awake"] for r in res.timeseries[1:])
+        return sim.positions, [r["coverage"] for r in res.timeseries], fewest_awake
 
-    (pa, ca), (pb, cb) = run(True), run(False)
+    (pa, ca, fewest), (pb, cb, _) = run(True), run(False)
     assert np.array_equal(pa, pb) and ca == cb
+    assert fewest < len(pa) - 5  # robots really slept
 
 
 def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
