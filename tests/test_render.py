@@ -146,10 +146,9 @@ def test_failed_robot_drawn_dark_and_leader_ring():
     assert len(disc) >= 9 and disc.mean() < 100  # dark (with a light X when large enough)
     plain = changed(r.draw(make_snapshot([[5, 5]])), empty).sum()
     led = changed(r.draw(make_snapshot([[5, 5]], leader=True)), empty).sum()
-    assert led > plain  # the leader's ring alone
-    both = changed(r.draw(make_snapshot([[5, 5]], leader=True,
-                                        in_contact=np.array([True]))), empty).sum()
-    assert both > plain
+    assert led > plain  # the leader's ring
+    touching = changed(r.draw(make_snapshot([[5, 5]], in_contact=np.array([True]))), empty).sum()
+    assert touching > plain  # the contact ring (highlight_contacts)
 
 
 def test_invalid_arguments():
