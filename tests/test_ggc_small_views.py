@@ -105,7 +105,9 @@ def waiting_near_reference(r: GGCRobot, p: Perception) -> np.ndarray:
 
 
 def widest_gap_reference(offsets: np.ndarray) -> float:
-    angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
+    """The numpy form of widest_gap, with the C library's atan2 (numpy's arctan2 may take
+    an AVX-512 kernel whose last bit differs)."""
+    angles = np.sort(np.array([math.atan2(y, x) for x, y in offsets.tolist()]))
     return max(float((angles[1:] - angles[:-1]).max()),
                float(angles[0]) + 2 * math.pi - float(angles[-1]))
 
@@ -190,6 +192,11 @@ def test_widest_gap_matches_the_numpy_form_to_the_bit():
             offsets[rng.random(n) < 0.2] = offsets[0]  # equal bearings: zero gaps
             offsets[rng.random(n) < 0.1, 1] = 0.0  # on the axis: bearings 0 and pi
             assert widest_gap(offsets) == widest_gap_reference(offsets)
+            # and within rounding of numpy's own arctan2, whichever kernel it takes
+            bearings = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
+            numpy_gap = max(float(np.diff(bearings).max()),
+                            float(bearings[0]) + 2 * math.pi - float(bearings[-1]))
+            assert abs(widest_gap(offsets) - numpy_gap) <= 1e-12
 
 
 def test_waiting_near_and_is_enclosed_match_the_numpy_masks():

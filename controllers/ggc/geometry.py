@@ -23,11 +23,15 @@ def unit(v: np.ndarray) -> np.ndarray:
 
 
 def widest_gap(offsets: np.ndarray) -> float:
-    """Widest angle (radians) between the bearings of two or more neighbours (k, 2)."""
-    if len(offsets) <= SMALL_VIEW:  # the same angles and differences, in Python floats
-        angles = sorted(math.atan2(y, x) for x, y in offsets.tolist())
-        return max(max(b - a for a, b in pairwise(angles)),
-                   angles[0] + 2 * math.pi - angles[-1])
-    angles = np.sort(np.arctan2(offsets[:, 1], offsets[:, 0]))
-    return max(float((angles[1:] - angles[:-1]).max()),
-               float(angles[0]) + 2 * math.pi - float(angles[-1]))
+    """Widest angle (radians) between the bearings of two or more neighbours (k, 2).
+
+    The bearings come from ``math.atan2`` whatever the view's size: numpy's ``arctan2``
+    may take a SIMD kernel (AVX-512) whose last bit differs from the C library's, and the
+    answer must not depend on the view's size or the machine's vector unit. Sorting and
+    subtracting are exact either way, so small views loop and large ones use numpy.
+    """
+    angles = sorted(math.atan2(y, x) for x, y in offsets.tolist())
+    wrap = angles[0] + 2 * math.pi - angles[-1]
+    if len(angles) <= SMALL_VIEW:
+        return max(max(b - a for a, b in pairwise(angles)), wrap)
+    return max(float(np.diff(angles).max()), wrap)
