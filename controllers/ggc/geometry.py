@@ -25,13 +25,9 @@ def unit(v: np.ndarray) -> np.ndarray:
 def widest_gap(offsets: np.ndarray) -> float:
     """Widest angle (radians) between the bearings of two or more neighbours (k, 2).
 
-    The bearings come from ``math.atan2`` whatever the view's size: numpy's ``arctan2``
-    may take a SIMD kernel (AVX-512) whose last bit differs from the C library's, and the
-    answer must not depend on the view's size or the machine's vector unit. Sorting and
-    subtracting are exact either way, so small views loop and large ones use numpy.
+    In Python floats with ``math.atan2``, whatever the view's size: numpy's ``arctan2`` may
+    take a SIMD kernel (AVX-512) whose last bit differs from the C library's, and the answer
+    must not depend on the machine's vector unit. (Views are small: robots within 1.5 d_min.)
     """
     angles = sorted(math.atan2(y, x) for x, y in offsets.tolist())
-    wrap = angles[0] + 2 * math.pi - angles[-1]
-    if len(angles) <= SMALL_VIEW:
-        return max(max(b - a for a, b in pairwise(angles)), wrap)
-    return max(float(np.diff(angles).max()), wrap)
+    return max(max(b - a for a, b in pairwise(angles)), angles[0] + 2 * math.pi - angles[-1])
