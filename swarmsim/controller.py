@@ -163,6 +163,34 @@ class NeighbourBatch:
 
 
 @dataclass(frozen=True, slots=True)
+class DecideBatch:
+    """A chunk of awake robots' sensing, for a controller class's optional ``decide_batch``.
+
+    Robot k of the chunk owns rows ``neighbours.starts[k]:neighbours.starts[k + 1]`` of
+    ``neighbours`` and ``offsets`` and the k-th entry of the lists: the very values of its
+    Perception. Nothing else is in here: a robot's action may depend on its own rows only.
+
+    Attributes:
+        tick: the current tick.
+        neighbours: the chunk's heard broadcasts and distances (units).
+        offsets: (P, 2) each heard robot's position relative to the listener, units.
+        on_target: each robot's floor sensor.
+        moved: each robot's own displacement during the previous tick, (2,) units.
+        probe: ``probe(k)`` is robot k's floor probe (see Perception.probe).
+        perceive: ``perceive(k)`` is robot k's whole Perception (for robots the batch
+            does not decide itself: ``robot.step(perceive(k))``).
+    """
+
+    tick: int
+    neighbours: NeighbourBatch
+    offsets: np.ndarray
+    on_target: list[bool]
+    moved: list[np.ndarray]
+    probe: Callable[[int], Callable[[np.ndarray], bool]]
+    perceive: Callable[[int], Perception]
+
+
+@dataclass(frozen=True, slots=True)
 class Action:
     """What a robot does this tick.
 

@@ -21,6 +21,7 @@ from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     INF_GRADIENT,
     Action,
+    DecideBatch,
     NeighbourBatch,
     Perception,
     RobotSetup,
@@ -183,6 +184,8 @@ class Simulation:
         self.statuses = tuple(self.controller_cls.STATUSES)
         self.dtype = message_dtype(run_message_fields(self.controller_cls, cfg.groups))
         self._prepare = getattr(self.controller_cls, "prepare", None)
+        self._decide_batch = (getattr(self.controller_cls, "decide_batch", None)
+                              if cfg.batch_decide and cfg.decide_order == "index" else None)
         self.silent = silent_message(self.dtype)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
@@ -361,18 +364,32 @@ class Simulation:
         bearings = _bearings(self.world.beacon, pos[awake])
         beacons = [None] * len(awake) if bearings is None else list(bearings)
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
-        at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), moved[awake]
+        at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), list(moved[awake])
         deciding = [controllers[i] for i in awake.tolist()]
-        perceptions = [make_perception(tick, offsets, distances, messages, on_k, probe_at(x, y),
-                                       beacon, moved_k)
-                       for offsets, distances, messages, on_k, (x, y), beacon, moved_k
-                       in zip(offset_lists, distance_lists, message_lists, on, at, beacons,
-                              list(shift), strict=True)]
+        batch = None
         if self._prepare is not None and heard is not None:
             starts = np.concatenate(([0], np.cumsum(counts)))
-            self._prepare(deciding, NeighbourBatch(heard, np.concatenate(distance_lists),
-                                                   starts))
-        self._apply(awake, self._step_all(deciding, perceptions), new_messages, velocities)
+            batch = NeighbourBatch(heard, np.concatenate(distance_lists), starts)
+            self._prepare(deciding, batch)
+        if self._decide_batch is not None and batch is not None:
+
+            def perceive(k: int) -> Perception:
+                x, y = at[k]
+                return make_perception(tick, offset_lists[k], distance_lists[k],
+                                       message_lists[k], on[k], probe_at(x, y), beacons[k],
+                                       shift[k])
+
+            actions = self._decide_batch(deciding, DecideBatch(
+                tick, batch, np.concatenate(offset_lists), on, shift,
+                lambda k: probe_at(*at[k]), perceive))
+        else:
+            perceptions = [make_perception(tick, offsets, distances, messages, on_k,
+                                           probe_at(x, y), beacon, moved_k)
+                           for offsets, distances, messages, on_k, (x, y), beacon, moved_k
+                           in zip(offset_lists, distance_lists, message_lists, on, at, beacons,
+                                  shift, strict=True)]
+            actions = self._step_all(deciding, perceptions)
+        self._apply(awake, actions, new_messages, velocities)
 
     def _step_all(self, robots: list, perceptions: list[Perception]) -> list[Action]:
         """Each robot's action, its controller called in index order or, with decide_order

@@ -11,10 +11,11 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 
-from swarmsim.controller import NeighbourBatch, register
+from swarmsim.controller import Action, DecideBatch, NeighbourBatch, register
 
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
+from .fastpath import decide_chunk
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -45,6 +46,12 @@ class GGC(GGCRobot):
         """Movers' and waiting robots' neighbourhood queries for a whole chunk at once
         (see batch.py)."""
         prepare_chunk(robots, batch)
+
+    @classmethod
+    def decide_batch(cls, robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
+        """The chunk's actions: movers' common case from the arrays, the rest by ``step``
+        (see fastpath.py)."""
+        return decide_chunk(robots, batch)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

@@ -13,6 +13,7 @@ collisions.py.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -123,8 +124,13 @@ class CoverageRules:
         side; instead keep going the way we were heading, centred between them. (In Python
         floats: the same arithmetic as on numpy 2-vectors, several times faster.)
         """
-        da, db = float(p.distances[a]), float(p.distances[b])
-        (oax, oay), (obx, oby) = p.offsets[a].tolist(), p.offsets[b].tolist()
+        return self.valley_between(float(p.distances[a]), float(p.distances[b]),
+                                   p.offsets[a].tolist(), p.offsets[b].tolist())
+
+    def valley_between(self, da: float, db: float, offset_a: Sequence[float],
+                       offset_b: Sequence[float]) -> np.ndarray | None:
+        """:meth:`valley_follow` from the two robots' distances (units) and offsets (x, y)."""
+        (oax, oay), (obx, oby) = offset_a, offset_b
         ax, ay, bx, by = oax / da, oay / da, obx / db, oby / db
         if ax * bx + ay * by >= 0:
             return None
@@ -145,8 +151,9 @@ class CoverageRules:
             return np.zeros(2)
         return np.array([vx / n * self.p.v, vy / n * self.p.v])
 
-    def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
-        """Rotate around the neighbour at ``offset`` keeping d_cover from it (Algorithm 2)."""
+    def edge_follow(self, offset: np.ndarray | Sequence[float], dist: float) -> np.ndarray:
+        """Rotate around the neighbour at ``offset`` (x, y) keeping d_cover from it
+        (Algorithm 2)."""
         scale = max(dist, 1e-9)  # in scalars: the same arithmetic as arrays, faster
         rx, ry = offset[0] / scale, offset[1] / scale
         error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))

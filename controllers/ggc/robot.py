@@ -41,6 +41,7 @@ from .batch import Precomputed, WaitingAnswers
 from .collisions import CollisionRules
 from .coverage import CoverageRules
 from .detection import DetectionRules
+from .fastpath import CoverageBatch
 from .geometry import SMALL_VIEW
 from .params import GGCParams
 from .statuses import (  # noqa: F401 (re-exported)
@@ -74,11 +75,12 @@ def message_fields(groups: int) -> list[tuple]:
     return [*MESSAGE_FIELDS[:-len(AGGREGATION_FIELDS)], *aggregation_fields(groups)]
 
 
-class GGCRobot(DetectionRules, CoverageRules, CollisionRules, SurplusLap, Aggregation,
-               CirclingWatch, ProgressWatch):
+class GGCRobot(DetectionRules, CoverageRules, CoverageBatch, CollisionRules, SurplusLap,
+               Aggregation, CirclingWatch, ProgressWatch):
     """One robot's GGC controller: its state, broadcasts and the Initial status (travel)
     here; Detection in detection.py, Coverage in coverage.py, the surplus lap in surplus.py,
-    Stop and deadlocks in collisions.py; the scattered start's leader selection, grouping
+    Stop and deadlocks in collisions.py; Coverage's common case a chunk at a time in
+    fastpath.py; the scattered start's leader selection, grouping
     and aggregation in aggregation.py."""
 
     def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator):
@@ -111,6 +113,8 @@ class GGCRobot(DetectionRules, CoverageRules, CollisionRules, SurplusLap, Aggreg
         self.boundary_fill = (params.boundary_fill == "always"
                               or (params.boundary_fill == "one-group" and setup.groups == 1))
         self.sense = params.orbit
+        self.batch_coverage = not (self.surplus_rule or self.boundary_fill or params.own_edges
+                                   or params.stop_ahead_only)  # see fastpath.py
         self.route: tuple[float, float] | None = None  # the travel my formation followed
         self.orbit_chosen = False
         self.collision_stops = 0

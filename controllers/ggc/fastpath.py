@@ -1,0 +1,196 @@
+"""GGC's movers decided a chunk at a time (the engine's ``decide_batch``).
+
+Most of a run's robot-ticks are movers in Coverage following an edge (no arrival, no dead
+end, no Stop) and movers waiting in Stop. For those, :meth:`CoverageBatch.coverage_in_batch` does what
+:meth:`~controllers.ggc.coverage.CoverageRules.coverage` does, reading the robot's own rows
+of the chunk's arrays instead of a Perception, with the same float operations in the same
+order (``math.hypot``, ``math.atan2`` and the same numpy products), so the result is the
+same to the bit; :meth:`CoverageBatch.stop_in_batch` does what ``stopped`` does while the
+wait goes on. It changes the robot's state only once it knows it decides the tick; every
+other case (an arrival, a dead end, a Stop, wandering, and the options it does not know:
+surplus, boundary fill, own edges, stop-ahead) returns None first and the robot takes its
+``step`` with a full Perception. ``batch_decide = false`` (a run setting) turns this off:
+results must not change (tests/test_ggc_fastpath.py).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from controllers.edges import turn_between
+from controllers.views import any_of
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
+
+from .geometry import unit
+from .statuses import ARRIVE, COVERAGE, STOP
+
+if TYPE_CHECKING:
+    from .robot import GGCRobot
+
+
+class ChunkRows(NamedTuple):
+    """The chunk's arrays a mover reads, each field contiguous (rows as in the batch)."""
+
+    starts: list[int]
+    distance: np.ndarray
+    offset: np.ndarray
+    group: np.ndarray
+    status: np.ndarray
+    sender: np.ndarray
+    moving: np.ndarray
+    gradient: np.ndarray
+
+    @classmethod
+    def of(cls, batch: DecideBatch) -> ChunkRows:
+        m = batch.neighbours.messages
+        return cls(batch.neighbours.starts.tolist(), batch.neighbours.distances, batch.offsets,
+                   *(np.ascontiguousarray(m[name])
+                     for name in ("group", "status", "id", "moving", "gradient")))
+
+
+def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
+    """Each robot's action: movers in the common case from the arrays, the rest by ``step``."""
+    rows = ChunkRows.of(batch)
+    perceive = batch.perceive
+    actions = []
+    for k, robot in enumerate(robots):
+        action = None
+        if robot.status == COVERAGE and robot.batch_coverage:
+            action = robot.coverage_in_batch(batch, rows, k)
+        elif robot.status == STOP and robot.batch_coverage:
+            action = robot.stop_in_batch(batch, k)
+        actions.append(robot.step(perceive(k)) if action is None else action)
+    return actions
+
+
+class CoverageBatch:
+    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: Coverage's common case from a
+    chunk's arrays."""
+
+    def coverage_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
+                          ) -> Action | None:
+        """This tick's action if it is the common case of :meth:`coverage`, else None with
+        nothing changed."""
+        pre, p, tick = self.pre, self.p, c.tick
+        if (pre is None or not pre.edge or self.stepping_in
+                or (self.scattered and tick < self.selection_ticks)):
+            return None
+        start, end = f.starts[k], f.starts[k + 1]
+        a = start + pre.edge[0]
+        da, offset_a = f.distance.item(a), (f.offset.item(a, 0), f.offset.item(a, 1))
+        velocity = None
+        if len(pre.edge) > 1:
+            b = start + pre.edge[1]
+            db = f.distance.item(b)
+            if db < p.d_cover:
+                velocity = self.valley_between(da, db, offset_a,
+                                               (f.offset.item(b, 0), f.offset.item(b, 1)))
+        if velocity is None:
+            velocity = self.edge_follow(offset_a, da)
+        heading = unit(velocity)
+        on_target = c.on_target[k]
+        if on_target and self.arrives_in_batch(c, f, k, a, da, heading):
+            return None
+        grad = self.gradient_in_batch(f, a, start, end)
+        circling = self.circling_in_batch(f.sender.item(a), offset_a)
+        odometer = self.odometer + c.moved[k]
+        sampled = tick - self.progress_tick >= p.T_r
+        if circling[3] or (sampled and math.hypot(*odometer) <= p.theta):
+            return None  # a dead end (circled all round, or stuck): step() turns round
+        if (self.groups > 1 and pre.movers and (on_target or not p.stop_on_target_only)
+                and tick >= self.pass_until):
+            return None  # Section 4.3: Stop
+        give_way = self.give_way_in_batch(c, f, start, velocity)
+        # the tick is mine: change the state as coverage() would
+        self.odometer += c.moved[k]
+        if sampled:  # a progress sample that showed progress (stuck() returned False)
+            self.odometer[:] = 0.0
+            self.progress_tick = tick
+            self.in_deadlock = False
+        self.heading = heading
+        if grad is not None:
+            self.grad = grad
+        self.circling_id, self.circled, self.last_bearing = circling[:3]
+        self.pre = self.pre_wait = None
+        return self.act(velocity if give_way is None else give_way)
+
+    def arrives_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
+                         da: float, heading: np.ndarray) -> bool:
+        """Might :meth:`should_arrive` say yes (on the target)? True also for the cases
+        this path leaves to step() (lattice sites with one group)."""
+        p = self.p
+        if da < p.d_cover - p.arrive_tolerance:
+            return False
+        if any_of(heading) and not c.probe(k)(heading * p.probe_distance):
+            return True  # rule (a)
+        if f.sender.item(a) == NO_SENDER or f.status.item(a) != ARRIVE:
+            return False
+        reach = p.d_cover + p.arrive_tolerance
+        if p.lattice_stop and reach <= p.lattice_reach and self.groups == 1:
+            return True  # decided in step()
+        if f.group.item(a) != self.group:
+            if p.junction_stop == "always":
+                return True
+            if p.junction_stop != "lattice":
+                return False
+            start, end = f.starts[k], f.starts[k + 1]
+            near = start + int(f.distance[start:end].searchsorted(reach, side="right"))
+            return int((f.status[start:near] == ARRIVE).sum()) >= 2
+        return f.gradient.item(a) >= self.grad
+
+    def gradient_in_batch(self: GGCRobot, f: ChunkRows, a: int, start: int, end: int
+                          ) -> int | None:
+        """The gradient :meth:`follow_gradient` would take (None: keep mine)."""
+        if f.group.item(a) != self.group:
+            reach, a = 1.5 * self.p.d_cover, None
+            for r in range(start, end):  # nearest first
+                if f.distance.item(r) > reach:
+                    break
+                if not f.moving.item(r) and f.group.item(r) == self.group:
+                    a = r
+                    break
+            if a is None:
+                return None
+        g = f.gradient.item(a)
+        return g + 1 if f.sender.item(a) != NO_SENDER and g < INF_GRADIENT else None
+
+    def circling_in_batch(self: GGCRobot, sender: int, offset: tuple[float, float]
+                          ) -> tuple[int, float, float, bool]:
+        """:meth:`circling`'s new (circling_id, circled, last_bearing) and its answer."""
+        bearing = math.atan2(-offset[1], -offset[0])
+        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
+            return sender, 0.0, bearing, False
+        circled = self.circled + turn_between(self.last_bearing, bearing)
+        return self.circling_id, circled, bearing, abs(circled) > 2 * math.pi
+
+    def give_way_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, start: int,
+                          velocity: np.ndarray) -> np.ndarray | None:
+        """:meth:`give_way` from the chunk's rows."""
+        if not self.pre.ahead:
+            return None
+        ahead = np.asarray(self.pre.ahead, dtype=np.intp)
+        ahead = ahead[c.offsets[start + ahead] @ velocity > 0]
+        if len(ahead) == 0:
+            return None
+        other = start + int(ahead[0])
+        if f.distance.item(other) < self.p.yield_distance * 0.75:
+            return -unit(c.offsets[other]) * self.p.v * 0.5
+        return np.zeros(2)
+
+    def stop_in_batch(self: GGCRobot, c: DecideBatch, k: int) -> Action | None:
+        """:meth:`stopped` while the robot keeps waiting (T_s after a deadlock, or another
+        group's mover still near); None when it would resume (step() does that)."""
+        tick, pre, patience = c.tick, self.pre, self.p.stop_patience
+        if pre is None or (self.scattered and tick < self.selection_ticks):
+            return None
+        if tick >= self.resume_tick and not (
+                self.groups > 1 and pre.movers
+                and (not patience or c.on_target[k] or tick - self.stop_since < patience)):
+            return None
+        self.progress_tick = tick  # waiting is not a lack of progress (stopped())
+        self.odometer[:] = 0.0
+        self.pre = self.pre_wait = None
+        return self.act()

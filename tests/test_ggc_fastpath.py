@@ -1,0 +1,65 @@
+"""GGC's movers decided a chunk at a time (controllers/ggc/fastpath.py) change nothing."""
+
+import hashlib
+from collections import Counter
+
+import pytest
+
+from controllers.ggc.robot import COVERAGE, STATUSES, STOP, GGCRobot
+from swarmsim import Simulation
+from tests.test_ggc import small_world
+
+
+def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
+                    max_ticks: int = 3000) -> tuple[str, Simulation, Counter]:
+    """A run's every position and broadcast, hashed tick by tick, and how many robot-ticks
+    each status had."""
+    sim = Simulation(small_world(40, 30), controller="ggc", robots=robots, groups=groups,
+                     seed=1, max_ticks=max_ticks, settings={"batch_decide": batch_decide})
+    digest, statuses = hashlib.sha256(), Counter()
+    for _ in range(max_ticks):
+        sim.step()
+        digest.update(sim.positions.tobytes())
+        digest.update(sim.messages.tobytes())
+        statuses.update(STATUSES[c.status] for c in sim.controllers)
+        if sim.metrics.completion_tick is not None:
+            break
+    return digest.hexdigest(), sim, statuses
+
+
+@pytest.fixture(scope="module")
+def both_ways():
+    return fingerprint_run(True), fingerprint_run(False)
+
+
+def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
+    (fast, sim, statuses), (slow, _, _) = both_ways
+    assert fast == slow
+    # the run exercised what the fast path decides: movers, Stops, a completed cover
+    assert sim.metrics.completion_tick is not None
+    assert statuses["Coverage"] > 20_000 and statuses["Stop"] > 20_000
+    assert sum(c.collision_stops for c in sim.controllers) > 100
+
+
+def test_the_fast_path_decides_most_movers(monkeypatch):
+    """Coverage and Stop robots reach step() only for the rare cases."""
+    stepped = Counter()
+    step = GGCRobot.step
+
+    def counting(self, p):
+        stepped[self.status] += 1
+        return step(self, p)
+
+    monkeypatch.setattr(GGCRobot, "step", counting)
+    _, _, statuses = fingerprint_run(True, max_ticks=1500)
+    assert statuses["Coverage"] > 5_000
+    assert stepped[COVERAGE] < 0.1 * statuses["Coverage"]
+    assert stepped[STOP] < 0.2 * statuses["Stop"]
+
+
+def test_one_group_and_options_it_does_not_know_take_step():
+    """With one group (the surplus rule on) every mover goes through step(): the same run."""
+    a = fingerprint_run(True, robots=60, groups=1, max_ticks=1200)
+    b = fingerprint_run(False, robots=60, groups=1, max_ticks=1200)
+    assert a[0] == b[0]
+    assert not any(c.batch_coverage for c in a[1].controllers)
