@@ -9,6 +9,7 @@ gives a controller a global position.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import shapely
@@ -56,6 +57,20 @@ RADIUS_SPREAD = 2.0
 passes (see NeighbourSearch._pairs_within)."""
 
 
+class FlatViews(NamedTuple):
+    """Several robots' neighbourhood views in flat arrays (:meth:`NeighbourSearch.
+    neighbourhoods_flat`): robot k owns ``counts[k]`` rows, right after robot k-1's."""
+
+    neighbours: np.ndarray
+    """(P,) neighbour indices, each robot's nearest first (ties by index)."""
+    offsets: np.ndarray
+    """(P, 2) the neighbours' positions relative to the robot, units."""
+    distances: np.ndarray
+    """(P,) their distances, units."""
+    counts: np.ndarray
+    """(R,) rows per robot."""
+
+
 class NeighbourSearch:
     """A k-d tree over all robot centres, built once per tick (scipy's cKDTree).
 
@@ -94,7 +109,19 @@ class NeighbourSearch:
         ties by index, self excluded), their offsets (k, 2) relative to the robot and their
         distances (k,), in units. The same values as :meth:`neighbours` + :func:`relative_view`.
         ``perturb`` (sensing noise) maps all true offsets (P, 2) to sensed ones before sorting,
-        so neighbours come sorted by sensed distance.
+        so neighbours come sorted by sensed distance. (:meth:`neighbourhoods_flat` gives the
+        same views as flat arrays.)
+        """
+        views = self.neighbourhoods_flat(robots, radius, perturb)
+        bounds = split_bounds(views.counts)
+        return ([views.neighbours[a:b] for a, b in bounds],
+                [views.offsets[a:b] for a, b in bounds],
+                [views.distances[a:b] for a, b in bounds])
+
+    def neighbourhoods_flat(self, robots: np.ndarray, radius: float | np.ndarray,
+                            perturb: Callable[[np.ndarray], np.ndarray] | None = None
+                            ) -> FlatViews:
+        """:meth:`neighbourhoods` as flat arrays: robot k's rows follow robot k-1's.
 
         Robots are taken ``NEIGHBOURHOOD_CHUNK`` at a time, which bounds the temporary arrays
         (a robot of a 10,000-robot formation listening at R_c = 15 has ~800 neighbours); the
@@ -102,17 +129,18 @@ class NeighbourSearch:
         offsets in order, and a numpy Generator's draws do not depend on how they are split).
         """
         radii = np.broadcast_to(np.asarray(radius, dtype=float), (len(robots),))
-        views: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]] = ([], [], [])
-        for a in range(0, len(robots), NEIGHBOURHOOD_CHUNK):
-            chunk = slice(a, a + NEIGHBOURHOOD_CHUNK)
-            for out, part in zip(views, self._neighbourhood_chunk(robots[chunk], radii[chunk],
-                                                                  perturb), strict=True):
-                out.extend(part)
-        return views
+        parts = [self._neighbourhood_chunk(robots[a:a + NEIGHBOURHOOD_CHUNK],
+                                           radii[a:a + NEIGHBOURHOOD_CHUNK], perturb)
+                 for a in range(0, len(robots), NEIGHBOURHOOD_CHUNK)]
+        if len(parts) == 1:
+            return parts[0]
+        if not parts:
+            return FlatViews(np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros(0),
+                             np.zeros(0, dtype=np.intp))
+        return FlatViews(*(np.concatenate(field) for field in zip(*parts, strict=True)))
 
     def _neighbourhood_chunk(self, robots: np.ndarray, radii: np.ndarray,
-                             perturb: Callable[[np.ndarray], np.ndarray] | None
-                             ) -> tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]]:
+                             perturb: Callable[[np.ndarray], np.ndarray] | None) -> FlatViews:
         segment, flat, offsets, d2 = self._pairs_within(robots, radii)
         order = stable_radix_order(flat.astype(np.uint64), index_bits(len(self.positions)))
         if perturb is not None:  # the noise is drawn in (segment, neighbour) order
@@ -126,9 +154,7 @@ class NeighbourSearch:
         order = by_segment_then_distance(segment, d2, order)
         flat, offsets = flat[order], rows(offsets, order)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
-        bounds = split_bounds(np.bincount(segment, minlength=len(robots)))
-        return ([flat[a:b] for a, b in bounds], [offsets[a:b] for a, b in bounds],
-                [distances[a:b] for a, b in bounds])
+        return FlatViews(flat, offsets, distances, np.bincount(segment, minlength=len(robots)))
 
     def _pairs_within(self, robots: np.ndarray, radii: np.ndarray
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -36,7 +36,7 @@ from swarmsim.imperfections import Imperfections
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
-from swarmsim.sensing import FloorSensor, NeighbourSearch, rows, split_bounds
+from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch, rows
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
@@ -335,61 +335,58 @@ class Simulation:
         decide_s = 0.0
         for start in range(0, len(awake), DECIDE_CHUNK):
             chunk = awake[start:start + DECIDE_CHUNK]
-            views = search.neighbourhoods(chunk, self.listen[chunk], perturb=perturb)
+            views = search.neighbourhoods_flat(chunk, self.listen[chunk], perturb=perturb)
             began = clock()
             self._decide(chunk, views, moved, new_messages, velocities)
             decide_s += clock() - began
             del views  # before the next chunk's are made
         return decide_s
 
-    def _decide(self, awake: np.ndarray,
-                views: tuple[list[np.ndarray], list[np.ndarray], list[np.ndarray]],
-                moved: np.ndarray, new_messages: np.ndarray, velocities: np.ndarray) -> None:
-        pos, on_target = self.positions, self.on_target
-        neighbour_lists, offset_lists, distance_lists = views
-        heard, message_lists = None, []
-        if neighbour_lists:
-            heard_from = np.concatenate(neighbour_lists)
-            # np.take: ~20x faster than fancy indexing for a structured dtype, same rows
-            heard = np.take(self.messages, heard_from)
-            if self.failed.any():
-                heard[self.failed[heard_from]] = self.silent
-            lost = self.imperfect.lost(len(heard))
-            if lost is not None:
-                heard[lost] = self.silent
-            heard.flags.writeable = False  # every robot gets a read-only view of its part
-            counts = np.fromiter(map(len, neighbour_lists), dtype=np.intp)
-            bounds = split_bounds(counts)
-            message_lists = [heard[a:b] for a, b in bounds]
+    def _decide(self, awake: np.ndarray, views: FlatViews, moved: np.ndarray,
+                new_messages: np.ndarray, velocities: np.ndarray) -> None:
+        """Decide the awake robots of one chunk from their neighbourhood ``views``."""
+        if len(awake) == 0:
+            return
+        heard = self._heard(views.neighbours)
+        ends = np.cumsum(views.counts)
+        starts = np.concatenate(([0], ends))
+        first, last = starts[:-1].tolist(), ends.tolist()
+        offsets, distances = views.offsets, views.distances
+        pos = self.positions
         bearings = _bearings(self.world.beacon, pos[awake])
-        beacons = [None] * len(awake) if bearings is None else list(bearings)
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
-        at, on, shift = pos[awake].tolist(), on_target[awake].tolist(), list(moved[awake])
+        at, on, shift = pos[awake].tolist(), self.on_target[awake].tolist(), list(moved[awake])
         deciding = [controllers[i] for i in awake.tolist()]
-        batch = None
-        if self._prepare is not None and heard is not None:
-            starts = np.concatenate(([0], np.cumsum(counts)))
-            batch = NeighbourBatch(heard, np.concatenate(distance_lists), starts)
+
+        def perceive(k: int) -> Perception:
+            a, b = first[k], last[k]
+            x, y = at[k]
+            return make_perception(tick, offsets[a:b], distances[a:b], heard[a:b], on[k],
+                                   probe_at(x, y), None if bearings is None else bearings[k],
+                                   shift[k])
+
+        batch = NeighbourBatch(heard, distances, starts)
+        if self._prepare is not None:
             self._prepare(deciding, batch)
-        if self._decide_batch is not None and batch is not None:
-
-            def perceive(k: int) -> Perception:
-                x, y = at[k]
-                return make_perception(tick, offset_lists[k], distance_lists[k],
-                                       message_lists[k], on[k], probe_at(x, y), beacons[k],
-                                       shift[k])
-
+        if self._decide_batch is not None:
             actions = self._decide_batch(deciding, DecideBatch(
-                tick, batch, np.concatenate(offset_lists), on, shift,
-                lambda k: probe_at(*at[k]), perceive))
+                tick, batch, offsets, on, shift, lambda k: probe_at(*at[k]), perceive))
         else:
-            perceptions = [make_perception(tick, offsets, distances, messages, on_k,
-                                           probe_at(x, y), beacon, moved_k)
-                           for offsets, distances, messages, on_k, (x, y), beacon, moved_k
-                           in zip(offset_lists, distance_lists, message_lists, on, at, beacons,
-                                  shift, strict=True)]
-            actions = self._step_all(deciding, perceptions)
+            actions = self._step_all(deciding, [perceive(k) for k in range(len(deciding))])
         self._apply(awake, actions, new_messages, velocities)
+
+    def _heard(self, senders: np.ndarray) -> np.ndarray:
+        """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
+        read as silent)."""
+        # np.take: ~20x faster than fancy indexing for a structured dtype, same rows
+        heard = np.take(self.messages, senders)
+        if self.failed.any():
+            heard[self.failed[senders]] = self.silent
+        lost = self.imperfect.lost(len(heard))
+        if lost is not None:
+            heard[lost] = self.silent
+        heard.flags.writeable = False  # every robot gets a read-only view of its part
+        return heard
 
     def _step_all(self, robots: list, perceptions: list[Perception]) -> list[Action]:
         """Each robot's action, its controller called in index order or, with decide_order
