@@ -5,7 +5,7 @@ from collections import Counter
 
 import pytest
 
-from controllers.ggc.robot import COVERAGE, STATUSES, STOP, GGCRobot
+from controllers.ggc.robot import COVERAGE, INITIAL, STATUSES, STOP, GGCRobot
 from swarmsim import Simulation
 from tests.test_ggc import small_world
 
@@ -42,7 +42,7 @@ def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
 
 
 def test_the_fast_path_decides_most_movers(monkeypatch):
-    """Coverage and Stop robots reach step() only for the rare cases."""
+    """Travelling (Initial), Coverage and Stop robots reach step() only for the rare cases."""
     stepped = Counter()
     step = GGCRobot.step
 
@@ -55,10 +55,12 @@ def test_the_fast_path_decides_most_movers(monkeypatch):
     assert statuses["Coverage"] > 5_000
     assert stepped[COVERAGE] < 0.1 * statuses["Coverage"]
     assert stepped[STOP] < 0.2 * statuses["Stop"]
+    assert statuses["Initial"] > 5_000 and stepped[INITIAL] < 0.1 * statuses["Initial"]
 
 
 def test_one_group_and_options_it_does_not_know_take_step():
-    """With one group (the surplus rule on) every mover goes through step(): the same run."""
+    """With one group (the surplus rule on) movers go through step(), travelling robots
+    through the fast path: the same run."""
     a = fingerprint_run(True, robots=60, groups=1, max_ticks=1200)
     b = fingerprint_run(False, robots=60, groups=1, max_ticks=1200)
     assert a[0] == b[0]

@@ -1,12 +1,13 @@
 """GGC's movers decided a chunk at a time (the engine's ``decide_batch``).
 
 Most of a run's robot-ticks are movers in Coverage following an edge (no arrival, no dead
-end, no Stop) and movers waiting in Stop. For those, :meth:`CoverageBatch.coverage_in_batch` does what
+end, no Stop), movers waiting in Stop and formations travelling (Initial). For those, :meth:`CoverageBatch.coverage_in_batch` does what
 :meth:`~controllers.ggc.coverage.CoverageRules.coverage` does, reading the robot's own rows
 of the chunk's arrays instead of a Perception, with the same float operations in the same
 order (``math.hypot``, ``math.atan2`` and the same numpy products), so the result is the
 same to the bit; :meth:`CoverageBatch.stop_in_batch` does what ``stopped`` does while the
-wait goes on. It changes the robot's state only once it knows it decides the tick; every
+wait goes on, and :meth:`CoverageBatch.initial_in_batch` what ``initial`` does for a robot
+that copies its gradient parent's travel command. It changes the robot's state only once it knows it decides the tick; every
 other case (an arrival, a dead end, a Stop, wandering, and the options it does not know:
 surplus, boundary fill, own edges, stop-ahead) returns None first and the robot takes its
 ``step`` with a full Perception. ``batch_decide = false`` (a run setting) turns this off:
@@ -25,7 +26,7 @@ from controllers.views import any_of
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
 from .geometry import unit
-from .statuses import ARRIVE, COVERAGE, STOP
+from .statuses import ARRIVE, CMD_HALT, CMD_TRAVEL, COVERAGE, INITIAL, STOP
 
 if TYPE_CHECKING:
     from .robot import GGCRobot
@@ -51,24 +52,42 @@ class ChunkRows(NamedTuple):
                      for name in ("group", "status", "id", "moving", "gradient")))
 
 
+class TravelRows(NamedTuple):
+    """The fields a travelling robot (Initial) reads, each contiguous."""
+
+    touch: np.ndarray
+    cmd: np.ndarray
+    vx: np.ndarray
+    vy: np.ndarray
+
+    @classmethod
+    def of(cls, batch: DecideBatch) -> TravelRows:
+        m = batch.neighbours.messages
+        return cls(*(np.ascontiguousarray(m[name]) for name in ("touch", "cmd", "vx", "vy")))
+
+
 def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
-    """Each robot's action: movers in the common case from the arrays, the rest by ``step``."""
+    """Each robot's action: the common cases from the arrays, the rest by ``step``."""
     rows = ChunkRows.of(batch)
+    travel: TravelRows | None = None  # made for the chunk's first travelling robot
     perceive = batch.perceive
     actions = []
     for k, robot in enumerate(robots):
-        action = None
-        if robot.status == COVERAGE and robot.batch_coverage:
+        action, status = None, robot.status
+        if status == COVERAGE and robot.batch_coverage:
             action = robot.coverage_in_batch(batch, rows, k)
-        elif robot.status == STOP and robot.batch_coverage:
+        elif status == STOP and robot.batch_coverage:
             action = robot.stop_in_batch(batch, k)
+        elif status == INITIAL and not robot.leader:
+            travel = TravelRows.of(batch) if travel is None else travel
+            action = robot.initial_in_batch(batch, rows, travel, k)
         actions.append(robot.step(perceive(k)) if action is None else action)
     return actions
 
 
 class CoverageBatch:
-    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: Coverage's common case from a
-    chunk's arrays."""
+    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the common cases of Coverage, Stop
+    and Initial from a chunk's arrays."""
 
     def coverage_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
                           ) -> Action | None:
@@ -194,3 +213,37 @@ class CoverageBatch:
         self.odometer[:] = 0.0
         self.pre = self.pre_wait = None
         return self.act()
+
+    def initial_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, t: TravelRows, k: int
+                         ) -> Action | None:
+        """:meth:`initial` for a travelling robot that is not a leader and has a gradient
+        parent, and no halt to pass on; None otherwise (step() does those)."""
+        if self.scattered and c.tick < self.selection_ticks:
+            return None
+        start, end = f.starts[k], f.starts[k + 1]
+        near = start + int(f.distance[start:end].searchsorted(1.5 * self.p.d_min, side="right"))
+        mine, best = self.group, INF_GRADIENT
+        for r in range(start, near):  # gradient_in: my group's formation robots
+            g = f.gradient.item(r)
+            if (g < best and f.group.item(r) == mine and not f.moving.item(r)
+                    and f.sender.item(r) != NO_SENDER and f.status.item(r) != COVERAGE):
+                best = g
+        if best == INF_GRADIENT:
+            return None  # no gradient: the timeout and sleep of initial()
+        parent, touch = -1, c.on_target[k]
+        for r in range(start, near):  # nearest first: parent_in and touching_in
+            if f.group.item(r) != mine:
+                continue
+            touch = touch or t.touch.item(r)
+            if (parent < 0 and f.sender.item(r) != NO_SENDER and f.gradient.item(r) == best
+                    and not f.moving.item(r)):
+                parent = r
+        cmd = t.cmd.item(parent)
+        if cmd == CMD_HALT:
+            return None  # the halt: step() stops me and passes it on
+        self.odometer += c.moved[k]
+        self.grad, self.touch, self.cmd = best + 1, touch, cmd
+        self.travel = np.array([t.vx.item(parent), t.vy.item(parent)], dtype=float)
+        self.remember_route()
+        self.pre = self.pre_wait = None
+        return self.act(self.travel if cmd == CMD_TRAVEL else (0.0, 0.0))
