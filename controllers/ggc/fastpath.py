@@ -1,17 +1,16 @@
-"""GGC's movers decided a chunk at a time (the engine's ``decide_batch``).
+"""GGC's common cases decided a chunk at a time (the engine's ``decide_batch``).
 
 Most of a run's robot-ticks are movers in Coverage following an edge (no arrival, no dead
-end, no Stop), movers waiting in Stop and formations travelling (Initial). For those, :meth:`CoverageBatch.coverage_in_batch` does what
-:meth:`~controllers.ggc.coverage.CoverageRules.coverage` does, reading the robot's own rows
-of the chunk's arrays instead of a Perception, with the same float operations in the same
-order (``math.hypot``, ``math.atan2`` and the same numpy products), so the result is the
-same to the bit; :meth:`CoverageBatch.stop_in_batch` does what ``stopped`` does while the
-wait goes on, and :meth:`CoverageBatch.initial_in_batch` what ``initial`` does for a robot
-that copies its gradient parent's travel command. It changes the robot's state only once it knows it decides the tick; every
-other case (an arrival, a dead end, a Stop, wandering, and the options it does not know:
-surplus, boundary fill, own edges, stop-ahead) returns None first and the robot takes its
-``step`` with a full Perception. ``batch_decide = false`` (a run setting) turns this off:
-results must not change (tests/test_ggc_fastpath.py).
+end, no Stop), movers waiting in Stop and formations travelling (Initial). For those,
+:class:`CoverageBatch` does what the status's handler does (``coverage``, ``stopped``,
+``initial``), reading the robot's own rows of the chunk's arrays instead of a Perception,
+with the same float operations in the same order (``math.hypot``, ``math.atan2``, the same
+numpy products), so the result is the same to the bit. It changes the robot's state only
+once it knows it decides the tick. Every other case (an arrival, a dead end, a Stop,
+wandering, resuming, a halt, a leader, and the options it does not know: the surplus lap,
+boundary fill, own edges, stop-ahead) returns None first, and the robot takes its ``step``
+with a full Perception. ``batch_decide = false`` (a run setting) turns this off: results
+must not change (tests/test_ggc_fastpath.py).
 """
 
 from __future__ import annotations
