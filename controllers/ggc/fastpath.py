@@ -51,24 +51,45 @@ class ChunkRows(NamedTuple):
                      for name in ("group", "status", "id", "moving", "gradient")))
 
 
-class TravelRows(NamedTuple):
-    """The fields a travelling robot (Initial) reads, each contiguous."""
+class TravelAnswers(NamedTuple):
+    """What each travelling robot of a chunk reads from its formation neighbours (within
+    1.5 d_min, its group's), found with masks over the chunk's rows at once: the answers of
+    ``gradient_in``, ``parent_in`` and ``touching_in`` (integer and boolean tests only)."""
 
-    touch: np.ndarray
+    best: list[int]
+    """The smallest gradient among the robot's formation neighbours (INF_GRADIENT: none)."""
+    parent: list[int]
+    """The row of its gradient parent (the nearest holding ``best``), or -1."""
+    touched: list[bool]
+    """Does one of them broadcast ``touch``?"""
     cmd: np.ndarray
     vx: np.ndarray
     vy: np.ndarray
 
     @classmethod
-    def of(cls, batch: DecideBatch) -> TravelRows:
-        m = batch.neighbours.messages
-        return cls(*(np.ascontiguousarray(m[name]) for name in ("touch", "cmd", "vx", "vy")))
+    def of(cls, robots: list[GGCRobot], batch: DecideBatch, f: ChunkRows) -> TravelAnswers:
+        n, m, p = len(robots), batch.neighbours.messages, robots[0].p
+        segment = np.repeat(np.arange(n), np.diff(batch.neighbours.starts))
+        travelling = np.array([r.status == INITIAL for r in robots])[segment]
+        mine = travelling & (f.distance <= 1.5 * p.d_min)
+        mine &= f.group == np.array([r.group for r in robots])[segment]
+        held = mine & (f.sender != NO_SENDER) & ~f.moving
+        formed = held & (f.status != COVERAGE) & (f.gradient < INF_GRADIENT)
+        best = np.full(n, INF_GRADIENT, dtype=np.int64)
+        np.minimum.at(best, segment[formed], f.gradient[formed])
+        rows = np.flatnonzero(held & (f.gradient == best[segment]))
+        parent = np.full(n, -1, dtype=np.int64)
+        robot, first = np.unique(segment[rows], return_index=True)  # rows ascend: the nearest
+        parent[robot] = rows[first]
+        touched = np.bincount(segment[mine & m["touch"]], minlength=n) > 0
+        return cls(best.tolist(), parent.tolist(), touched.tolist(),
+                   *(np.ascontiguousarray(m[name]) for name in ("cmd", "vx", "vy")))
 
 
 def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     """Each robot's action: the common cases from the arrays, the rest by ``step``."""
     rows = ChunkRows.of(batch)
-    travel: TravelRows | None = None  # made for the chunk's first travelling robot
+    travel: TravelAnswers | None = None  # made for the chunk's first travelling robot
     perceive = batch.perceive
     actions = []
     for k, robot in enumerate(robots):
@@ -78,8 +99,8 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
         elif status == STOP and robot.batch_coverage:
             action = robot.stop_in_batch(batch, k)
         elif status == INITIAL and not robot.leader:
-            travel = TravelRows.of(batch) if travel is None else travel
-            action = robot.initial_in_batch(batch, rows, travel, k)
+            travel = TravelAnswers.of(robots, batch, rows) if travel is None else travel
+            action = robot.initial_in_batch(batch, travel, k)
         actions.append(robot.step(perceive(k)) if action is None else action)
     return actions
 
@@ -213,35 +234,18 @@ class CoverageBatch:
         self.pre = self.pre_wait = None
         return self.act()
 
-    def initial_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, t: TravelRows, k: int
+    def initial_in_batch(self: GGCRobot, c: DecideBatch, t: TravelAnswers, k: int
                          ) -> Action | None:
         """:meth:`initial` for a travelling robot that is not a leader and has a gradient
         parent, and no halt to pass on; None otherwise (step() does those)."""
-        if self.scattered and c.tick < self.selection_ticks:
-            return None
-        start, end = f.starts[k], f.starts[k + 1]
-        near = start + int(f.distance[start:end].searchsorted(1.5 * self.p.d_min, side="right"))
-        mine, best = self.group, INF_GRADIENT
-        for r in range(start, near):  # gradient_in: my group's formation robots
-            g = f.gradient.item(r)
-            if (g < best and f.group.item(r) == mine and not f.moving.item(r)
-                    and f.sender.item(r) != NO_SENDER and f.status.item(r) != COVERAGE):
-                best = g
-        if best == INF_GRADIENT:
+        best, parent = t.best[k], t.parent[k]
+        if best == INF_GRADIENT or (self.scattered and c.tick < self.selection_ticks):
             return None  # no gradient: the timeout and sleep of initial()
-        parent, touch = -1, c.on_target[k]
-        for r in range(start, near):  # nearest first: parent_in and touching_in
-            if f.group.item(r) != mine:
-                continue
-            touch = touch or t.touch.item(r)
-            if (parent < 0 and f.sender.item(r) != NO_SENDER and f.gradient.item(r) == best
-                    and not f.moving.item(r)):
-                parent = r
         cmd = t.cmd.item(parent)
         if cmd == CMD_HALT:
             return None  # the halt: step() stops me and passes it on
         self.odometer += c.moved[k]
-        self.grad, self.touch, self.cmd = best + 1, touch, cmd
+        self.grad, self.touch, self.cmd = best + 1, c.on_target[k] or t.touched[k], cmd
         self.travel = np.array([t.vx.item(parent), t.vy.item(parent)], dtype=float)
         self.remember_route()
         self.pre = self.pre_wait = None
