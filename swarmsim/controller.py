@@ -176,6 +176,8 @@ class DecideBatch:
         offsets: (P, 2) each heard robot's position relative to the listener, units.
         on_target: each robot's floor sensor.
         moved: each robot's own displacement during the previous tick, (2,) units.
+        beacons: (R, 2) each robot's unit bearing toward the beacon (Perception.beacon), or
+            None in a world without a beacon.
         probe: ``probe(k)`` is robot k's floor probe (see Perception.probe).
         perceive: ``perceive(k)`` is robot k's whole Perception (for robots the batch
             does not decide itself: ``robot.step(perceive(k))``).
@@ -186,6 +188,7 @@ class DecideBatch:
     offsets: np.ndarray
     on_target: list[bool]
     moved: list[np.ndarray]
+    beacons: np.ndarray | None
     probe: Callable[[int], Callable[[np.ndarray], bool]]
     perceive: Callable[[int], Perception]
 

@@ -370,7 +370,8 @@ class Simulation:
             self._prepare(deciding, batch)
         if self._decide_batch is not None:
             actions = self._decide_batch(deciding, DecideBatch(
-                tick, batch, offsets, on, shift, lambda k: probe_at(*at[k]), perceive))
+                tick, batch, offsets, on, shift, bearings, lambda k: probe_at(*at[k]),
+                perceive))
         else:
             actions = self._step_all(deciding, [perceive(k) for k in range(len(deciding))])
         self._apply(awake, actions, new_messages, velocities)

@@ -11,7 +11,8 @@ from tests.test_ggc import small_world
 
 
 def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
-                    max_ticks: int = 3000) -> tuple[str, Simulation, Counter]:
+                    max_ticks: int = 3000, until_complete: bool = True
+                    ) -> tuple[str, Simulation, Counter]:
     """A run's every position and broadcast, hashed tick by tick, and how many robot-ticks
     each status had."""
     sim = Simulation(small_world(40, 30), controller="ggc", robots=robots, groups=groups,
@@ -22,7 +23,7 @@ def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
         digest.update(sim.positions.tobytes())
         digest.update(sim.messages.tobytes())
         statuses.update(STATUSES[c.status] for c in sim.controllers)
-        if sim.metrics.completion_tick is not None:
+        if until_complete and sim.metrics.completion_tick is not None:
             break
     return digest.hexdigest(), sim, statuses
 
@@ -58,10 +59,23 @@ def test_the_fast_path_decides_most_movers(monkeypatch):
     assert statuses["Initial"] > 5_000 and stepped[INITIAL] < 0.1 * statuses["Initial"]
 
 
-def test_one_group_and_options_it_does_not_know_take_step():
-    """With one group (the surplus rule on) movers go through step(), travelling robots
-    through the fast path: the same run."""
-    a = fingerprint_run(True, robots=60, groups=1, max_ticks=1200)
-    b = fingerprint_run(False, robots=60, groups=1, max_ticks=1200)
-    assert a[0] == b[0]
-    assert not any(c.batch_coverage for c in a[1].controllers)
+def test_one_group_with_the_surplus_lap_changes_nothing(monkeypatch):
+    """One group: the surplus lap and boundary fill are on. Run past completion until robots
+    give up (Surplus): the same run both ways, and movers reach step() only rarely."""
+    stepped = Counter()
+    step = GGCRobot.step
+
+    def counting(self, p):
+        stepped[self.status] += 1
+        return step(self, p)
+
+    monkeypatch.setattr(GGCRobot, "step", counting)
+    fast, sim, statuses = fingerprint_run(True, robots=80, groups=1, max_ticks=5000,
+                                          until_complete=False)
+    movers_stepped = stepped[COVERAGE]
+    slow, _, _ = fingerprint_run(False, robots=80, groups=1, max_ticks=5000,
+                                 until_complete=False)
+    assert fast == slow
+    assert sum(c.surplus for c in sim.controllers) >= 10  # the lap ran to its end
+    assert all(c.batch_coverage and c.surplus_rule for c in sim.controllers)
+    assert movers_stepped < 0.05 * statuses["Coverage"]

@@ -7,9 +7,9 @@ end, no Stop), movers waiting in Stop and formations travelling (Initial). For t
 with the same float operations in the same order (``math.hypot``, ``math.atan2``, the same
 numpy products), so the result is the same to the bit. It changes the robot's state only
 once it knows it decides the tick. Every other case (an arrival, a dead end, a Stop,
-wandering, resuming, a halt, a leader, and the options it does not know: the surplus lap,
-boundary fill, own edges, stop-ahead) returns None first, and the robot takes its ``step``
-with a full Perception. ``batch_decide = false`` (a run setting) turns this off: results
+giving up after a surplus lap, stepping in across the boundary, wandering, resuming, a halt,
+a leader, and the two options it does not know: own edges, stop-ahead) returns None first,
+and the robot takes its ``step`` with a full Perception. ``batch_decide = false`` (a run setting) turns this off: results
 must not change (tests/test_ggc_fastpath.py).
 """
 
@@ -25,30 +25,66 @@ from controllers.views import any_of
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
 from .geometry import unit
-from .statuses import ARRIVE, CMD_HALT, CMD_TRAVEL, COVERAGE, INITIAL, STOP
+from .statuses import (
+    ARRIVE,
+    CMD_HALT,
+    CMD_TRAVEL,
+    COVERAGE,
+    DETECTION,
+    INITIAL,
+    STOP,
+    SURPLUS,
+)
 
 if TYPE_CHECKING:
     from .robot import GGCRobot
 
 
-class ChunkRows(NamedTuple):
-    """The chunk's arrays a mover reads, each field contiguous (rows as in the batch)."""
+class LapAnswers(NamedTuple):
+    """Per robot of a chunk, over all its rows (the surplus lap's questions)."""
 
-    starts: list[int]
-    distance: np.ndarray
-    offset: np.ndarray
-    group: np.ndarray
-    status: np.ndarray
-    sender: np.ndarray
-    moving: np.ndarray
-    gradient: np.ndarray
+    waiting: list[bool]
+    """A waiting robot (Initial, Detection) of its group is heard (``group_waiting_in``)."""
+    surplus: list[bool]
+    """A Surplus robot of its group is heard (``hears_group_surplus``)."""
 
-    @classmethod
-    def of(cls, batch: DecideBatch) -> ChunkRows:
+
+class ChunkRows:
+    """The chunk's arrays a robot reads, each field contiguous (rows as in the batch)."""
+
+    __slots__ = ("_lap", "distance", "gradient", "group", "moving", "offset", "own_group",
+                 "segment", "sender", "starts", "status", "stepped")
+
+    def __init__(self, robots: list[GGCRobot], batch: DecideBatch):
         m = batch.neighbours.messages
-        return cls(batch.neighbours.starts.tolist(), batch.neighbours.distances, batch.offsets,
-                   *(np.ascontiguousarray(m[name])
-                     for name in ("group", "status", "id", "moving", "gradient")))
+        self.starts: list[int] = batch.neighbours.starts.tolist()
+        self.distance, self.offset = batch.neighbours.distances, batch.offsets
+        (self.group, self.status, self.sender, self.moving, self.gradient, self.stepped) = (
+            np.ascontiguousarray(m[name])
+            for name in ("group", "status", "id", "moving", "gradient", "stepped"))
+        self.segment = np.repeat(np.arange(len(robots)), np.diff(batch.neighbours.starts))
+        """(P,) the robot (its index in the chunk) each row belongs to."""
+        self.own_group = np.array([r.group for r in robots])[self.segment]
+        """(P,) the group of the robot each row belongs to."""
+        self._lap: LapAnswers | None = None
+
+    @property
+    def lap(self) -> LapAnswers:
+        """The surplus lap's answers, found for the whole chunk on first use."""
+        if self._lap is None:
+            n, mine = len(self.starts) - 1, self.group == self.own_group
+            waiting = mine & ((self.status == INITIAL) | (self.status == DETECTION))
+            surplus = mine & (self.status == SURPLUS)
+            self._lap = LapAnswers(
+                *((np.bincount(self.segment[rows], minlength=n) > 0).tolist()
+                  for rows in (waiting, surplus)))
+        return self._lap
+
+    def at_lattice_site(self, k: int, reach: float) -> bool:
+        """``at_lattice_site``: two arrived robots within ``reach`` of robot k."""
+        start, end = self.starts[k], self.starts[k + 1]
+        near = start + int(self.distance[start:end].searchsorted(reach, side="right"))
+        return int((self.status[start:near] == ARRIVE).sum()) >= 2
 
 
 class TravelAnswers(NamedTuple):
@@ -68,11 +104,9 @@ class TravelAnswers(NamedTuple):
 
     @classmethod
     def of(cls, robots: list[GGCRobot], batch: DecideBatch, f: ChunkRows) -> TravelAnswers:
-        n, m, p = len(robots), batch.neighbours.messages, robots[0].p
-        segment = np.repeat(np.arange(n), np.diff(batch.neighbours.starts))
+        n, m, p, segment = len(robots), batch.neighbours.messages, robots[0].p, f.segment
         travelling = np.array([r.status == INITIAL for r in robots])[segment]
-        mine = travelling & (f.distance <= 1.5 * p.d_min)
-        mine &= f.group == np.array([r.group for r in robots])[segment]
+        mine = travelling & (f.distance <= 1.5 * p.d_min) & (f.group == f.own_group)
         held = mine & (f.sender != NO_SENDER) & ~f.moving
         formed = held & (f.status != COVERAGE) & (f.gradient < INF_GRADIENT)
         best = np.full(n, INF_GRADIENT, dtype=np.int64)
@@ -88,7 +122,7 @@ class TravelAnswers(NamedTuple):
 
 def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     """Each robot's action: the common cases from the arrays, the rest by ``step``."""
-    rows = ChunkRows.of(batch)
+    rows = ChunkRows(robots, batch)
     travel: TravelAnswers | None = None  # made for the chunk's first travelling robot
     perceive = batch.perceive
     actions = []
@@ -120,19 +154,18 @@ class CoverageBatch:
         start, end = f.starts[k], f.starts[k + 1]
         a = start + pre.edge[0]
         da, offset_a = f.distance.item(a), (f.offset.item(a, 0), f.offset.item(a, 1))
-        velocity = None
-        if len(pre.edge) > 1:
-            b = start + pre.edge[1]
-            db = f.distance.item(b)
-            if db < p.d_cover:
-                velocity = self.valley_between(da, db, offset_a,
-                                               (f.offset.item(b, 0), f.offset.item(b, 1)))
-        if velocity is None:
-            velocity = self.edge_follow(offset_a, da)
+        velocity = self.velocity_in_batch(f, start, da, offset_a)
         heading = unit(velocity)
         on_target = c.on_target[k]
         if on_target and self.arrives_in_batch(c, f, k, a, da, heading):
             return None
+        lap = None
+        if self.surplus_rule:
+            lap = self.lap_in_batch(c, f, k, a, da)
+            if lap is None:
+                return None  # surplus: step() gives up
+        if self.boundary_fill and self.steps_in_batch(c, f, k, a, da):
+            return None  # boundary fill: step() steps in
         grad = self.gradient_in_batch(f, a, start, end)
         circling = self.circling_in_batch(f.sender.item(a), offset_a)
         odometer = self.odometer + c.moved[k]
@@ -153,13 +186,73 @@ class CoverageBatch:
         if grad is not None:
             self.grad = grad
         self.circling_id, self.circled, self.last_bearing = circling[:3]
+        if lap is not None:
+            self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
         self.pre = self.pre_wait = None
         return self.act(velocity if give_way is None else give_way)
 
+    def velocity_in_batch(self: GGCRobot, f: ChunkRows, start: int, da: float,
+                          offset_a: tuple[float, float]) -> np.ndarray:
+        """:meth:`edge_velocity` for the nearest edge robot at distance ``da`` and
+        ``offset_a`` (and the second nearest, if any, from the rows)."""
+        edge = self.pre.edge
+        if len(edge) > 1:
+            b = start + edge[1]
+            db = f.distance.item(b)
+            if db < self.p.d_cover:
+                valley = self.valley_between(da, db, offset_a,
+                                             (f.offset.item(b, 0), f.offset.item(b, 1)))
+                if valley is not None:
+                    return valley
+        return self.edge_follow(offset_a, da)
+
+    def lap_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int, da: float
+                     ) -> tuple | None:
+        """:meth:`track_winding` then :meth:`is_surplus`: the lap's new books (away,
+        frontier, lap_whole, winding, beacon_angle), or None when is_surplus says yes."""
+        p, winding, angle = self.p, self.winding, self.beacon_angle
+        if c.beacons is not None:
+            bearing = math.atan2(float(c.beacons[k, 1]), float(c.beacons[k, 0]))
+            if angle is not None:
+                winding += turn_between(angle, bearing)
+            angle = bearing
+        away = self.away or not f.lap.waiting[k]
+        frontier, on_target = self.frontier, c.on_target[k]
+        if on_target and frontier <= p.surplus_frontier:
+            outward = -c.offsets[a] / max(da, 1e-9)
+            if c.probe(k)(outward * p.boundary_probe):
+                moved = c.moved[k]
+                frontier += math.hypot(float(moved[0]), float(moved[1]))
+        if p.surplus_spread and not on_target and f.lap.surplus[k]:
+            return None
+        books = (away, frontier, self.lap_whole, winding, angle)
+        if f.sender.item(a) == NO_SENDER or f.group.item(a) != self.group:
+            return books
+        status = f.status.item(a)
+        if status == SURPLUS:
+            return None
+        if not (away and status in (INITIAL, DETECTION)) or da > p.d_cover + p.arrive_tolerance:
+            return books
+        went_round = angle is None or abs(winding) >= math.radians(p.surplus_winding)
+        if self.lap_whole and frontier <= p.surplus_frontier and went_round:
+            return None
+        return False, 0.0, True, 0.0, None  # restart_lap(): go round again
+
+    def steps_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
+                       da: float) -> bool:
+        """:meth:`target_inward`: off the target beside an arrived robot, target floor
+        toward it."""
+        p = self.p
+        if c.on_target[k] or f.status.item(a) != ARRIVE or f.sender.item(a) in self.no_way_in:
+            return False
+        if f.stepped.item(a) or da < p.d_cover - p.arrive_tolerance:
+            return False
+        toward = c.offsets[a] / max(da, 1e-9)
+        return bool(c.probe(k)(toward * p.boundary_probe))
+
     def arrives_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
                          da: float, heading: np.ndarray) -> bool:
-        """Might :meth:`should_arrive` say yes (on the target)? True also for the cases
-        this path leaves to step() (lattice sites with one group)."""
+        """Does :meth:`should_arrive` say yes (on the target)?"""
         p = self.p
         if da < p.d_cover - p.arrive_tolerance:
             return False
@@ -168,16 +261,13 @@ class CoverageBatch:
         if f.sender.item(a) == NO_SENDER or f.status.item(a) != ARRIVE:
             return False
         reach = p.d_cover + p.arrive_tolerance
-        if p.lattice_stop and reach <= p.lattice_reach and self.groups == 1:
-            return True  # decided in step()
+        if (p.lattice_stop and reach <= p.lattice_reach and self.groups == 1
+                and not f.at_lattice_site(k, reach)):
+            return False
         if f.group.item(a) != self.group:
             if p.junction_stop == "always":
                 return True
-            if p.junction_stop != "lattice":
-                return False
-            start, end = f.starts[k], f.starts[k + 1]
-            near = start + int(f.distance[start:end].searchsorted(reach, side="right"))
-            return int((f.status[start:near] == ARRIVE).sum()) >= 2
+            return p.junction_stop == "lattice" and f.at_lattice_site(k, reach)
         return f.gradient.item(a) >= self.grad
 
     def gradient_in_batch(self: GGCRobot, f: ChunkRows, a: int, start: int, end: int

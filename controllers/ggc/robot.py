@@ -113,8 +113,7 @@ class GGCRobot(DetectionRules, CoverageRules, CoverageBatch, CollisionRules, Sur
         self.boundary_fill = (params.boundary_fill == "always"
                               or (params.boundary_fill == "one-group" and setup.groups == 1))
         self.sense = params.orbit
-        self.batch_coverage = not (self.surplus_rule or self.boundary_fill or params.own_edges
-                                   or params.stop_ahead_only)  # see fastpath.py
+        self.batch_coverage = not (params.own_edges or params.stop_ahead_only)  # fastpath.py
         self.route: tuple[float, float] | None = None  # the travel my formation followed
         self.orbit_chosen = False
         self.collision_stops = 0
