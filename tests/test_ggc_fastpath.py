@@ -3,11 +3,20 @@
 import hashlib
 from collections import Counter
 
+import numpy as np
 import pytest
 
-from controllers.ggc.robot import COVERAGE, INITIAL, STATUSES, STOP, GGCRobot
+from controllers.ggc.robot import COVERAGE, DETECTION, INITIAL, STATUSES, STOP, GGCRobot
 from swarmsim import Simulation
 from tests.test_ggc import small_world
+
+
+def controller_state(sim: Simulation) -> list[dict]:
+    """Every robot's controller state (its attributes; arrays as bytes), to compare runs."""
+    skip = {"rng", "p", "handlers", "pre", "pre_wait"}
+    return [{name: value.tobytes() if isinstance(value, np.ndarray) else value
+             for name, value in vars(c).items() if name not in skip}
+            for c in sim.controllers]
 
 
 def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
@@ -34,8 +43,9 @@ def both_ways():
 
 
 def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
-    (fast, sim, statuses), (slow, _, _) = both_ways
+    (fast, sim, statuses), (slow, slow_sim, _) = both_ways
     assert fast == slow
+    assert controller_state(sim) == controller_state(slow_sim)
     # the run exercised what the fast path decides: movers, Stops, a completed cover
     assert sim.metrics.completion_tick is not None
     assert statuses["Coverage"] > 20_000 and statuses["Stop"] > 20_000
@@ -43,7 +53,8 @@ def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
 
 
 def test_the_fast_path_decides_most_movers(monkeypatch):
-    """Travelling (Initial), Coverage and Stop robots reach step() only for the rare cases."""
+    """Travelling (Initial), Coverage, Stop and waiting (Detection) robots reach step() only
+    for the rare cases."""
     stepped = Counter()
     step = GGCRobot.step
 
@@ -57,6 +68,7 @@ def test_the_fast_path_decides_most_movers(monkeypatch):
     assert stepped[COVERAGE] < 0.1 * statuses["Coverage"]
     assert stepped[STOP] < 0.2 * statuses["Stop"]
     assert statuses["Initial"] > 5_000 and stepped[INITIAL] < 0.1 * statuses["Initial"]
+    assert stepped[DETECTION] < 0.2 * statuses["Detection"]
 
 
 def test_one_group_with_the_surplus_lap_changes_nothing(monkeypatch):
@@ -73,9 +85,10 @@ def test_one_group_with_the_surplus_lap_changes_nothing(monkeypatch):
     fast, sim, statuses = fingerprint_run(True, robots=80, groups=1, max_ticks=5000,
                                           until_complete=False)
     movers_stepped = stepped[COVERAGE]
-    slow, _, _ = fingerprint_run(False, robots=80, groups=1, max_ticks=5000,
-                                 until_complete=False)
+    slow, slow_sim, _ = fingerprint_run(False, robots=80, groups=1, max_ticks=5000,
+                                        until_complete=False)
     assert fast == slow
+    assert controller_state(sim) == controller_state(slow_sim)
     assert sum(c.surplus for c in sim.controllers) >= 10  # the lap ran to its end
     assert all(c.batch_coverage and c.surplus_rule for c in sim.controllers)
     assert movers_stepped < 0.05 * statuses["Coverage"]

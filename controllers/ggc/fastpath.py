@@ -24,7 +24,8 @@ from controllers.edges import turn_between
 from controllers.views import any_of
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
-from .geometry import unit
+from .batch import BLOCKED_BY_MOVER
+from .geometry import ENCLOSED_GAP, unit, widest_gap
 from .statuses import (
     ARRIVE,
     CMD_HALT,
@@ -132,6 +133,8 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
             action = robot.coverage_in_batch(batch, rows, k)
         elif status == STOP and robot.batch_coverage:
             action = robot.stop_in_batch(batch, k)
+        elif status == DETECTION:
+            action = robot.detection_in_batch(batch, rows, k)
         elif status == INITIAL and not robot.leader:
             travel = TravelAnswers.of(robots, batch, rows) if travel is None else travel
             action = robot.initial_in_batch(batch, travel, k)
@@ -340,3 +343,34 @@ class CoverageBatch:
         self.remember_route()
         self.pre = self.pre_wait = None
         return self.act(self.travel if cmd == CMD_TRAVEL else (0.0, 0.0))
+
+    def detection_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
+                           ) -> Action | None:
+        """:meth:`detection` for a waiting robot that goes on waiting (blocked, or enclosed
+        by its formation); None when it leaves, turns Surplus or yields (step() does those)."""
+        pre = self.pre_wait
+        if (pre is None or self.yield_count or (self.surplus_rule and pre.surplus)
+                or (self.scattered and c.tick < self.selection_ticks)):
+            return None
+        enclosed = self.enclosed_in_batch(c, f, k)
+        if not (pre.blocker or enclosed):
+            return None  # my turn: step() starts coverage
+        self.odometer += c.moved[k]  # as step() does
+        if pre.grad is not None:
+            self.grad = pre.grad
+        self.enclosed = enclosed
+        self.pre = self.pre_wait = None
+        if not pre.blocker:  # my turn, but no way out: let the others go
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+        return self.act(sleep=True, wake_range=self.p.d_cover,
+                        wake_on_motion=pre.blocker == BLOCKED_BY_MOVER)
+
+    def enclosed_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int) -> bool:
+        """:meth:`is_enclosed` from the rows: waiting robots within 1.5 d_min all round."""
+        start, end = f.starts[k], f.starts[k + 1]
+        near = start + int(f.distance[start:end].searchsorted(1.5 * self.p.d_min, side="right"))
+        waiting = [start + j for j, s in enumerate(f.status[start:near].tolist())
+                   if s == INITIAL or s == DETECTION]
+        if len(waiting) < 3:
+            return False
+        return widest_gap(c.offsets[waiting]) < ENCLOSED_GAP
