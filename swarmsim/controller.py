@@ -164,7 +164,8 @@ class NeighbourBatch:
 
 @dataclass(frozen=True, slots=True)
 class DecideBatch:
-    """A chunk of awake robots' sensing, for a controller class's optional ``decide_batch``.
+    """A chunk of awake robots' sensing, for a controller class's optional ``decide_batch``
+    (which then takes the place of ``prepare`` and each robot's ``step`` for the chunk).
 
     Robot k of the chunk owns rows ``neighbours.starts[k]:neighbours.starts[k + 1]`` of
     ``neighbours`` and ``offsets`` and the k-th entry of the lists: the very values of its

@@ -366,13 +366,13 @@ class Simulation:
                                    shift[k])
 
         batch = NeighbourBatch(heard, distances, starts)
-        if self._prepare is not None:
-            self._prepare(deciding, batch)
-        if self._decide_batch is not None:
+        if self._decide_batch is not None:  # it does the prepare part itself
             actions = self._decide_batch(deciding, DecideBatch(
                 tick, batch, offsets, on, shift, bearings, lambda k: probe_at(*at[k]),
                 perceive))
         else:
+            if self._prepare is not None:
+                self._prepare(deciding, batch)
             actions = self._step_all(deciding, [perceive(k) for k in range(len(deciding))])
         self._apply(awake, actions, new_messages, velocities)
 

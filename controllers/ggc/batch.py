@@ -67,22 +67,21 @@ class Chunk(NamedTuple):
     own_id: np.ndarray
 
 
-def prepare_chunk(robots: list, batch: NeighbourBatch) -> None:
+def prepare_chunk(robots: list, batch: NeighbourBatch) -> Chunk:
     """Precompute the answers of the chunk's movers (``robot.pre``) and waiting robots
-    (``robot.pre_wait``); the other robots ask for themselves."""
-    movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
-    waiting = [k for k, r in enumerate(robots) if r.status == DETECTION]
-    if not (movers or waiting):
-        return
+    (``robot.pre_wait``); the other robots ask for themselves. Returns the chunk's rows."""
     segment = np.repeat(np.arange(len(robots)), np.diff(batch.starts))
     fields = {name: np.ascontiguousarray(batch.messages[name]) for name in FIELDS}
     chunk = Chunk(fields, batch.distances, batch.starts, segment,
                   np.array([r.group for r in robots])[segment],
                   np.array([r.id for r in robots])[segment])
+    movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
+    waiting = [k for k, r in enumerate(robots) if r.status == DETECTION]
     if movers:
         prepare_movers(robots, movers, chunk)
     if waiting:
         prepare_waiting(robots, waiting, chunk)
+    return chunk
 
 
 def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:

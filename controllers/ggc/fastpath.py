@@ -24,7 +24,7 @@ from controllers.edges import turn_between
 from controllers.views import any_of
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
-from .batch import BLOCKED_BY_MOVER
+from .batch import BLOCKED_BY_MOVER, Chunk, prepare_chunk
 from .geometry import ENCLOSED_GAP, unit, widest_gap
 from .statuses import (
     ARRIVE,
@@ -56,16 +56,16 @@ class ChunkRows:
     __slots__ = ("_lap", "distance", "gradient", "group", "moving", "offset", "own_group",
                  "segment", "sender", "starts", "status", "stepped")
 
-    def __init__(self, robots: list[GGCRobot], batch: DecideBatch):
-        m = batch.neighbours.messages
+    def __init__(self, chunk: Chunk, batch: DecideBatch):
+        m = chunk.m
         self.starts: list[int] = batch.neighbours.starts.tolist()
         self.distance, self.offset = batch.neighbours.distances, batch.offsets
-        (self.group, self.status, self.sender, self.moving, self.gradient, self.stepped) = (
-            np.ascontiguousarray(m[name])
-            for name in ("group", "status", "id", "moving", "gradient", "stepped"))
-        self.segment = np.repeat(np.arange(len(robots)), np.diff(batch.neighbours.starts))
+        self.group, self.status, self.sender = m["group"], m["status"], m["id"]
+        self.moving, self.gradient = m["moving"], m["gradient"]
+        self.stepped = np.ascontiguousarray(batch.neighbours.messages["stepped"])
+        self.segment = chunk.segment
         """(P,) the robot (its index in the chunk) each row belongs to."""
-        self.own_group = np.array([r.group for r in robots])[self.segment]
+        self.own_group = chunk.own_group
         """(P,) the group of the robot each row belongs to."""
         self._lap: LapAnswers | None = None
 
@@ -122,8 +122,9 @@ class TravelAnswers(NamedTuple):
 
 
 def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
-    """Each robot's action: the common cases from the arrays, the rest by ``step``."""
-    rows = ChunkRows(robots, batch)
+    """Each robot's action: the common cases from the arrays, the rest by ``step`` (after
+    the chunk's queries of batch.py, as ``GGC.prepare`` would do)."""
+    rows = ChunkRows(prepare_chunk(robots, batch.neighbours), batch)
     travel: TravelAnswers | None = None  # made for the chunk's first travelling robot
     perceive = batch.perceive
     actions = []
