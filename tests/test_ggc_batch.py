@@ -95,8 +95,9 @@ def test_prepared_waiting_answers_are_each_robots_own():
 
 
 def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Counter]:
+    # prepare() as the step path calls it (decide_batch calls batch.py itself)
     sim = Simulation(small_world(40.0, 30.0), controller="ggc", robots=90, groups=2, seed=3,
-                     max_ticks=ticks)
+                     max_ticks=ticks, settings={"batch_decide": False})
     used = collections.Counter()
     prepare = sim._prepare
 
