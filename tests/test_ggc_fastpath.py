@@ -52,17 +52,23 @@ def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
     assert sum(c.collision_stops for c in sim.controllers) > 100
 
 
-def test_the_fast_path_decides_most_movers(monkeypatch):
-    """Travelling (Initial), Coverage, Stop and waiting (Detection) robots reach step() only
-    for the rare cases."""
-    stepped = Counter()
+@pytest.fixture
+def stepped(monkeypatch) -> Counter:
+    """Counts GGCRobot.step calls by the robot's status (the ticks the fast path left)."""
+    calls = Counter()
     step = GGCRobot.step
 
     def counting(self, p):
-        stepped[self.status] += 1
+        calls[self.status] += 1
         return step(self, p)
 
     monkeypatch.setattr(GGCRobot, "step", counting)
+    return calls
+
+
+def test_the_fast_path_decides_most_movers(stepped):
+    """Travelling (Initial), Coverage, Stop and waiting (Detection) robots reach step() only
+    for the rare cases."""
     _, _, statuses = fingerprint_run(True, max_ticks=1500)
     assert statuses["Coverage"] > 5_000
     assert stepped[COVERAGE] < 0.1 * statuses["Coverage"]
@@ -71,17 +77,9 @@ def test_the_fast_path_decides_most_movers(monkeypatch):
     assert stepped[DETECTION] < 0.2 * statuses["Detection"]
 
 
-def test_one_group_with_the_surplus_lap_changes_nothing(monkeypatch):
+def test_one_group_with_the_surplus_lap_changes_nothing(stepped):
     """One group: the surplus lap and boundary fill are on. Run past completion until robots
     give up (Surplus): the same run both ways, and movers reach step() only rarely."""
-    stepped = Counter()
-    step = GGCRobot.step
-
-    def counting(self, p):
-        stepped[self.status] += 1
-        return step(self, p)
-
-    monkeypatch.setattr(GGCRobot, "step", counting)
     fast, sim, statuses = fingerprint_run(True, robots=80, groups=1, max_ticks=5000,
                                           until_complete=False)
     movers_stepped = stepped[COVERAGE]

@@ -1,16 +1,17 @@
 """GGC's common cases decided a chunk at a time (the engine's ``decide_batch``).
 
 Most of a run's robot-ticks are movers in Coverage following an edge (no arrival, no dead
-end, no Stop), movers waiting in Stop and formations travelling (Initial). For those,
-:class:`CoverageBatch` does what the status's handler does (``coverage``, ``stopped``,
-``initial``), reading the robot's own rows of the chunk's arrays instead of a Perception,
-with the same float operations in the same order (``math.hypot``, ``math.atan2``, the same
-numpy products), so the result is the same to the bit. It changes the robot's state only
-once it knows it decides the tick. Every other case (an arrival, a dead end, a Stop,
-giving up after a surplus lap, stepping in across the boundary, wandering, resuming, a halt,
-a leader, and the two options it does not know: own edges, stop-ahead) returns None first,
-and the robot takes its ``step`` with a full Perception. ``batch_decide = false`` (a run setting) turns this off: results
-must not change (tests/test_ggc_fastpath.py).
+end, no Stop), robots waiting in Stop or Detection, and formations travelling (Initial). For
+those, :class:`BatchDecisions` does what the status's handler does (``coverage``,
+``stopped``, ``detection``, ``initial``), reading the robot's own rows of the chunk's arrays
+instead of a Perception, with the same float operations in the same order (``math.hypot``,
+``math.atan2``, the same numpy products), so the result is the same to the bit. It changes
+the robot's state only once it knows it decides the tick. Every other case (an arrival, a
+dead end, a Stop, giving up after a surplus lap, stepping in across the boundary,
+wandering, leaving, resuming, a halt, a leader, and the two options it does not know: own
+edges, stop-ahead) returns None first, and the robot takes its ``step`` with a full
+Perception. ``batch_decide = false`` (a run setting) turns this off: results must not
+change (tests/test_ggc_fastpath.py).
 """
 
 from __future__ import annotations
@@ -143,9 +144,9 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     return actions
 
 
-class CoverageBatch:
-    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the common cases of Coverage, Stop
-    and Initial from a chunk's arrays."""
+class BatchDecisions:
+    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the common cases of Coverage, Stop,
+    Detection and Initial from a chunk's arrays."""
 
     def coverage_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
                           ) -> Action | None:
@@ -186,14 +187,20 @@ class CoverageBatch:
             self.odometer[:] = 0.0
             self.progress_tick = tick
             self.in_deadlock = False
+        self.keep_coverage_books(heading, grad, circling[:3], lap)
+        return self.act(velocity if give_way is None else give_way)
+
+    def keep_coverage_books(self: GGCRobot, heading: np.ndarray, grad: int | None,
+                            circling: tuple[int, float, float], lap: tuple | None) -> None:
+        """Write what :meth:`coverage_in_batch` found: the heading, the gradient (None: keep
+        mine), the circling count and the surplus lap's books (None: no lap kept)."""
         self.heading = heading
         if grad is not None:
             self.grad = grad
-        self.circling_id, self.circled, self.last_bearing = circling[:3]
+        self.circling_id, self.circled, self.last_bearing = circling
         if lap is not None:
             self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
         self.pre = self.pre_wait = None
-        return self.act(velocity if give_way is None else give_way)
 
     def velocity_in_batch(self: GGCRobot, f: ChunkRows, start: int, da: float,
                           offset_a: tuple[float, float]) -> np.ndarray:

@@ -41,7 +41,7 @@ from .batch import Precomputed, WaitingAnswers
 from .collisions import CollisionRules
 from .coverage import CoverageRules
 from .detection import DetectionRules
-from .fastpath import CoverageBatch
+from .fastpath import BatchDecisions
 from .geometry import SMALL_VIEW
 from .params import GGCParams
 from .statuses import (  # noqa: F401 (re-exported)
@@ -75,7 +75,7 @@ def message_fields(groups: int) -> list[tuple]:
     return [*MESSAGE_FIELDS[:-len(AGGREGATION_FIELDS)], *aggregation_fields(groups)]
 
 
-class GGCRobot(DetectionRules, CoverageRules, CoverageBatch, CollisionRules, SurplusLap,
+class GGCRobot(DetectionRules, CoverageRules, BatchDecisions, CollisionRules, SurplusLap,
                Aggregation, CirclingWatch, ProgressWatch):
     """One robot's GGC controller: its state, broadcasts and the Initial status (travel)
     here; Detection in detection.py, Coverage in coverage.py, the surplus lap in surplus.py,
