@@ -26,6 +26,10 @@ Writing a controller::
         @classmethod
         def prepare(cls, robots, batch: NeighbourBatch) -> None: ...  # optional: called
                     # before the robots of a chunk step, with their perceptions end to end
+        @classmethod
+        def decide_batch(cls, robots, batch: DecideBatch) -> list[Action]: ...  # optional:
+                    # decides a chunk itself (in place of prepare and step); must give the
+                    # same actions as step would (run setting batch_decide=false to compare)
 
         @classmethod
         def sensing_range(cls, params) -> float: ...   # how far it listens, in units
