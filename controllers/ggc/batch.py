@@ -96,7 +96,7 @@ def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
     movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
               & (status == COVERAGE))
     ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-    nearest, second = _first_two_by_robot(edge, chunk.segment, len(robots))
+    nearest, second = first_two_by_robot(edge, chunk.segment, len(robots))
     mover_rows, mover_first = _rows_by_robot(movers, chunk.segment, len(robots))
     ahead_rows, ahead_first = _rows_by_robot(ahead, chunk.segment, len(robots))
     start_of = chunk.starts.tolist()
@@ -121,11 +121,8 @@ def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
     surplus = np.zeros(n, dtype=bool)
     if first.surplus_rule:
         near = (d <= p.d_cover + p.arrive_tolerance) & (status == SURPLUS) & (group == own_group)
-        surplus = _any_by_robot(near, seg, n)
-    formed = ((d <= 1.5 * p.d_min) & mine & ~moving & (gradient < INF_GRADIENT)
-              & (status != COVERAGE))
-    best = np.full(n, INF_GRADIENT, dtype=np.int64)
-    np.minimum.at(best, seg[formed], gradient[formed])
+        surplus = any_by_robot(near, seg, n)
+    best = formation_minimum(chunk, p.d_min, n)
     grads = np.array([r.grad for r in robots], dtype=np.int64)
     grads = np.where(best < INF_GRADIENT, best + 1, grads)  # the gradient each robot takes
     rival = (d <= p.d_cover) & mine & (status != ARRIVE) & (status != SURPLUS) & ~m["enclosed"]
@@ -133,8 +130,8 @@ def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
         rival &= status != STOP  # a mover in Stop has left already (Section 4.3)
     g = grads[seg]
     rival &= (gradient > g) | ((gradient == g) & (sender > own_id))
-    by_waiting = _any_by_robot(rival & ~moving, seg, n).tolist()
-    by_any = _any_by_robot(rival, seg, n).tolist()
+    by_waiting = any_by_robot(rival & ~moving, seg, n).tolist()
+    by_any = any_by_robot(rival, seg, n).tolist()
     surplus, best = surplus.tolist(), best.tolist()
     for k in chosen:
         blocker = (BLOCKED_BY_WAITING if by_waiting[k] else BLOCKED_BY_MOVER if by_any[k]
@@ -143,7 +140,20 @@ def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
         robots[k].pre_wait = _new_tuple(WaitingAnswers, (surplus[k], grad, blocker))
 
 
-def _any_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int) -> np.ndarray:
+def formation_minimum(chunk: Chunk, d_min: float, robots: int) -> np.ndarray:
+    """(robots,) each robot's smallest gradient among its group's stationary robots within
+    1.5 d_min that are not in Coverage (INF_GRADIENT: none): ``gradient_in``'s minimum, the
+    gradient a robot takes minus one (Algorithm 1)."""
+    m = chunk.m
+    formed = ((chunk.d <= 1.5 * d_min) & (m["group"] == chunk.own_group)
+              & (m["id"] != NO_SENDER) & ~m["moving"] & (m["gradient"] < INF_GRADIENT)
+              & (m["status"] != COVERAGE))
+    best = np.full(robots, INF_GRADIENT, dtype=np.int64)
+    np.minimum.at(best, chunk.segment[formed], m["gradient"][formed])
+    return best
+
+
+def any_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int) -> np.ndarray:
     """(robots,) bool: does ``mask`` hold on any of each robot's rows?"""
     return np.bincount(segment[mask], minlength=robots) > 0
 
@@ -163,7 +173,7 @@ def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
     return rows.tolist(), first.tolist()
 
 
-def _first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
+def first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
                         ) -> tuple[list[int], list[int]]:
     """Each robot's first and second row where ``mask`` holds (-1: none), without listing
     the others (in a formation nearly every row is a stationary robot)."""

@@ -22,10 +22,17 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from controllers.edges import turn_between
-from controllers.views import any_of
+from controllers.views import any_of, within
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
-from .batch import BLOCKED_BY_MOVER, Chunk, prepare_chunk
+from .batch import (
+    BLOCKED_BY_MOVER,
+    Chunk,
+    any_by_robot,
+    first_two_by_robot,
+    formation_minimum,
+    prepare_chunk,
+)
 from .geometry import ENCLOSED_GAP, unit, widest_gap
 from .statuses import (
     ARRIVE,
@@ -54,10 +61,12 @@ class LapAnswers(NamedTuple):
 class ChunkRows:
     """The chunk's arrays a robot reads, each field contiguous (rows as in the batch)."""
 
-    __slots__ = ("_lap", "distance", "gradient", "group", "moving", "offset", "own_group",
-                 "segment", "sender", "starts", "status", "stepped")
+    __slots__ = ("_lap", "chunk", "distance", "gradient", "group", "moving", "offset",
+                 "own_group", "segment", "sender", "starts", "status", "stepped")
 
     def __init__(self, chunk: Chunk, batch: DecideBatch):
+        self.chunk = chunk
+        """The chunk's rows as batch.py's queries read them."""
         m = chunk.m
         self.starts: list[int] = batch.neighbours.starts.tolist()
         self.distance, self.offset = batch.neighbours.distances, batch.offsets
@@ -77,16 +86,19 @@ class ChunkRows:
             n, mine = len(self.starts) - 1, self.group == self.own_group
             waiting = mine & ((self.status == INITIAL) | (self.status == DETECTION))
             surplus = mine & (self.status == SURPLUS)
-            self._lap = LapAnswers(
-                *((np.bincount(self.segment[rows], minlength=n) > 0).tolist()
-                  for rows in (waiting, surplus)))
+            self._lap = LapAnswers(*(any_by_robot(rows, self.segment, n).tolist()
+                                     for rows in (waiting, surplus)))
         return self._lap
 
     def at_lattice_site(self, k: int, reach: float) -> bool:
         """``at_lattice_site``: two arrived robots within ``reach`` of robot k."""
-        start, end = self.starts[k], self.starts[k + 1]
-        near = start + int(self.distance[start:end].searchsorted(reach, side="right"))
+        start = self.starts[k]
+        near = start + self.within(k, reach)
         return int((self.status[start:near] == ARRIVE).sum()) >= 2
+
+    def within(self, k: int, reach: float) -> int:
+        """How many of robot k's rows (nearest first) are within ``reach`` (units)."""
+        return within(self.distance[self.starts[k]:self.starts[k + 1]], reach)
 
 
 class TravelAnswers(NamedTuple):
@@ -107,18 +119,12 @@ class TravelAnswers(NamedTuple):
     @classmethod
     def of(cls, robots: list[GGCRobot], batch: DecideBatch, f: ChunkRows) -> TravelAnswers:
         n, m, p, segment = len(robots), batch.neighbours.messages, robots[0].p, f.segment
-        travelling = np.array([r.status == INITIAL for r in robots])[segment]
-        mine = travelling & (f.distance <= 1.5 * p.d_min) & (f.group == f.own_group)
+        best = formation_minimum(f.chunk, p.d_min, n)
+        mine = (f.distance <= 1.5 * p.d_min) & (f.group == f.own_group)
         held = mine & (f.sender != NO_SENDER) & ~f.moving
-        formed = held & (f.status != COVERAGE) & (f.gradient < INF_GRADIENT)
-        best = np.full(n, INF_GRADIENT, dtype=np.int64)
-        np.minimum.at(best, segment[formed], f.gradient[formed])
-        rows = np.flatnonzero(held & (f.gradient == best[segment]))
-        parent = np.full(n, -1, dtype=np.int64)
-        robot, first = np.unique(segment[rows], return_index=True)  # rows ascend: the nearest
-        parent[robot] = rows[first]
-        touched = np.bincount(segment[mine & m["touch"]], minlength=n) > 0
-        return cls(best.tolist(), parent.tolist(), touched.tolist(),
+        parent, _ = first_two_by_robot(held & (f.gradient == best[segment]), segment, n)
+        touched = any_by_robot(mine & m["touch"], segment, n)
+        return cls(best.tolist(), parent, touched.tolist(),
                    *(np.ascontiguousarray(m[name]) for name in ("cmd", "vx", "vy")))
 
 
@@ -375,8 +381,8 @@ class BatchDecisions:
 
     def enclosed_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int) -> bool:
         """:meth:`is_enclosed` from the rows: waiting robots within 1.5 d_min all round."""
-        start, end = f.starts[k], f.starts[k + 1]
-        near = start + int(f.distance[start:end].searchsorted(1.5 * self.p.d_min, side="right"))
+        start = f.starts[k]
+        near = start + f.within(k, 1.5 * self.p.d_min)
         waiting = [start + j for j, s in enumerate(f.status[start:near].tolist())
                    if s == INITIAL or s == DETECTION]
         if len(waiting) < 3:
