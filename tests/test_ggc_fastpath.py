@@ -8,6 +8,7 @@ import pytest
 
 from controllers.ggc.robot import COVERAGE, DETECTION, INITIAL, STATUSES, STOP, GGCRobot
 from swarmsim import Simulation
+from swarmsim.sim import rows_to_array
 from tests.test_ggc import small_world
 
 
@@ -90,3 +91,23 @@ def test_one_group_with_the_surplus_lap_changes_nothing(stepped):
     assert sum(c.surplus for c in sim.controllers) >= 10  # the lap ran to its end
     assert all(c.batch_coverage and c.surplus_rule for c in sim.controllers)
     assert movers_stepped < 0.05 * statuses["Coverage"]
+
+
+def test_repeated_broadcasts_are_the_robots_messages(monkeypatch):
+    """The fast path sends no message when a robot's broadcast has not changed (the engine
+    repeats its row): every row must still be what the robot's message() says, every tick."""
+    repeated = Counter()
+    apply = Simulation._apply
+
+    def counting(self, awake, actions, *rest):
+        repeated.update(a.message is None for a in actions)
+        return apply(self, awake, actions, *rest)
+
+    monkeypatch.setattr(Simulation, "_apply", counting)
+    sim = Simulation(small_world(40, 30), controller="ggc", robots=120, groups=3, seed=1,
+                     max_ticks=1500)
+    for _ in range(1500):
+        sim.step()
+        said = rows_to_array([c.message() for c in sim.controllers], sim.dtype)
+        assert said.tobytes() == sim.messages.tobytes(), f"tick {sim.tick}"
+    assert repeated[True] > 0.3 * (repeated[True] + repeated[False])

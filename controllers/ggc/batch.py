@@ -65,6 +65,8 @@ class Chunk(NamedTuple):
     segment: np.ndarray
     own_group: np.ndarray
     own_id: np.ndarray
+    edges: tuple[np.ndarray, np.ndarray] | None = None
+    """Each robot's nearest and second edge robot (rows, -1: none) when it has movers."""
 
 
 def prepare_chunk(robots: list, batch: NeighbourBatch) -> Chunk:
@@ -78,14 +80,16 @@ def prepare_chunk(robots: list, batch: NeighbourBatch) -> Chunk:
     movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
     waiting = [k for k, r in enumerate(robots) if r.status == DETECTION]
     if movers:
-        prepare_movers(robots, movers, chunk)
+        chunk = chunk._replace(edges=prepare_movers(robots, movers, chunk))
     if waiting:
         prepare_waiting(robots, waiting, chunk)
     return chunk
 
 
-def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
-    """Give each chosen robot (Coverage or Stop) its :class:`Precomputed` answers."""
+def prepare_movers(robots: list, chosen: list[int], chunk: Chunk
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Give each chosen robot (Coverage or Stop) its :class:`Precomputed` answers; return
+    every robot's nearest and second edge robot (rows, -1: none)."""
     p = robots[chosen[0]].p
     m, d, own_group, own_id = chunk.m, chunk.d, chunk.own_group, chunk.own_id
     group, status, sender, moving = m["group"], m["status"], m["id"], m["moving"]
@@ -96,7 +100,8 @@ def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
     movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
               & (status == COVERAGE))
     ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-    nearest, second = first_two_by_robot(edge, chunk.segment, len(robots))
+    edges = first_two_rows(edge, chunk.segment, len(robots))
+    nearest, second = edges[0].tolist(), edges[1].tolist()
     mover_rows, mover_first = _rows_by_robot(movers, chunk.segment, len(robots))
     ahead_rows, ahead_first = _rows_by_robot(ahead, chunk.segment, len(robots))
     start_of = chunk.starts.tolist()
@@ -108,6 +113,7 @@ def prepare_movers(robots: list, chosen: list[int], chunk: Chunk) -> None:
         a, b = ahead_first[k], ahead_first[k + 1]
         ahead_k = [r - start for r in ahead_rows[a:b]] if a != b else []
         robots[k].pre = _new_tuple(Precomputed, (edge_k, movers_k, ahead_k))
+    return edges
 
 
 def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
@@ -175,13 +181,21 @@ def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
 
 def first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
                         ) -> tuple[list[int], list[int]]:
-    """Each robot's first and second row where ``mask`` holds (-1: none), without listing
-    the others (in a formation nearly every row is a stationary robot)."""
+    """:func:`first_two_rows` as Python lists."""
+    first, second = first_two_rows(mask, segment, robots)
+    return first.tolist(), second.tolist()
+
+
+def first_two_rows(mask: np.ndarray, segment: np.ndarray, robots: int
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """(robots,) each robot's first and (robots,) second row where ``mask`` holds (-1:
+    none), without listing the others (in a formation nearly every row is a stationary
+    robot)."""
     rows, first = _row_spans(mask, segment, robots)
     if len(rows) == 0:
-        return [-1] * robots, [-1] * robots
+        return np.full(robots, -1), np.full(robots, -1)
     found = []
     for j in (0, 1):
         at = first[:-1] + j
-        found.append(np.where(at < first[1:], rows[np.minimum(at, len(rows) - 1)], -1).tolist())
+        found.append(np.where(at < first[1:], rows[np.minimum(at, len(rows) - 1)], -1))
     return found[0], found[1]

@@ -23,7 +23,7 @@ import numpy as np
 
 from controllers.edges import turn_between
 from controllers.views import any_of, within
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch, make_action
 
 from .batch import (
     BLOCKED_BY_MOVER,
@@ -34,6 +34,7 @@ from .batch import (
     prepare_chunk,
 )
 from .geometry import ENCLOSED_GAP, unit, widest_gap
+from .movers import KEEP_GRADIENT, decide_movers
 from .statuses import (
     ARRIVE,
     CMD_HALT,
@@ -132,13 +133,16 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     """Each robot's action: the common cases from the arrays, the rest by ``step`` (after
     the chunk's queries of batch.py, as ``GGC.prepare`` would do)."""
     rows = ChunkRows(prepare_chunk(robots, batch.neighbours), batch)
+    movers = coverage_movers(robots, rows, batch.tick)
+    decided = dict(zip(movers, decide_movers(robots, movers, batch, rows), strict=True)
+                   ) if movers else {}
     travel: TravelAnswers | None = None  # made for the chunk's first travelling robot
     perceive = batch.perceive
     actions = []
     for k, robot in enumerate(robots):
         action, status = None, robot.status
-        if status == COVERAGE and robot.batch_coverage:
-            action = robot.coverage_in_batch(batch, rows, k)
+        if status == COVERAGE:
+            action = decided.get(k)
         elif status == STOP and robot.batch_coverage:
             action = robot.stop_in_batch(batch, k)
         elif status == DETECTION:
@@ -150,25 +154,33 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     return actions
 
 
+def coverage_movers(robots: list[GGCRobot], f: ChunkRows, tick: int) -> list[int]:
+    """The chunk's robots in Coverage whose tick may be the common case: those movers.py
+    decides (each has an edge robot to follow; not stepping in, not selecting leaders)."""
+    if f.chunk.edges is None:
+        return []
+    nearest = f.chunk.edges[0].tolist()
+    return [k for k, r in enumerate(robots)
+            if r.status == COVERAGE and r.batch_coverage and nearest[k] >= 0
+            and not r.stepping_in and not (r.scattered and tick < r.selection_ticks)]
+
+
 class BatchDecisions:
     """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the common cases of Coverage, Stop,
     Detection and Initial from a chunk's arrays."""
 
-    def coverage_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
-                          ) -> Action | None:
+    def finish_coverage(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
+                        da: float, offset_a: tuple[float, float],
+                        velocity: tuple[float, float], heading: np.ndarray, grad: int,
+                        listen: float | None) -> Action | None:
         """This tick's action if it is the common case of :meth:`coverage`, else None with
-        nothing changed."""
-        pre, p, tick = self.pre, self.p, c.tick
-        if (pre is None or not pre.edge or self.stepping_in
-                or (self.scattered and tick < self.selection_ticks)):
-            return None
-        start, end = f.starts[k], f.starts[k + 1]
-        a = start + pre.edge[0]
-        da, offset_a = f.distance.item(a), (f.offset.item(a, 0), f.offset.item(a, 1))
-        velocity = self.velocity_in_batch(f, start, da, offset_a)
-        heading = unit(velocity)
+        nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
+        (row ``a``, ``da`` units away at ``offset_a``), its ``velocity`` and ``heading``
+        along that edge, and its gradient (KEEP_GRADIENT: keep mine)."""
+        p, tick, pre = self.p, c.tick, self.pre
         on_target = c.on_target[k]
-        if on_target and self.arrives_in_batch(c, f, k, a, da, heading):
+        if (on_target and da >= p.d_cover - p.arrive_tolerance
+                and self.arrives_in_batch(c, f, k, a, da, heading)):
             return None
         lap = None
         if self.surplus_rule:
@@ -177,24 +189,29 @@ class BatchDecisions:
                 return None  # surplus: step() gives up
         if self.boundary_fill and self.steps_in_batch(c, f, k, a, da):
             return None  # boundary fill: step() steps in
-        grad = self.gradient_in_batch(f, a, start, end)
         circling = self.circling_in_batch(f.sender.item(a), offset_a)
-        odometer = self.odometer + c.moved[k]
         sampled = tick - self.progress_tick >= p.T_r
-        if circling[3] or (sampled and math.hypot(*odometer) <= p.theta):
+        if circling[3] or (sampled and math.hypot(*(self.odometer + c.moved[k])) <= p.theta):
             return None  # a dead end (circled all round, or stuck): step() turns round
         if (self.groups > 1 and pre.movers and (on_target or not p.stop_on_target_only)
                 and tick >= self.pass_until):
             return None  # Section 4.3: Stop
-        give_way = self.give_way_in_batch(c, f, start, velocity)
+        give_way = (self.give_way_in_batch(c, f, f.starts[k], np.array(velocity))
+                    if pre.ahead else None)
         # the tick is mine: change the state as coverage() would
-        self.odometer += c.moved[k]
         if sampled:  # a progress sample that showed progress (stuck() returned False)
             self.odometer[:] = 0.0
             self.progress_tick = tick
             self.in_deadlock = False
-        self.keep_coverage_books(heading, grad, circling[:3], lap)
-        return self.act(velocity if give_way is None else give_way)
+        else:
+            self.odometer += c.moved[k]
+        changed = grad != KEEP_GRADIENT and grad != self.grad  # else my broadcast repeats
+        self.keep_coverage_books(heading, None if grad == KEEP_GRADIENT else grad,
+                                 circling[:3], lap)
+        if give_way is not None:
+            velocity = (float(give_way[0]), float(give_way[1]))
+        return make_action(velocity, self.message() if changed else None, False, None,
+                           listen, True, None)
 
     def keep_coverage_books(self: GGCRobot, heading: np.ndarray, grad: int | None,
                             circling: tuple[int, float, float], lap: tuple | None) -> None:
@@ -207,21 +224,6 @@ class BatchDecisions:
         if lap is not None:
             self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
         self.pre = self.pre_wait = None
-
-    def velocity_in_batch(self: GGCRobot, f: ChunkRows, start: int, da: float,
-                          offset_a: tuple[float, float]) -> np.ndarray:
-        """:meth:`edge_velocity` for the nearest edge robot at distance ``da`` and
-        ``offset_a`` (and the second nearest, if any, from the rows)."""
-        edge = self.pre.edge
-        if len(edge) > 1:
-            b = start + edge[1]
-            db = f.distance.item(b)
-            if db < self.p.d_cover:
-                valley = self.valley_between(da, db, offset_a,
-                                             (f.offset.item(b, 0), f.offset.item(b, 1)))
-                if valley is not None:
-                    return valley
-        return self.edge_follow(offset_a, da)
 
     def lap_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int, da: float
                      ) -> tuple | None:
@@ -287,22 +289,6 @@ class BatchDecisions:
             return p.junction_stop == "lattice" and f.at_lattice_site(k, reach)
         return f.gradient.item(a) >= self.grad
 
-    def gradient_in_batch(self: GGCRobot, f: ChunkRows, a: int, start: int, end: int
-                          ) -> int | None:
-        """The gradient :meth:`follow_gradient` would take (None: keep mine)."""
-        if f.group.item(a) != self.group:
-            reach, a = 1.5 * self.p.d_cover, None
-            for r in range(start, end):  # nearest first
-                if f.distance.item(r) > reach:
-                    break
-                if not f.moving.item(r) and f.group.item(r) == self.group:
-                    a = r
-                    break
-            if a is None:
-                return None
-        g = f.gradient.item(a)
-        return g + 1 if f.sender.item(a) != NO_SENDER and g < INF_GRADIENT else None
-
     def circling_in_batch(self: GGCRobot, sender: int, offset: tuple[float, float]
                           ) -> tuple[int, float, float, bool]:
         """:meth:`circling`'s new (circling_id, circled, last_bearing) and its answer."""
@@ -339,7 +325,7 @@ class BatchDecisions:
         self.progress_tick = tick  # waiting is not a lack of progress (stopped())
         self.odometer[:] = 0.0
         self.pre = self.pre_wait = None
-        return self.act()
+        return self.act_repeating()
 
     def initial_in_batch(self: GGCRobot, c: DecideBatch, t: TravelAnswers, k: int
                          ) -> Action | None:

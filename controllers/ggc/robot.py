@@ -159,6 +159,11 @@ class GGCRobot(DetectionRules, CoverageRules, BatchDecisions, CollisionRules, Su
         return make_action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
                            wake_range, self.listen_range(), wake_on_motion, wake_tick)
 
+    def act_repeating(self, velocity: tuple[float, float] = (0.0, 0.0)) -> Action:
+        """:meth:`act` (no sleep) for a robot whose broadcast is the same as last tick's:
+        the engine repeats it (message None), with no tuple to build."""
+        return make_action(velocity, None, False, None, self.listen_range(), True, None)
+
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
         if self.status == COVERAGE:  # the most frequent: first
