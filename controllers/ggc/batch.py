@@ -53,6 +53,47 @@ class WaitingAnswers(NamedTuple):
     """GGCRobot.blocked(p), judged with the gradient above (the robot takes it first)."""
 
 
+class MoverAnswers:
+    """A chunk's movers' answers as arrays over its rows; :meth:`precomputed` hands one
+    robot its :class:`Precomputed` (only robots that take ``step`` need one)."""
+
+    __slots__ = ("ahead_first", "ahead_rows", "has_movers", "mover_first", "mover_rows",
+                 "nearest", "second", "starts")
+
+    def __init__(self, robots: list, chunk: Chunk):
+        p, first = robots[0].p, next(r for r in robots if r.status in (COVERAGE, STOP))
+        m, d, own_group, own_id = chunk.m, chunk.d, chunk.own_group, chunk.own_id
+        group, status, sender, moving = m["group"], m["status"], m["id"], m["moving"]
+        edge = ~moving
+        if not (p.follow_other_formations or first.groups == 1):
+            edge &= ((group == own_group) | (status == ARRIVE) | (status == SURPLUS)
+                     | (sender == NO_SENDER))
+        movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
+                  & (status == COVERAGE))
+        ahead = (d <= p.yield_distance) & moving & (sender > own_id)
+        n = len(robots)
+        self.nearest, self.second = first_two_rows(edge, chunk.segment, n)
+        """(robots,) each robot's nearest and second edge robot (rows, -1: none)."""
+        self.mover_rows, self.mover_first = _rows_by_robot(movers, chunk.segment, n)
+        self.ahead_rows, self.ahead_first = _rows_by_robot(ahead, chunk.segment, n)
+        self.has_movers = [a != b for a, b in zip(self.mover_first, self.mover_first[1:])]
+        """Robot k hears another group's mover that outranks it (Section 4.3)."""
+        self.starts: list[int] = chunk.starts.tolist()
+
+    def ahead(self, k: int) -> list[int]:
+        """Robot k's rows of moving robots it gives way to (before the direction test)."""
+        return self.ahead_rows[self.ahead_first[k]:self.ahead_first[k + 1]]
+
+    def precomputed(self, k: int) -> Precomputed:
+        """Robot k's answers, as indices into its own perception's rows."""
+        start, a, b = self.starts[k], int(self.nearest[k]), int(self.second[k])
+        edge = [] if a < 0 else [a - start] if b < 0 else [a - start, b - start]
+        movers = self.mover_rows[self.mover_first[k]:self.mover_first[k + 1]]
+        ahead = self.ahead(k)
+        return _new_tuple(Precomputed, (edge, [r - start for r in movers],
+                                        [r - start for r in ahead]))
+
+
 class Chunk(NamedTuple):
     """A chunk's rows with, on each row, the listening robot's index, group and id.
 
@@ -65,13 +106,15 @@ class Chunk(NamedTuple):
     segment: np.ndarray
     own_group: np.ndarray
     own_id: np.ndarray
-    edges: tuple[np.ndarray, np.ndarray] | None = None
-    """Each robot's nearest and second edge robot (rows, -1: none) when it has movers."""
+    movers: MoverAnswers | None = None
+    """The movers' answers, when the chunk has robots in Coverage or Stop."""
 
 
-def prepare_chunk(robots: list, batch: NeighbourBatch) -> Chunk:
-    """Precompute the answers of the chunk's movers (``robot.pre``) and waiting robots
-    (``robot.pre_wait``); the other robots ask for themselves. Returns the chunk's rows."""
+def prepare_chunk(robots: list, batch: NeighbourBatch, hand_out: bool = True) -> Chunk:
+    """Precompute the answers of the chunk's movers and waiting robots (``robot.pre_wait``)
+    and return the chunk's rows. With ``hand_out``, each mover gets its ``robot.pre`` now;
+    without, it is in the chunk's ``movers`` (:meth:`MoverAnswers.precomputed`). The other
+    robots ask for themselves."""
     segment = np.repeat(np.arange(len(robots)), np.diff(batch.starts))
     fields = {name: np.ascontiguousarray(batch.messages[name]) for name in FIELDS}
     chunk = Chunk(fields, batch.distances, batch.starts, segment,
@@ -80,40 +123,13 @@ def prepare_chunk(robots: list, batch: NeighbourBatch) -> Chunk:
     movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
     waiting = [k for k, r in enumerate(robots) if r.status == DETECTION]
     if movers:
-        chunk = chunk._replace(edges=prepare_movers(robots, movers, chunk))
+        chunk = chunk._replace(movers=MoverAnswers(robots, chunk))
+        if hand_out:
+            for k in movers:
+                robots[k].pre = chunk.movers.precomputed(k)
     if waiting:
         prepare_waiting(robots, waiting, chunk)
     return chunk
-
-
-def prepare_movers(robots: list, chosen: list[int], chunk: Chunk
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Give each chosen robot (Coverage or Stop) its :class:`Precomputed` answers; return
-    every robot's nearest and second edge robot (rows, -1: none)."""
-    p = robots[chosen[0]].p
-    m, d, own_group, own_id = chunk.m, chunk.d, chunk.own_group, chunk.own_id
-    group, status, sender, moving = m["group"], m["status"], m["id"], m["moving"]
-    edge = ~moving
-    if not (p.follow_other_formations or robots[chosen[0]].groups == 1):
-        edge &= ((group == own_group) | (status == ARRIVE) | (status == SURPLUS)
-                 | (sender == NO_SENDER))
-    movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
-              & (status == COVERAGE))
-    ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-    edges = first_two_rows(edge, chunk.segment, len(robots))
-    nearest, second = edges[0].tolist(), edges[1].tolist()
-    mover_rows, mover_first = _rows_by_robot(movers, chunk.segment, len(robots))
-    ahead_rows, ahead_first = _rows_by_robot(ahead, chunk.segment, len(robots))
-    start_of = chunk.starts.tolist()
-    for k in chosen:  # the hot loop: inlined, and tuple.__new__ skips NamedTuple's __new__
-        start, a, b = start_of[k], nearest[k], second[k]
-        edge_k = [] if a < 0 else [a - start] if b < 0 else [a - start, b - start]
-        a, b = mover_first[k], mover_first[k + 1]
-        movers_k = [r - start for r in mover_rows[a:b]] if a != b else []
-        a, b = ahead_first[k], ahead_first[k + 1]
-        ahead_k = [r - start for r in ahead_rows[a:b]] if a != b else []
-        robots[k].pre = _new_tuple(Precomputed, (edge_k, movers_k, ahead_k))
-    return edges
 
 
 def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:

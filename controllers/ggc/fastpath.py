@@ -132,7 +132,7 @@ class TravelAnswers(NamedTuple):
 def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
     """Each robot's action: the common cases from the arrays, the rest by ``step`` (after
     the chunk's queries of batch.py, as ``GGC.prepare`` would do)."""
-    rows = ChunkRows(prepare_chunk(robots, batch.neighbours), batch)
+    rows = ChunkRows(prepare_chunk(robots, batch.neighbours, hand_out=False), batch)
     movers = coverage_movers(robots, rows, batch.tick)
     decided = dict(zip(movers, decide_movers(robots, movers, batch, rows), strict=True)
                    ) if movers else {}
@@ -144,22 +144,26 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
         if status == COVERAGE:
             action = decided.get(k)
         elif status == STOP and robot.batch_coverage:
-            action = robot.stop_in_batch(batch, k)
+            action = robot.stop_in_batch(batch, rows, k)
         elif status == DETECTION:
             action = robot.detection_in_batch(batch, rows, k)
         elif status == INITIAL and not robot.leader:
             travel = TravelAnswers.of(robots, batch, rows) if travel is None else travel
             action = robot.initial_in_batch(batch, travel, k)
-        actions.append(robot.step(perceive(k)) if action is None else action)
+        if action is None:
+            if status == COVERAGE or status == STOP:
+                robot.pre = rows.chunk.movers.precomputed(k)
+            action = robot.step(perceive(k))
+        actions.append(action)
     return actions
 
 
 def coverage_movers(robots: list[GGCRobot], f: ChunkRows, tick: int) -> list[int]:
     """The chunk's robots in Coverage whose tick may be the common case: those movers.py
     decides (each has an edge robot to follow; not stepping in, not selecting leaders)."""
-    if f.chunk.edges is None:
+    if f.chunk.movers is None:
         return []
-    nearest = f.chunk.edges[0].tolist()
+    nearest = f.chunk.movers.nearest.tolist()
     return [k for k, r in enumerate(robots)
             if r.status == COVERAGE and r.batch_coverage and nearest[k] >= 0
             and not r.stepping_in and not (r.scattered and tick < r.selection_ticks)]
@@ -177,7 +181,7 @@ class BatchDecisions:
         nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
         (row ``a``, ``da`` units away at ``offset_a``), its ``velocity`` and ``heading``
         along that edge, and its gradient (KEEP_GRADIENT: keep mine)."""
-        p, tick, pre = self.p, c.tick, self.pre
+        p, tick, movers = self.p, c.tick, f.chunk.movers
         on_target = c.on_target[k]
         if (on_target and da >= p.d_cover - p.arrive_tolerance
                 and self.arrives_in_batch(c, f, k, a, da, heading)):
@@ -193,11 +197,11 @@ class BatchDecisions:
         sampled = tick - self.progress_tick >= p.T_r
         if circling[3] or (sampled and math.hypot(*(self.odometer + c.moved[k])) <= p.theta):
             return None  # a dead end (circled all round, or stuck): step() turns round
-        if (self.groups > 1 and pre.movers and (on_target or not p.stop_on_target_only)
-                and tick >= self.pass_until):
+        if (self.groups > 1 and movers.has_movers[k]
+                and (on_target or not p.stop_on_target_only) and tick >= self.pass_until):
             return None  # Section 4.3: Stop
-        give_way = (self.give_way_in_batch(c, f, f.starts[k], np.array(velocity))
-                    if pre.ahead else None)
+        ahead = movers.ahead(k)
+        give_way = self.give_way_in_batch(c, f, ahead, np.array(velocity)) if ahead else None
         # the tick is mine: change the state as coverage() would
         if sampled:  # a progress sample that showed progress (stuck() returned False)
             self.odometer[:] = 0.0
@@ -298,34 +302,34 @@ class BatchDecisions:
         circled = self.circled + turn_between(self.last_bearing, bearing)
         return self.circling_id, circled, bearing, abs(circled) > 2 * math.pi
 
-    def give_way_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, start: int,
+    def give_way_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, ahead: list[int],
                           velocity: np.ndarray) -> np.ndarray | None:
-        """:meth:`give_way` from the chunk's rows."""
-        if not self.pre.ahead:
+        """:meth:`give_way` from the chunk's rows ``ahead`` (moving robots with a larger id
+        within yield_distance, nearest first)."""
+        rows = np.asarray(ahead, dtype=np.intp)
+        rows = rows[c.offsets[rows] @ velocity > 0]
+        if len(rows) == 0:
             return None
-        ahead = np.asarray(self.pre.ahead, dtype=np.intp)
-        ahead = ahead[c.offsets[start + ahead] @ velocity > 0]
-        if len(ahead) == 0:
-            return None
-        other = start + int(ahead[0])
+        other = int(rows[0])
         if f.distance.item(other) < self.p.yield_distance * 0.75:
             return -unit(c.offsets[other]) * self.p.v * 0.5
         return np.zeros(2)
 
-    def stop_in_batch(self: GGCRobot, c: DecideBatch, k: int) -> Action | None:
+    def stop_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
+                      ) -> Action | None:
         """:meth:`stopped` while the robot keeps waiting (T_s after a deadlock, or another
         group's mover still near); None when it would resume (step() does that)."""
-        tick, pre, patience = c.tick, self.pre, self.p.stop_patience
-        if pre is None or (self.scattered and tick < self.selection_ticks):
+        tick, patience = c.tick, self.p.stop_patience
+        if self.scattered and tick < self.selection_ticks:
             return None
         if tick >= self.resume_tick and not (
-                self.groups > 1 and pre.movers
+                self.groups > 1 and f.chunk.movers.has_movers[k]
                 and (not patience or c.on_target[k] or tick - self.stop_since < patience)):
             return None
         self.progress_tick = tick  # waiting is not a lack of progress (stopped())
         self.odometer[:] = 0.0
         self.pre = self.pre_wait = None
-        return self.act_repeating()
+        return self.act(repeat=True)  # nothing I broadcast changed
 
     def initial_in_batch(self: GGCRobot, c: DecideBatch, t: TravelAnswers, k: int
                          ) -> Action | None:
@@ -338,11 +342,16 @@ class BatchDecisions:
         if cmd == CMD_HALT:
             return None  # the halt: step() stops me and passes it on
         self.odometer += c.moved[k]
-        self.grad, self.touch, self.cmd = best + 1, c.on_target[k] or t.touched[k], cmd
-        self.travel = np.array([t.vx.item(parent), t.vy.item(parent)], dtype=float)
+        grad, touch = best + 1, c.on_target[k] or t.touched[k]
+        vx, vy = t.vx.item(parent), t.vy.item(parent)
+        travel = self.travel
+        same = (grad == self.grad and touch == self.touch and cmd == self.cmd
+                and vx == travel[0] and vy == travel[1])  # then my broadcast repeats
+        self.grad, self.touch, self.cmd = grad, touch, cmd
+        self.travel = np.array([vx, vy], dtype=float)
         self.remember_route()
         self.pre = self.pre_wait = None
-        return self.act(self.travel if cmd == CMD_TRAVEL else (0.0, 0.0))
+        return self.act(self.travel if cmd == CMD_TRAVEL else (0.0, 0.0), repeat=same)
 
     def detection_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
                            ) -> Action | None:
@@ -356,14 +365,15 @@ class BatchDecisions:
         if not (pre.blocker or enclosed):
             return None  # my turn: step() starts coverage
         self.odometer += c.moved[k]  # as step() does
+        same = (pre.grad is None or pre.grad == self.grad) and enclosed == self.enclosed
         if pre.grad is not None:
             self.grad = pre.grad
         self.enclosed = enclosed
         self.pre = self.pre_wait = None
         if not pre.blocker:  # my turn, but no way out: let the others go
-            return self.act(sleep=True, wake_range=1.5 * self.p.d_min)
+            return self.act(sleep=True, wake_range=1.5 * self.p.d_min, repeat=same)
         return self.act(sleep=True, wake_range=self.p.d_cover,
-                        wake_on_motion=pre.blocker == BLOCKED_BY_MOVER)
+                        wake_on_motion=pre.blocker == BLOCKED_BY_MOVER, repeat=same)
 
     def enclosed_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int) -> bool:
         """:meth:`is_enclosed` from the rows: waiting robots within 1.5 d_min all round."""

@@ -37,7 +37,7 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     nearest edge robot); None for those whose tick is not the common case (``step``)."""
     p = robots[ks[0]].p
     kk = np.asarray(ks, dtype=np.intp)
-    nearest, second = f.chunk.edges
+    nearest, second = f.chunk.movers.nearest, f.chunk.movers.second
     a, b = nearest[kk], second[kk]
     da, ox, oy = f.distance[a], c.offsets[a, 0], c.offsets[a, 1]
     db = np.where(b >= 0, f.distance[b], np.inf)

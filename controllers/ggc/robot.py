@@ -155,14 +155,12 @@ class GGCRobot(DetectionRules, CoverageRules, BatchDecisions, CollisionRules, Su
 
     def act(self, velocity: np.ndarray | tuple = (0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_on_motion: bool = True,
-            wake_tick: int | None = None) -> Action:
-        return make_action((float(velocity[0]), float(velocity[1])), self.message(), sleep,
-                           wake_range, self.listen_range(), wake_on_motion, wake_tick)
-
-    def act_repeating(self, velocity: tuple[float, float] = (0.0, 0.0)) -> Action:
-        """:meth:`act` (no sleep) for a robot whose broadcast is the same as last tick's:
-        the engine repeats it (message None), with no tuple to build."""
-        return make_action(velocity, None, False, None, self.listen_range(), True, None)
+            wake_tick: int | None = None, repeat: bool = False) -> Action:
+        """This tick's action with my broadcast (``repeat``: the caller knows it is the same
+        as last tick's, so the engine repeats that row and no tuple is built)."""
+        return make_action((float(velocity[0]), float(velocity[1])),
+                           None if repeat else self.message(), sleep, wake_range,
+                           self.listen_range(), wake_on_motion, wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper; R_c at most)."""
