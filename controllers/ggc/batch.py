@@ -127,9 +127,24 @@ def prepare_chunk(robots: list, batch: NeighbourBatch, hand_out: bool = True) ->
         if hand_out:
             for k in movers:
                 robots[k].pre = chunk.movers.precomputed(k)
-    if waiting:
+    if waiting and 4 * len(waiting) <= len(robots):  # a few: masks over their rows only
+        prepare_waiting([robots[k] for k in waiting], list(range(len(waiting))),
+                        rows_of(chunk, waiting))
+    elif waiting:
         prepare_waiting(robots, waiting, chunk)
     return chunk
+
+
+def rows_of(chunk: Chunk, chosen: list[int]) -> Chunk:
+    """The chunk's rows of the ``chosen`` robots only (robot j of the result is robot
+    ``chosen[j]``; its rows in the same order)."""
+    ks = np.asarray(chosen, dtype=np.intp)
+    first, counts = chunk.starts[ks], chunk.starts[ks + 1] - chunk.starts[ks]
+    starts = np.concatenate(([0], np.cumsum(counts)))
+    rows = np.arange(starts[-1]) + np.repeat(first - starts[:-1], counts)
+    return Chunk({name: field[rows] for name, field in chunk.m.items()}, chunk.d[rows],
+                 starts, np.repeat(np.arange(len(ks)), counts), chunk.own_group[rows],
+                 chunk.own_id[rows])
 
 
 def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:

@@ -174,13 +174,14 @@ class BatchDecisions:
     Detection and Initial from a chunk's arrays."""
 
     def finish_coverage(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
-                        da: float, offset_a: tuple[float, float],
-                        velocity: tuple[float, float], heading: np.ndarray, grad: int,
+                        da: float, velocity: tuple[float, float], heading: np.ndarray,
+                        grad: int, circling: tuple[int, float, float, bool],
                         listen: float | None) -> Action | None:
         """This tick's action if it is the common case of :meth:`coverage`, else None with
         nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
-        (row ``a``, ``da`` units away at ``offset_a``), its ``velocity`` and ``heading``
-        along that edge, and its gradient (KEEP_GRADIENT: keep mine)."""
+        (row ``a``, ``da`` units away), its ``velocity`` and ``heading`` along that edge,
+        its gradient (KEEP_GRADIENT: keep mine) and its ``circling`` count after this tick
+        (circling_id, circled, last_bearing, gone all round?)."""
         p, tick, movers = self.p, c.tick, f.chunk.movers
         on_target = c.on_target[k]
         if (on_target and da >= p.d_cover - p.arrive_tolerance
@@ -193,7 +194,6 @@ class BatchDecisions:
                 return None  # surplus: step() gives up
         if self.boundary_fill and self.steps_in_batch(c, f, k, a, da):
             return None  # boundary fill: step() steps in
-        circling = self.circling_in_batch(f.sender.item(a), offset_a)
         sampled = tick - self.progress_tick >= p.T_r
         if circling[3] or (sampled and math.hypot(*(self.odometer + c.moved[k])) <= p.theta):
             return None  # a dead end (circled all round, or stuck): step() turns round
@@ -209,25 +209,18 @@ class BatchDecisions:
             self.in_deadlock = False
         else:
             self.odometer += c.moved[k]
+        self.heading = heading
         changed = grad != KEEP_GRADIENT and grad != self.grad  # else my broadcast repeats
-        self.keep_coverage_books(heading, None if grad == KEEP_GRADIENT else grad,
-                                 circling[:3], lap)
+        if changed:
+            self.grad = grad
+        self.circling_id, self.circled, self.last_bearing, _ = circling
+        if lap is not None:
+            self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
+        self.pre = self.pre_wait = None
         if give_way is not None:
             velocity = (float(give_way[0]), float(give_way[1]))
         return make_action(velocity, self.message() if changed else None, False, None,
                            listen, True, None)
-
-    def keep_coverage_books(self: GGCRobot, heading: np.ndarray, grad: int | None,
-                            circling: tuple[int, float, float], lap: tuple | None) -> None:
-        """Write what :meth:`coverage_in_batch` found: the heading, the gradient (None: keep
-        mine), the circling count and the surplus lap's books (None: no lap kept)."""
-        self.heading = heading
-        if grad is not None:
-            self.grad = grad
-        self.circling_id, self.circled, self.last_bearing = circling
-        if lap is not None:
-            self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
-        self.pre = self.pre_wait = None
 
     def lap_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int, da: float
                      ) -> tuple | None:
@@ -292,15 +285,6 @@ class BatchDecisions:
                 return True
             return p.junction_stop == "lattice" and f.at_lattice_site(k, reach)
         return f.gradient.item(a) >= self.grad
-
-    def circling_in_batch(self: GGCRobot, sender: int, offset: tuple[float, float]
-                          ) -> tuple[int, float, float, bool]:
-        """:meth:`circling`'s new (circling_id, circled, last_bearing) and its answer."""
-        bearing = math.atan2(-offset[1], -offset[0])
-        if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
-            return sender, 0.0, bearing, False
-        circled = self.circled + turn_between(self.last_bearing, bearing)
-        return self.circling_id, circled, bearing, abs(circled) > 2 * math.pi
 
     def give_way_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, ahead: list[int],
                           velocity: np.ndarray) -> np.ndarray | None:

@@ -54,13 +54,14 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
         velocity[found[ok]] = v[ok]
     heading = scaled(velocity[:, 0], velocity[:, 1], 1.0)
     grads = mover_gradients(a, kk, f, p, len(robots)).tolist()
+    circling = circling_counts([robots[k] for k in ks], f.sender[a], ox, oy)
     listen = robots[ks[0]].listen_range()  # the same for every robot in Coverage
     moves = list(zip(*(velocity[:, j].tolist() for j in (0, 1)), strict=True))
-    return [robots[k].finish_coverage(c, f, k, row, dist, offset, move, head, grad, listen)
+    return [robots[k].finish_coverage(c, f, k, row, dist, move, head, grad, count, listen)
             if ok else None
-            for k, row, dist, offset, move, head, grad, ok in zip(
-                ks, a.tolist(), da.tolist(), zip(ox.tolist(), oy.tolist()), moves, heading,
-                grads, usable.tolist(), strict=True)]
+            for k, row, dist, move, head, grad, count, ok in zip(
+                ks, a.tolist(), da.tolist(), moves, heading, grads, circling,
+                usable.tolist(), strict=True)]
 
 
 def hypot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -112,6 +113,24 @@ def valley_between(oxa: np.ndarray, oya: np.ndarray, da: np.ndarray, oxb: np.nda
     along_x, along_y = np.where(back, -along_x, along_x), np.where(back, -along_y, along_y)
     half = 0.5 * clip_unit((da - db) * p.radial_gain)
     return scaled(along_x + half * ux, along_y + half * uy, p.v), valley
+
+
+def circling_counts(robots: list[GGCRobot], sender: np.ndarray, ox: np.ndarray,
+                    oy: np.ndarray) -> list[tuple[int, float, float, bool]]:
+    """Each mover's :meth:`~controllers.edges.CirclingWatch.circling` after this tick, as
+    (circling_id, circled, last_bearing, gone all round?), for the robot ``sender`` it
+    follows at offset (ox, oy). ``turn_between``'s ``%`` is numpy's ``mod`` here: the same
+    remainder, to the bit (CPython's algorithm)."""
+    bearing = np.array([math.atan2(-y, -x) for x, y in zip(ox.tolist(), oy.tolist())])
+    same = np.array([r.circling_id for r in robots]) == sender
+    last = np.array([math.nan if r.last_bearing is None else r.last_bearing for r in robots])
+    same &= (sender != NO_SENDER) & ~np.isnan(last)
+    circled = np.array([r.circled for r in robots])
+    circled = circled + (np.mod(bearing - last + math.pi, 2 * math.pi) - math.pi)
+    circled[~same] = 0.0
+    full = same & (np.abs(circled) > 2 * math.pi)
+    return list(zip(sender.tolist(), circled.tolist(), bearing.tolist(), full.tolist(),
+                    strict=True))
 
 
 def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int
