@@ -74,6 +74,9 @@ def test_prepared_waiting_answers_are_each_robots_own():
         groups = int(rng.choice([1, 3]))
         robots, perceptions, batch = random_chunk(rng, groups, GGCParams())
         prepare_chunk(robots, batch)
+        waiting = sum(r.status == DETECTION for r in robots)
+        if waiting:  # a few waiting robots are asked over their own rows only (rows_of)
+            seen[("few", 4 * waiting <= len(robots))] += 1
         for robot, p in zip(robots, perceptions, strict=True):
             pre = robot.pre_wait
             if robot.status != DETECTION:
@@ -91,7 +94,8 @@ def test_prepared_waiting_answers_are_each_robots_own():
             seen[("grad", grad is None)] += 1
             seen[pre.blocker] += 1
     assert {("surplus", True), ("surplus", False), ("grad", True), ("grad", False),
-            NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER} <= set(seen), seen
+            NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER, ("few", True), ("few", False)
+            } <= set(seen), seen
 
 
 def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Counter]:
