@@ -5,8 +5,11 @@ end, no Stop), robots waiting in Stop or Detection, and formations travelling (I
 those, :class:`BatchDecisions` does what the status's handler does (``coverage``,
 ``stopped``, ``detection``, ``initial``), reading the robot's own rows of the chunk's arrays
 instead of a Perception, with the same float operations in the same order (``math.hypot``,
-``math.atan2``, the same numpy products), so the result is the same to the bit. It changes
-the robot's state only once it knows it decides the tick. Every other case (an arrival, a
+``math.atan2``, the same numpy products), so the result is the same to the bit. The
+movers' geometry, gradients and circling counts come as arrays over the whole chunk
+(movers.py); :meth:`BatchDecisions.finish_coverage` does the rest robot by robot. A robot
+whose broadcast did not change sends none (message None: the engine repeats its row). The
+path changes the robot's state only once it knows it decides the tick. Every other case (an arrival, a
 dead end, a Stop, giving up after a surplus lap, stepping in across the boundary,
 wandering, leaving, resuming, a halt, a leader, and the two options it does not know: own
 edges, stop-ahead) returns None first, and the robot takes its ``step`` with a full
