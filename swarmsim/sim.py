@@ -306,8 +306,13 @@ class Simulation:
         Sleepers that asked not to be woken by motion only wake for changed broadcasts and
         pushed robots (``by_message``: the robots that wake those too).
         """
+        asleep = self.asleep
+        if not asleep.any():
+            return
         margin = 2 * self.config.v_max + self.config.wake_eps
-        reach = float(self.wake_range.max()) + margin
+        # only sleepers can be woken: none is farther than its own wake range (+ a hair, so
+        # that the tree's distances and np.hypot's cannot disagree at the rim)
+        reach = float(self.wake_range[asleep].max()) + margin + 1e-6
         for start in range(0, len(changed), DECIDE_CHUNK):  # bounded memory, same result
             sources = changed[start:start + DECIDE_CHUNK]
             k, near = search.pairs_near(sources, reach)  # each source itself included
@@ -416,8 +421,8 @@ class Simulation:
                 for k, row in zip(sent, rows, strict=True):
                     new_messages[awake[k]] = row
         reach = self.sensing_range
-        self.listen[awake] = [reach if a.listen is None else min(float(a.listen), reach)
-                              for a in actions]
+        listen = np.array([reach if a.listen is None else a.listen for a in actions], dtype=float)
+        self.listen[awake] = np.minimum(listen, reach)
         if not self.config.allow_sleep:
             return
         still = (vel[:, 0] == 0) & (vel[:, 1] == 0)

@@ -320,3 +320,33 @@ def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta(
     assert text.startswith("tick 3250 of at most 100000 [")
     assert "coverage  37.1%" in text
     assert "%|" not in text and "<" not in text  # no bar, no time left: runs stop early
+
+
+def test_wake_near_wakes_exactly_the_sleepers_in_range():
+    """_wake_near searches only as far as the sleepers' widest wake range: it must wake the
+    same robots as checking every changed robot against every sleeper."""
+    from swarmsim.sensing import NeighbourSearch
+
+    from .test_ggc import small_world
+
+    sim = Simulation(small_world(40, 30), controller="ggc", robots=120, groups=3, seed=1,
+                     max_ticks=2000)
+    rng = np.random.default_rng(0)
+    checked = 0
+    for tick in range(900):
+        sim.step()
+        if tick % 50 or not sim.asleep.any():
+            continue
+        changed = np.flatnonzero(rng.random(sim.n) < 0.3)
+        by_message = rng.random(sim.n) < 0.5
+        margin = 2 * sim.config.v_max + sim.config.wake_eps
+        d = np.hypot(*(sim.positions[:, None, :] - sim.positions[None, changed, :]).T).T
+        reached = (d <= sim.wake_range[:, None] + margin) & (
+            sim.wake_on_motion[:, None] | by_message[changed][None, :])
+        expected = sim.asleep & ~reached.any(axis=1)
+        before = sim.asleep.copy()
+        sim._wake_near(NeighbourSearch(sim.positions), changed, by_message)
+        assert np.array_equal(sim.asleep, expected)
+        checked += int((before & ~expected).sum())
+        sim.asleep[:] = before  # leave the run as it was
+    assert checked > 50  # sleepers were woken, with their different wake ranges
