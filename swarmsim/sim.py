@@ -261,7 +261,7 @@ class Simulation:
         self.tick += 1
         self._prev_positions = pos
         self.positions, _ = self.physics.read()
-        self.on_target = self.floor.on_target(self.positions)
+        self.on_target = self._on_target_now(pos)
         t3 = clock()
         if self.fault_hook is not None:
             self.fault_hook(self)
@@ -270,6 +270,15 @@ class Simulation:
         t4 = clock()
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
+
+    def _on_target_now(self, before: np.ndarray) -> np.ndarray:
+        """(N,) the floor sensors after the physics step: asked again only for robots that
+        moved (a robot where it was reads the same floor)."""
+        moved = np.flatnonzero((self.positions != before).any(axis=1))
+        on_target = self.on_target.copy()
+        if len(moved):
+            on_target[moved] = self.floor.on_target(self.positions[moved])
+        return on_target
 
     def _changed_rows(self, awake: np.ndarray, new_messages: np.ndarray) -> np.ndarray:
         """(N,) bool: whose broadcast changed this tick. Only awake robots broadcast, so only

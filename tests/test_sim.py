@@ -350,3 +350,17 @@ def test_wake_near_wakes_exactly_the_sleepers_in_range():
         checked += int((before & ~expected).sum())
         sim.asleep[:] = before  # leave the run as it was
     assert checked > 50  # sleepers were woken, with their different wake ranges
+
+
+def test_floor_sensors_follow_every_robot_that_moved():
+    """The floor sensors are asked again only for robots that moved: they must read what
+    asking every robot reads, every tick."""
+    sim = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
+                     seed=2, max_ticks=400, settings={"d_cover": 3.0})
+    flips = 0
+    for _ in range(400):
+        before = sim.on_target.copy()
+        sim.step()
+        assert np.array_equal(sim.on_target, sim.floor.on_target(sim.positions))
+        flips += int((before != sim.on_target).sum())
+    assert flips > 10  # robots crossed the target's edge
