@@ -92,42 +92,40 @@ class IncrementalCoverage:
         self.rows, self.cols = rows, cols
         half_i = int(np.ceil(grid.radius / grid.dy)) + 1
         half_j = int(np.ceil(grid.radius / grid.dx)) + 1
-        di, dj = np.meshgrid(np.arange(-half_i, half_i + 1), np.arange(-half_j, half_j + 1),
-                             indexing="ij")
-        self._di, self._dj = di.ravel(), dj.ravel()
+        self._di = np.arange(-half_i, half_i + 1)  # the stencil: rows x columns around a robot
+        self._dj = np.arange(-half_j, half_j + 1)
         self._inside = grid.inside.ravel()
         self._count = np.zeros(rows * cols, dtype=np.int64)
-        n = len(positions)
-        self._origin = np.zeros((n, 2), dtype=np.intp)
-        self._mask = np.zeros((n, len(self._di)), dtype=bool)
+        n, stencil = len(positions), len(self._di) * len(self._dj)
+        self._cells = np.zeros((n, stencil), dtype=np.intp)  # each robot's stamp: flat cells
+        self._mask = np.zeros((n, stencil), dtype=bool)  # ... and which of them it covers
         self._positions = np.full_like(positions, np.nan)
         self.update(positions)
 
-    def _cells(self, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Row and column indices (M, S) of the stencil around each origin (M, 2)."""
-        return origin[:, :1] + self._di[None, :], origin[:, 1:] + self._dj[None, :]
-
-    def _flat(self, origin: np.ndarray, mask: np.ndarray) -> np.ndarray:
-        i, j = self._cells(origin)
-        return (i * self.cols + j)[mask]
+    def _stamps(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(M, S) the flat cells of the stencil around robots at (x, y), and which of them
+        lie in the grid with their centre within r. The distance is taken per row and per
+        column of the stencil and summed per cell: (cx - x)^2 + (cy - y)^2, the same floats
+        as cell by cell."""
+        g, m = self.grid, len(x)
+        i = np.floor((y - g.y0) / g.dy).astype(np.intp)[:, None] + self._di  # (M, rows)
+        j = np.floor((x - g.x0) / g.dx).astype(np.intp)[:, None] + self._dj  # (M, columns)
+        ex = (g.x0 + (j + 0.5) * g.dx - x[:, None]) ** 2
+        ey = (g.y0 + (i + 0.5) * g.dy - y[:, None]) ** 2
+        near = ex[:, None, :] + ey[:, :, None] <= g.radius**2
+        near &= ((i >= 0) & (i < self.rows))[:, :, None] & ((j >= 0) & (j < self.cols))[:, None, :]
+        cells = (i * self.cols)[:, :, None] + j[:, None, :]
+        return cells.reshape(m, -1), near.reshape(m, -1)
 
     def update(self, positions: np.ndarray) -> float:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
         moved = np.flatnonzero((positions != self._positions).any(axis=1))
         if len(moved):
-            g = self.grid
             size = self.rows * self.cols
-            old = self._flat(self._origin[moved], self._mask[moved])
-            x, y = positions[moved, 0], positions[moved, 1]
-            origin = np.column_stack([np.floor((y - g.y0) / g.dy), np.floor((x - g.x0) / g.dx)])
-            origin = origin.astype(np.intp)
-            i, j = self._cells(origin)
-            mask = (i >= 0) & (i < self.rows) & (j >= 0) & (j < self.cols)
-            cx = g.x0 + (j + 0.5) * g.dx
-            cy = g.y0 + (i + 0.5) * g.dy
-            mask &= (cx - x[:, None]) ** 2 + (cy - y[:, None]) ** 2 <= g.radius**2
-            self._origin[moved], self._mask[moved] = origin, mask
-            self._count += np.bincount(self._flat(origin, mask), minlength=size)
+            old = self._cells[moved][self._mask[moved]]
+            cells, mask = self._stamps(positions[moved, 0], positions[moved, 1])
+            self._cells[moved], self._mask[moved] = cells, mask
+            self._count += np.bincount(cells[mask], minlength=size)
             self._count -= np.bincount(old, minlength=size)
             self._positions = positions.copy()
         covered = np.count_nonzero((self._count > 0) & self._inside)
