@@ -366,10 +366,10 @@ class Simulation:
         starts = np.concatenate(([0], ends))
         first, last = starts[:-1].tolist(), ends.tolist()
         offsets, distances = views.offsets, views.distances
-        pos = self.positions
-        bearings = _bearings(self.world.beacon, pos[awake])
+        here = self.positions[awake]
+        bearings = _bearings(self.world.beacon, here)
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
-        at, on, shift = pos[awake].tolist(), self.on_target[awake].tolist(), list(moved[awake])
+        at, on, shift = here.tolist(), self.on_target[awake].tolist(), list(moved[awake])
         deciding = [controllers[i] for i in awake.tolist()]
 
         def perceive(k: int) -> Perception:

@@ -24,6 +24,12 @@ from .geometry import unit
 from .statuses import ARRIVE, DETECTION, STOP, SURPLUS
 
 
+def two_arrived(distances: np.ndarray, statuses: np.ndarray, reach: float) -> bool:
+    """Are two of these neighbours (nearest first) within ``reach`` (units) arrived?"""
+    k = within(distances, reach)
+    return int((statuses[:k] == ARRIVE).sum()) >= 2
+
+
 class CoverageRules:
     """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the Coverage status."""
 
@@ -259,8 +265,8 @@ class CoverageRules:
         """Two arrived robots within d_cover + arrive_tolerance: stopping here closes a
         triangle whose sides are at most that long, which discs of radius r cover when
         d_cover + arrive_tolerance <= r * sqrt(3)."""
-        k = within(p.distances, self.p.d_cover + self.p.arrive_tolerance)
-        return int((p.messages["status"][:k] == ARRIVE).sum()) >= 2
+        return two_arrived(p.distances, p.messages["status"],
+                           self.p.d_cover + self.p.arrive_tolerance)
 
     def wander(self, p: Perception) -> Action:
         """No stationary robot in range: head for the beacon (or keep going)."""

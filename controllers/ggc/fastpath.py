@@ -36,6 +36,7 @@ from .batch import (
     formation_minimum,
     prepare_chunk,
 )
+from .coverage import two_arrived
 from .geometry import ENCLOSED_GAP, unit, widest_gap
 from .movers import KEEP_GRADIENT, decide_movers
 from .statuses import (
@@ -96,9 +97,8 @@ class ChunkRows:
 
     def at_lattice_site(self, k: int, reach: float) -> bool:
         """``at_lattice_site``: two arrived robots within ``reach`` of robot k."""
-        start = self.starts[k]
-        near = start + self.within(k, reach)
-        return int((self.status[start:near] == ARRIVE).sum()) >= 2
+        start, end = self.starts[k], self.starts[k + 1]
+        return two_arrived(self.distance[start:end], self.status[start:end], reach)
 
     def within(self, k: int, reach: float) -> int:
         """How many of robot k's rows (nearest first) are within ``reach`` (units)."""

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from controllers.edges import turn_between
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
 from .batch import first_two_rows
@@ -48,9 +49,9 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     if len(valley):
         found = valley[usable[valley]]
         bb = b[found]
-        heading = np.array([robots[ks[j]].heading for j in found.tolist()]).reshape(-1, 2)
+        before = np.array([robots[ks[j]].heading for j in found.tolist()]).reshape(-1, 2)
         v, ok = valley_between(ox[found], oy[found], da[found], c.offsets[bb, 0],
-                               c.offsets[bb, 1], db[found], heading, sense[found], p)
+                               c.offsets[bb, 1], db[found], before, sense[found], p)
         velocity[found[ok]] = v[ok]
     heading = scaled(velocity[:, 0], velocity[:, 1], 1.0)
     grads = mover_gradients(a, kk, f, p, len(robots)).tolist()
@@ -119,14 +120,13 @@ def circling_counts(robots: list[GGCRobot], sender: np.ndarray, ox: np.ndarray,
                     oy: np.ndarray) -> list[tuple[int, float, float, bool]]:
     """Each mover's :meth:`~controllers.edges.CirclingWatch.circling` after this tick, as
     (circling_id, circled, last_bearing, gone all round?), for the robot ``sender`` it
-    follows at offset (ox, oy). ``turn_between``'s ``%`` is numpy's ``mod`` here: the same
-    remainder, to the bit (CPython's algorithm)."""
+    follows at offset (ox, oy). ``turn_between`` on arrays: its ``%`` is then numpy's
+    ``mod``, the same remainder to the bit (CPython's algorithm)."""
     bearing = np.array([math.atan2(-y, -x) for x, y in zip(ox.tolist(), oy.tolist())])
     same = np.array([r.circling_id for r in robots]) == sender
     last = np.array([math.nan if r.last_bearing is None else r.last_bearing for r in robots])
     same &= (sender != NO_SENDER) & ~np.isnan(last)
-    circled = np.array([r.circled for r in robots])
-    circled = circled + (np.mod(bearing - last + math.pi, 2 * math.pi) - math.pi)
+    circled = np.array([r.circled for r in robots]) + turn_between(last, bearing)
     circled[~same] = 0.0
     full = same & (np.abs(circled) > 2 * math.pi)
     return list(zip(sender.tolist(), circled.tolist(), bearing.tolist(), full.tolist(),

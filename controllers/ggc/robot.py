@@ -79,8 +79,9 @@ class GGCRobot(DetectionRules, CoverageRules, BatchDecisions, CollisionRules, Su
                Aggregation, CirclingWatch, ProgressWatch):
     """One robot's GGC controller: its state, broadcasts and the Initial status (travel)
     here; Detection in detection.py, Coverage in coverage.py, the surplus lap in surplus.py,
-    Stop and deadlocks in collisions.py; Coverage's common case a chunk at a time in
-    fastpath.py; the scattered start's leader selection, grouping
+    Stop and deadlocks in collisions.py; the common cases a chunk at a time in fastpath.py
+    (the Coverage movers' geometry as arrays in movers.py); the scattered start's leader
+    selection, grouping
     and aggregation in aggregation.py."""
 
     def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator):
