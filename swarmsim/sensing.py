@@ -8,6 +8,7 @@ gives a controller a global position.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -15,6 +16,8 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
+
+from swarmsim.cellsearch import cell_views
 
 
 class FloorSensor:
@@ -72,15 +75,25 @@ class FlatViews(NamedTuple):
 
 
 class NeighbourSearch:
-    """A k-d tree over all robot centres, built once per tick (scipy's cKDTree).
+    """All robot centres at the start of a tick, searched for neighbours.
+
+    A tick's views and wake pairs come from a compiled cell-grid pass (swarmsim.cellsearch);
+    the other queries from a k-d tree (scipy's cKDTree), built when first needed. Both give
+    the same views to the bit (tests/test_sensing.py).
 
     Args:
         positions: (N, 2) robot centres at the start of the tick.
+        compiled: False takes the k-d tree for everything (the reference path).
     """
 
-    def __init__(self, positions: np.ndarray):
+    def __init__(self, positions: np.ndarray, compiled: bool = True):
         self.positions = positions
-        self.tree = cKDTree(positions)
+        self.compiled = compiled
+
+    @functools.cached_property
+    def tree(self) -> cKDTree:
+        """The k-d tree over all centres (built on first use)."""
+        return cKDTree(self.positions)
 
     def neighbours(self, robots: np.ndarray, radius: float | np.ndarray) -> list[np.ndarray]:
         """For each robot index in ``robots``: indices of the others within ``radius``.
@@ -141,6 +154,9 @@ class NeighbourSearch:
 
     def _neighbourhood_chunk(self, robots: np.ndarray, radii: np.ndarray,
                              perturb: Callable[[np.ndarray], np.ndarray] | None) -> FlatViews:
+        if perturb is None and self.compiled:  # ~4x faster, the same views
+            flat, offsets, _, counts = cell_views(self.positions, robots, radii)
+            return FlatViews(flat, offsets, np.hypot(offsets[:, 0], offsets[:, 1]), counts)
         segment, flat, offsets, d2 = self._pairs_within(robots, radii)
         order = stable_radix_order(flat.astype(np.uint64), index_bits(len(self.positions)))
         if perturb is not None:  # the noise is drawn in (segment, neighbour) order
@@ -193,6 +209,12 @@ class NeighbourSearch:
         (scipy's sparse_distance_matrix)."""
         if len(robots) == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+        if self.compiled:
+            radii = np.full(len(robots), float(radius))
+            near, _, _, counts = cell_views(self.positions, robots, radii, ordered=False)
+            k = np.repeat(np.arange(len(robots)), counts)
+            mine = np.arange(len(robots))  # each robot is paired with itself too
+            return np.concatenate((k, mine)), np.concatenate((near, robots.astype(np.intp)))
         pairs = cKDTree(self.positions[robots]).sparse_distance_matrix(
             self.tree, float(radius), output_type="ndarray")
         return pairs["i"].astype(np.intp), pairs["j"].astype(np.intp)

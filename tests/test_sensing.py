@@ -179,3 +179,57 @@ def test_pairs_near_equals_query_ball_point_self_included():
     assert 1 in near[src == 0] and 0 in near[src == 0]
     empty = NeighbourSearch(pos).pairs_near(np.zeros(0, dtype=np.intp), 2.5)
     assert len(empty[0]) == len(empty[1]) == 0
+
+
+def _random_views_case(rng: np.random.Generator, trial: int):
+    """Positions, robots and radii with the awkward cases: lattice ties, coincident robots,
+    radius 0, repeated robots, views longer than the insertion sort's limit."""
+    n = int(rng.integers(1, 400))
+    pos = rng.uniform(0, rng.uniform(1, 60), size=(n, 2))
+    if trial % 3 == 0:
+        pos = np.round(pos * 2) / 2  # many equal distances
+    if trial % 5 == 0:
+        pos[: n // 4] = pos[0]  # robots on top of each other
+    robots = rng.choice(n, size=int(rng.integers(1, n + 1)), replace=bool(trial % 2))
+    if trial % 4:
+        radii = rng.choice([0.0, 0.5, 1.0, 3.0, 12.0, 40.0], size=len(robots))
+    else:
+        radii = np.full(len(robots), 2.0)
+    return pos, robots, radii
+
+
+def test_compiled_views_equal_the_kdtree_views_to_the_bit():
+    rng = np.random.default_rng(11)
+    longest = 0
+    for trial in range(120):
+        pos, robots, radii = _random_views_case(rng, trial)
+        fast = NeighbourSearch(pos).neighbourhoods_flat(robots, radii)
+        ref = NeighbourSearch(pos, compiled=False).neighbourhoods_flat(robots, radii)
+        for field in ("neighbours", "offsets", "distances", "counts"):
+            a, b = getattr(fast, field), getattr(ref, field)
+            assert a.shape == b.shape and np.array_equal(a, b), (trial, field)
+        longest = max(longest, int(ref.counts.max()))
+    assert longest > 64  # the merge-sort branch was taken too
+
+
+def test_compiled_views_over_a_wide_sparse_swarm():
+    """A tiny radius over a wide swarm: the grid gets coarser cells, the views stay equal."""
+    rng = np.random.default_rng(4)
+    pos = rng.uniform(0, 1e5, (3000, 2))
+    pos[1] = pos[0] + [0.05, 0.0]
+    robots = np.arange(3000)
+    fast = NeighbourSearch(pos).neighbourhoods_flat(robots, 0.1)
+    ref = NeighbourSearch(pos, compiled=False).neighbourhoods_flat(robots, 0.1)
+    assert np.array_equal(fast.neighbours, ref.neighbours)
+    assert np.array_equal(fast.counts, ref.counts) and fast.neighbours[:2].tolist() == [1, 0]
+
+
+def test_compiled_pairs_near_equal_the_kdtree_pairs():
+    rng = np.random.default_rng(5)
+    for trial in range(40):
+        pos, robots, radii = _random_views_case(rng, trial)
+        radius = float(radii[0])
+        pairs = [NeighbourSearch(pos, compiled=c).pairs_near(robots, radius)
+                 for c in (True, False)]
+        fast, ref = ({(int(k), int(j)) for k, j in zip(*p, strict=True)} for p in pairs)
+        assert fast == ref and len(pairs[0][0]) == len(pairs[1][0]), trial
