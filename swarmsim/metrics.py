@@ -16,6 +16,8 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
+from swarmsim.stamps import restamp
+
 
 @dataclass(frozen=True)
 class CoverageGrid:
@@ -64,7 +66,10 @@ class CoverageGrid:
         if len(positions) == 0:
             return np.zeros(self.n_target_pixels, dtype=bool)
         tree = cKDTree(positions)
-        dist, _ = tree.query(self.centres, k=1, distance_upper_bound=self.radius)
+        # the tree keeps distances strictly below its bound: a hair more keeps those equal to
+        # r, as IncrementalCoverage does (a centre exactly r away is covered)
+        bound = np.nextafter(self.radius, np.inf)
+        dist, _ = tree.query(self.centres, k=1, distance_upper_bound=bound)
         return dist <= self.radius
 
     def coverage(self, positions: np.ndarray) -> float:
@@ -88,48 +93,26 @@ class IncrementalCoverage:
 
     def __init__(self, grid: CoverageGrid, positions: np.ndarray):
         self.grid = grid
-        rows, cols = grid.shape
-        self.rows, self.cols = rows, cols
-        half_i = int(np.ceil(grid.radius / grid.dy)) + 1
-        half_j = int(np.ceil(grid.radius / grid.dx)) + 1
-        self._di = np.arange(-half_i, half_i + 1)  # the stencil: rows x columns around a robot
-        self._dj = np.arange(-half_j, half_j + 1)
-        self._inside = grid.inside.ravel()
-        self._count = np.zeros(rows * cols, dtype=np.int64)
-        n, stencil = len(positions), len(self._di) * len(self._dj)
-        self._cells = np.zeros((n, stencil), dtype=np.intp)  # each robot's stamp: flat cells
-        self._mask = np.zeros((n, stencil), dtype=bool)  # ... and which of them it covers
-        self._positions = np.full_like(positions, np.nan)
+        self.rows, self.cols = grid.shape
+        self._half_i = int(np.ceil(grid.radius / grid.dy)) + 1  # the stencil round a robot
+        self._half_j = int(np.ceil(grid.radius / grid.dx)) + 1
+        self._inside = np.ascontiguousarray(grid.inside.ravel())
+        self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
+        self._covered = 0  # target pixels with a positive count
+        self._positions = np.full_like(positions, np.nan, dtype=np.float64)
         self.update(positions)
-
-    def _stamps(self, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(M, S) the flat cells of the stencil around robots at (x, y), and which of them
-        lie in the grid with their centre within r. The distance is taken per row and per
-        column of the stencil and summed per cell: (cx - x)^2 + (cy - y)^2, the same floats
-        as cell by cell."""
-        g, m = self.grid, len(x)
-        i = np.floor((y - g.y0) / g.dy).astype(np.intp)[:, None] + self._di  # (M, rows)
-        j = np.floor((x - g.x0) / g.dx).astype(np.intp)[:, None] + self._dj  # (M, columns)
-        ex = (g.x0 + (j + 0.5) * g.dx - x[:, None]) ** 2
-        ey = (g.y0 + (i + 0.5) * g.dy - y[:, None]) ** 2
-        near = ex[:, None, :] + ey[:, :, None] <= g.radius**2
-        near &= ((i >= 0) & (i < self.rows))[:, :, None] & ((j >= 0) & (j < self.cols))[:, None, :]
-        cells = (i * self.cols)[:, :, None] + j[:, None, :]
-        return cells.reshape(m, -1), near.reshape(m, -1)
 
     def update(self, positions: np.ndarray) -> float:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
         moved = np.flatnonzero((positions != self._positions).any(axis=1))
         if len(moved):
-            size = self.rows * self.cols
-            old = self._cells[moved][self._mask[moved]]
-            cells, mask = self._stamps(positions[moved, 0], positions[moved, 1])
-            self._cells[moved], self._mask[moved] = cells, mask
-            self._count += np.bincount(cells[mask], minlength=size)
-            self._count -= np.bincount(old, minlength=size)
-            self._positions = positions.copy()
-        covered = np.count_nonzero((self._count > 0) & self._inside)
-        return float(covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0
+            g = self.grid
+            new = np.ascontiguousarray(positions, dtype=np.float64)
+            self._covered += restamp(self._count, self._inside, moved, self._positions, new,
+                                     g.x0, g.y0, g.dx, g.dy, g.radius**2, self._half_i,
+                                     self._half_j, self.rows, self.cols)
+            self._positions = new.copy()
+        return float(self._covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0
 
 
 class SettledWatch:

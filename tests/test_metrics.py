@@ -60,6 +60,23 @@ def test_incremental_coverage_equals_direct_computation():
         assert inc.update(pos) == grid.coverage(pos)
 
 
+
+def test_incremental_coverage_at_the_rim_and_off_the_grid():
+    """Pixel centres exactly r from a robot count as covered; robots that leave the grid and
+    come back leave no stamp behind; the count stays the direct computation's."""
+    from swarmsim.metrics import IncrementalCoverage
+
+    grid = CoverageGrid.for_target(box(0, 0, 20, 20), radius=2.0, cols=20, rows=20)
+    pos = np.array([[5.5, 5.5], [10.5, 12.5], [30.0, 30.0], [-8.0, 3.0]])  # on pixel centres
+    inc = IncrementalCoverage(grid, pos)
+    assert inc.update(pos) == grid.coverage(pos) == 2 * 13 / 400  # 13 centres within 2.0
+    path = [[19.5, 0.5], [25.0, -3.0], [0.5, 19.5], [5.5, 5.5], [60.0, 60.0], [10.5, 12.5]]
+    for step, point in enumerate(path):
+        pos = pos.copy()
+        pos[step % 4] = point
+        assert inc.update(pos) == grid.coverage(pos), step
+
+
 def test_settle_point_ignores_the_flicker_of_robots_passing_by():
     from types import SimpleNamespace
 
