@@ -48,6 +48,8 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
     if len(robots) == 0 or len(positions) == 0:
         return (np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros(0),
                 np.zeros(len(robots), dtype=np.int64))
+    if not np.isfinite(positions).all():
+        raise ValueError("robot positions must be finite (a body left the world?)")
     flat, offsets, d2, counts = _views(positions, robots, radii, MAX_CELLS_PER_ROBOT,
                                        ordered)
     return flat.astype(np.intp, copy=False), offsets, d2, counts

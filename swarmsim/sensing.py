@@ -178,7 +178,8 @@ class NeighbourSearch:
         radius of ``robots[segment]``, in no particular order; offsets (P, 2) are the
         neighbours' positions relative to that robot, units (squared distances: units^2).
 
-        Dual-tree passes (scipy's sparse_distance_matrix, arrays all the way; query_ball_point
+        The reference path (``compiled`` False, or sensing noise): dual-tree passes (scipy's
+        sparse_distance_matrix, arrays all the way; query_ball_point
         builds a Python list per robot), then each robot's own radius on the same squared
         distances the tree compares. One pass at the largest radius while the radii are
         within RADIUS_SPREAD of each other, else one pass per distinct radius, so that a few
@@ -205,8 +206,8 @@ class NeighbourSearch:
 
     def pairs_near(self, robots: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
         """Pairs (k, other): robot ``other`` is within ``radius`` (units) of ``robots[k]``;
-        each robot is paired with itself too; unordered. One dual-tree pass, arrays only
-        (scipy's sparse_distance_matrix)."""
+        each robot is paired with itself too; unordered. The compiled cell-grid pass, or with
+        ``compiled`` False one dual-tree pass (scipy's sparse_distance_matrix)."""
         if len(robots) == 0:
             return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
         if self.compiled:

@@ -47,6 +47,8 @@ def _stamp(count, inside, x, y, sign, x0, y0, dx, dy, r2, half_i, half_j, rows,
            cols):  # pragma: no cover - compiled
     """Add ``sign`` to the count of every pixel within r of (x, y); the number of target
     pixels that became covered (sign 1) or uncovered (sign -1)."""
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return 0  # nowhere: stamps nothing
     ci = math.floor((y - y0) / dy)  # an int in numba
     cj = math.floor((x - x0) / dx)
     flipped = 0
