@@ -42,9 +42,10 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
         neighbours (P,) indices, offsets (P, 2) relative to the robot (units), squared
         distances (P,) (units^2) and counts (R,): robot k's rows follow robot k-1's.
     """
-    positions = np.ascontiguousarray(positions, dtype=np.float64)
-    robots = np.ascontiguousarray(robots, dtype=np.int64)
-    radii = np.ascontiguousarray(radii, dtype=np.float64)
+    # contiguous and writeable: one compiled signature (a read-only array is another type)
+    positions = np.require(positions, np.float64, ("C", "W"))
+    robots = np.require(robots, np.int64, ("C", "W"))
+    radii = np.require(radii, np.float64, ("C", "W"))
     if len(robots) == 0 or len(positions) == 0:
         return (np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros(0),
                 np.zeros(len(robots), dtype=np.int64))
@@ -53,6 +54,12 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
     flat, offsets, d2, counts = _views(positions, robots, radii, MAX_CELLS_PER_ROBOT,
                                        ordered)
     return flat.astype(np.intp, copy=False), offsets, d2, counts
+
+
+def warm_up() -> None:
+    """Compile (first time on a machine, ~10 s) or load (from the cache, milliseconds) the
+    kernels now, so that a run's clock does not count it."""
+    cell_views(np.zeros((2, 2)), np.zeros(1, dtype=np.int64), np.ones(1))
 
 
 @njit(cache=True)

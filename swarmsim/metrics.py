@@ -96,7 +96,7 @@ class IncrementalCoverage:
         self.rows, self.cols = grid.shape
         self._half_i = int(np.ceil(grid.radius / grid.dy)) + 1  # the stencil round a robot
         self._half_j = int(np.ceil(grid.radius / grid.dx)) + 1
-        self._inside = np.ascontiguousarray(grid.inside.ravel())
+        self._inside = np.require(grid.inside.ravel(), bool, ("C", "W"))  # one signature
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
         self._positions = np.full_like(positions, np.nan, dtype=np.float64)
@@ -107,7 +107,7 @@ class IncrementalCoverage:
         moved = np.flatnonzero((positions != self._positions).any(axis=1))
         if len(moved):
             g = self.grid
-            new = np.ascontiguousarray(positions, dtype=np.float64)
+            new = np.require(positions, np.float64, ("C", "W"))
             self._covered += restamp(self._count, self._inside, moved, self._positions, new,
                                      g.x0, g.y0, g.dx, g.dy, g.radius**2, self._half_i,
                                      self._half_j, self.rows, self.cols)

@@ -233,3 +233,21 @@ def test_compiled_pairs_near_equal_the_kdtree_pairs():
                  for c in (True, False)]
         fast, ref = ({(int(k), int(j)) for k, j in zip(*p, strict=True)} for p in pairs)
         assert fast == ref and len(pairs[0][0]) == len(pairs[1][0]), trial
+
+
+def test_compiled_views_compile_once_whatever_arrays_callers_pass():
+    """Read-only, broadcast, strided or int32 inputs take the one compiled signature, so a
+    run never compiles inside its clock (Simulation warms the kernels up before)."""
+    from swarmsim import cellsearch
+
+    rng = np.random.default_rng(2)
+    pos = rng.uniform(0, 20, (300, 4))[:, ::2]  # strided
+    pos.flags.writeable = False
+    robots = np.arange(0, 300, 3, dtype=np.int32)
+    radii = np.broadcast_to(3.0, robots.shape)  # read-only, stride 0
+    cellsearch.warm_up()
+    fast = cellsearch.cell_views(pos, robots, radii)
+    ref = NeighbourSearch(np.ascontiguousarray(pos), compiled=False).neighbourhoods_flat(
+        robots.astype(np.intp), 3.0)
+    assert np.array_equal(fast[0], ref.neighbours) and np.array_equal(fast[1], ref.offsets)
+    assert len(cellsearch._views.signatures) == 1
