@@ -63,27 +63,27 @@ def warm_up() -> None:
 
 
 @njit(cache=True)
-def _cell_size(positions, radius, per_robot):  # pragma: no cover - compiled
+def _cell_size(width, height, n, radius, per_robot):  # pragma: no cover - compiled
     """A cell at least the widest radius (a hair more: a neighbour is then never more than
-    one cell away, whatever the division rounds), and not so small that the grid has more
-    than ``per_robot`` cells per robot."""
-    width = positions[:, 0].max() - positions[:, 0].min()
-    height = positions[:, 1].max() - positions[:, 1].min()
+    one cell away, whatever the division rounds), and not so small that a ``width`` x
+    ``height`` grid over ``n`` robots has more than ``per_robot`` cells per robot."""
     cell = radius * (1 + 1e-9) + 1e-12
-    most = per_robot * positions.shape[0] + 16
+    most = per_robot * n + 16
     if (width / cell + 1) * (height / cell + 1) > most:
         cell = max(cell, math.sqrt(width * height / most) * 1.01, width / most, height / most)
     return cell
 
 
 @njit(cache=True)
-def _grid(positions, cell):  # pragma: no cover - compiled
+def _grid(positions, radius, per_robot):  # pragma: no cover - compiled
     """Robots ordered by cell (ties by index), their coordinates in that order, each cell's
     first row, each robot's cell and the grid's width and height in cells."""
     n = positions.shape[0]
     x0, y0 = positions[:, 0].min(), positions[:, 1].min()
-    nx = int((positions[:, 0].max() - x0) / cell) + 1
-    ny = int((positions[:, 1].max() - y0) / cell) + 1
+    width, height = positions[:, 0].max() - x0, positions[:, 1].max() - y0
+    cell = _cell_size(width, height, n, radius, per_robot)
+    nx = int(width / cell) + 1
+    ny = int(height / cell) + 1
     cell_of = np.empty(n, dtype=np.int64)
     starts = np.zeros(nx * ny + 1, dtype=np.int64)
     for i in range(n):
@@ -109,8 +109,7 @@ def _grid(positions, cell):  # pragma: no cover - compiled
 @njit(cache=True)
 def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - compiled
     """Each robot's neighbours from the 3 x 3 cells round it, written (and sorted)."""
-    cell = _cell_size(positions, radii.max(), per_robot)
-    members, xs, ys, starts, cell_of, nx, ny = _grid(positions, cell)
+    members, xs, ys, starts, cell_of, nx, ny = _grid(positions, radii.max(), per_robot)
     r = robots.shape[0]
     size = 0  # at most every robot in each one's 3 x 3 cells
     for k in range(r):

@@ -112,7 +112,8 @@ class IncrementalCoverage:
                                      g.x0, g.y0, g.dx, g.dy, g.radius**2, self._half_i,
                                      self._half_j, self.rows, self.cols)
             self._positions = new.copy()
-        return float(self._covered / self.grid.n_target_pixels) if self.grid.n_target_pixels else 0.0
+        pixels = self.grid.n_target_pixels
+        return float(self._covered / pixels) if pixels else 0.0
 
 
 class SettledWatch:

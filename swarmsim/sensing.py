@@ -178,10 +178,10 @@ class NeighbourSearch:
         radius of ``robots[segment]``, in no particular order; offsets (P, 2) are the
         neighbours' positions relative to that robot, units (squared distances: units^2).
 
-        The reference path (``compiled`` False, or sensing noise): dual-tree passes (scipy's
-        sparse_distance_matrix, arrays all the way; query_ball_point
-        builds a Python list per robot), then each robot's own radius on the same squared
-        distances the tree compares. One pass at the largest radius while the radii are
+        The path of sensing noise and of ``compiled`` False: pairs from :meth:`pairs_near`
+        (the cell grid, or with ``compiled`` False dual-tree passes: scipy's
+        sparse_distance_matrix, arrays all the way), then each robot's own radius on the same
+        squared distances the search compares. One pass at the largest radius while the radii are
         within RADIUS_SPREAD of each other, else one pass per distinct radius, so that a few
         robots listening far do not make every robot's query that wide.
         """
