@@ -30,6 +30,9 @@ Writing a controller::
         def decide_batch(cls, robots, batch: DecideBatch) -> list[Action]: ...  # optional:
                     # decides a chunk itself (in place of prepare and step); must give the
                     # same actions as step would (run setting batch_decide=false to compare)
+        @classmethod
+        def warm_up(cls) -> None: ...  # optional: compile or load its kernels; the engine
+                    # calls it as a run is set up, so its run clock does not count that
 
         @classmethod
         def sensing_range(cls, params) -> float: ...   # how far it listens, in units

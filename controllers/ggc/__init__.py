@@ -16,6 +16,7 @@ from swarmsim.controller import Action, DecideBatch, NeighbourBatch, register
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
 from .fastpath import decide_chunk
+from .moverkernel import warm_up
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -52,6 +53,11 @@ class GGC(GGCRobot):
         """The chunk's actions: movers' common case from the arrays, the rest by ``step``
         (see fastpath.py)."""
         return decide_chunk(robots, batch)
+
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile (first time on a machine, a few seconds) or load the movers' kernel."""
+        warm_up()
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

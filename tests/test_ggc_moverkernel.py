@@ -1,0 +1,127 @@
+"""The compiled movers' kernel (controllers/ggc/moverkernel.py) gives the scalar rules'
+numbers to the bit: CPython's hypot, edge following, the valley, the heading and the
+circling count."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+from numba import njit
+
+from controllers.ggc import GGCParams
+from controllers.ggc.geometry import unit
+from controllers.ggc.moverkernel import mover_geometry, py_hypot, warm_up
+from controllers.ggc.robot import GGCRobot
+from swarmsim.controller import NO_SENDER, RobotSetup
+
+
+@njit
+def hypots(x, y):
+    out = np.empty(len(x))
+    for i in range(len(x)):
+        out[i] = py_hypot(x[i], y[i])
+    return out
+
+
+def bits(values) -> np.ndarray:
+    return np.asarray(values, dtype=float).view(np.int64)
+
+
+def test_py_hypot_is_pythons_to_the_bit():
+    rng = np.random.default_rng(3)
+    x = np.concatenate([rng.normal(size=50_000) * s for s in (1e-6, 1e-2, 1.0, 30.0, 1e9)])
+    y = np.concatenate([rng.normal(size=50_000) * s for s in (1e-6, 1e-2, 1.0, 30.0, 1e9)])
+    x[:500], y[500:1000] = 0.0, -0.0  # axes
+    y[1000:1500] = x[1000:1500]  # equal legs
+    special = [0.0, -0.0, 3.0, math.inf, -math.inf, math.nan]
+    sx, sy = np.array([[a, b] for a in special for b in special]).T
+    x, y = np.concatenate([x, sx]), np.concatenate([y, sy])
+    expected = [math.hypot(a, b) for a, b in zip(x.tolist(), y.tolist(), strict=True)]
+    np.testing.assert_array_equal(bits(hypots(x, y)), bits(expected))
+
+
+def random_mover(rng: np.random.Generator, p: GGCParams) -> GGCRobot:
+    r = GGCRobot(RobotSetup(7, leader=False, group=1, groups=3), p, np.random.default_rng(0))
+    r.sense = float(rng.choice([-1.0, 1.0]))
+    r.heading = rng.normal(size=2) if rng.random() < 0.7 else np.zeros(2)
+    r.circling_id = int(rng.choice([NO_SENDER, 4, 9]))
+    r.last_bearing = None if rng.random() < 0.2 else float(rng.uniform(-math.pi, math.pi))
+    r.circled = float(rng.normal() * 4)
+    return r
+
+
+def random_offsets(rng: np.random.Generator, p: GGCParams, count: int) -> np.ndarray:
+    """Neighbour offsets around d_cover, with ties, opposite pairs and a robot on top."""
+    d = rng.choice([p.d_cover, p.d_cover * 0.5, p.d_cover * 1.3, 0.0], size=count,
+                   p=[0.1, 0.4, 0.45, 0.05]) * rng.uniform(0.9, 1.1, size=count)
+    angle = rng.uniform(-math.pi, math.pi, size=count)
+    offsets = np.column_stack((d * np.cos(angle), d * np.sin(angle)))
+    offsets[1::7] = -offsets[0:-1:7][: len(offsets[1::7])]  # exactly opposite
+    return offsets
+
+
+def expected(r: GGCRobot, offsets: np.ndarray, distances: np.ndarray, a: int, b: int,
+             sender: int):
+    """The scalar rules of coverage.py and edges.py, as ``coverage`` applies them."""
+    velocity = r.edge_follow(offsets[a], float(distances[a]))
+    if b >= 0 and distances[b] < r.p.d_cover:
+        valley = r.valley_between(float(distances[a]), float(distances[b]),
+                                  offsets[a].tolist(), offsets[b].tolist())
+        velocity = velocity if valley is None else valley
+    view = SimpleNamespace(messages={"id": np.array([sender])}, offsets=offsets[a:a + 1])
+    full = r.circling(view, 0)
+    return velocity, unit(velocity), r.last_bearing, r.circled, full
+
+
+def test_mover_geometry_is_the_scalar_rules():
+    rng, p = np.random.default_rng(11), GGCParams()
+    checked = 0
+    for _ in range(300):
+        rows, m = int(rng.integers(2, 12)), int(rng.integers(1, 6))
+        offsets = random_offsets(rng, p, rows)
+        distances = np.hypot(offsets[:, 0], offsets[:, 1])
+        a = rng.integers(0, rows, size=m)
+        b = np.where(rng.random(m) < 0.8, rng.integers(0, rows, size=m), -1)
+        sender = rng.choice([NO_SENDER, 4, 9], size=m).astype(np.int64)
+        movers = [random_mover(rng, p) for _ in range(m)]
+        last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
+        got = mover_geometry(offsets, distances, a, b,
+                             np.array([r.sense for r in movers]),
+                             np.array([r.heading for r in movers]).reshape(-1, 2), sender,
+                             np.array([r.circling_id for r in movers], dtype=np.int64),
+                             np.array(last), np.array([r.circled for r in movers]),
+                             p.d_cover, p.radial_gain, p.v, NO_SENDER)
+        velocity, heading, usable, bearing, circled, full = got
+        for j, r in enumerate(movers):
+            usable_j = distances[a[j]] > 0 and (b[j] < 0 or distances[b[j]] > 0)
+            assert usable[j] == usable_j
+            if not usable_j:
+                continue  # the mover takes step(): the kernel's numbers are not used
+            want = expected(r, offsets, distances, int(a[j]), int(b[j]), int(sender[j]))
+            np.testing.assert_array_equal(bits(velocity[j]), bits(want[0]))
+            np.testing.assert_array_equal(bits(heading[j]), bits(want[1]))
+            assert bits(bearing[j]) == bits(want[2])
+            assert bits(circled[j]) == bits(want[3]) and full[j] == want[4]
+            checked += 1
+    assert checked > 600
+
+
+def test_warm_up_compiles_the_signature_runs_use(monkeypatch):
+    from controllers.ggc import movers
+    from swarmsim import Simulation
+
+    calls = []
+
+    def counted(*args):
+        calls.append(len(args[2]))
+        return mover_geometry(*args)
+
+    monkeypatch.setattr(movers, "mover_geometry", counted)
+    warm_up()
+    compiled = len(mover_geometry.signatures)
+    sim = Simulation("K", controller="ggc", seed=1, robots=60,
+                     settings={"stop_on_complete": False})
+    for _ in range(1500):
+        sim.step()
+    assert sum(calls) > 100  # movers were decided by the kernel
+    assert len(mover_geometry.signatures) == compiled
