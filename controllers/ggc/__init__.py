@@ -15,8 +15,9 @@ from swarmsim.controller import Action, DecideBatch, NeighbourBatch, register
 
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
+from .enclosure import warm_up as warm_up_enclosure
 from .fastpath import decide_chunk
-from .moverkernel import warm_up
+from .moverkernel import warm_up as warm_up_movers
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -56,8 +57,9 @@ class GGC(GGCRobot):
 
     @classmethod
     def warm_up(cls) -> None:
-        """Compile (first time on a machine, a few seconds) or load the movers' kernel."""
-        warm_up()
+        """Compile (first time on a machine, a few seconds) or load the compiled kernels."""
+        warm_up_movers()
+        warm_up_enclosure()
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

@@ -37,7 +37,8 @@ from .batch import (
     prepare_chunk,
 )
 from .coverage import two_arrived
-from .geometry import ENCLOSED_GAP, unit, widest_gap
+from .enclosure import enclosed_robots
+from .geometry import ENCLOSED_GAP, unit
 from .movers import KEEP_GRADIENT, decide_movers
 from .statuses import (
     ARRIVE,
@@ -66,7 +67,7 @@ class LapAnswers(NamedTuple):
 class ChunkRows:
     """The chunk's arrays a robot reads, each field contiguous (rows as in the batch)."""
 
-    __slots__ = ("_lap", "chunk", "distance", "gradient", "group", "moving", "offset",
+    __slots__ = ("_enclosed", "_lap", "chunk", "distance", "gradient", "group", "moving", "offset",
                  "own_group", "segment", "sender", "starts", "status", "stepped")
 
     def __init__(self, chunk: Chunk, batch: DecideBatch):
@@ -74,7 +75,9 @@ class ChunkRows:
         """The chunk's rows as batch.py's queries read them."""
         m = chunk.m
         self.starts: list[int] = batch.neighbours.starts.tolist()
-        self.distance, self.offset = batch.neighbours.distances, batch.offsets
+        # contiguous and writeable: the one signature the compiled kernels are warmed up for
+        self.distance, self.offset = (np.require(x, float, ("C", "W"))
+                                      for x in (batch.neighbours.distances, batch.offsets))
         self.group, self.status, self.sender = m["group"], m["status"], m["id"]
         self.moving, self.gradient = m["moving"], m["gradient"]
         self.stepped = np.ascontiguousarray(batch.neighbours.messages["stepped"])
@@ -83,6 +86,7 @@ class ChunkRows:
         self.own_group = chunk.own_group
         """(P,) the group of the robot each row belongs to."""
         self._lap: LapAnswers | None = None
+        self._enclosed: list[bool] | None = None
 
     @property
     def lap(self) -> LapAnswers:
@@ -94,6 +98,17 @@ class ChunkRows:
             self._lap = LapAnswers(*(any_by_robot(rows, self.segment, n).tolist()
                                      for rows in (waiting, surplus)))
         return self._lap
+
+    def enclosed(self, k: int, reach: float) -> bool:
+        """``is_enclosed``: robot k's waiting neighbours within ``reach`` (units, the same for
+        every robot: 1.5 d_min) leave no gap wider than ENCLOSED_GAP; found for the whole
+        chunk on first use."""
+        if self._enclosed is None:
+            self._enclosed = enclosed_robots(
+                self.offset, self.distance, self.status.astype(np.int64),
+                np.asarray(self.starts, dtype=np.int64), reach, INITIAL, DETECTION,
+                ENCLOSED_GAP).tolist()
+        return self._enclosed[k]
 
     def at_lattice_site(self, k: int, reach: float) -> bool:
         """``at_lattice_site``: two arrived robots within ``reach`` of robot k."""
@@ -179,12 +194,13 @@ class BatchDecisions:
     def finish_coverage(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
                         da: float, velocity: tuple[float, float], heading: np.ndarray,
                         grad: int, circling: tuple[int, float, float, bool],
-                        listen: float | None) -> Action | None:
+                        listen: float | None, odometer: np.ndarray) -> Action | None:
         """This tick's action if it is the common case of :meth:`coverage`, else None with
         nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
         (row ``a``, ``da`` units away), its ``velocity`` and ``heading`` along that edge,
-        its gradient (KEEP_GRADIENT: keep mine) and its ``circling`` count after this tick
-        (circling_id, circled, last_bearing, gone all round?)."""
+        its gradient (KEEP_GRADIENT: keep mine), its ``circling`` count after this tick
+        (circling_id, circled, last_bearing, gone all round?) and its ``odometer`` with this
+        tick's motion added (a 2-vector of its own, units)."""
         p, tick, movers = self.p, c.tick, f.chunk.movers
         on_target = c.on_target[k]
         if (on_target and da >= p.d_cover - p.arrive_tolerance
@@ -198,7 +214,7 @@ class BatchDecisions:
         if self.boundary_fill and self.steps_in_batch(c, f, k, a, da):
             return None  # boundary fill: step() steps in
         sampled = tick - self.progress_tick >= p.T_r
-        if circling[3] or (sampled and math.hypot(*(self.odometer + c.moved[k])) <= p.theta):
+        if circling[3] or (sampled and math.hypot(*odometer) <= p.theta):
             return None  # a dead end (circled all round, or stuck): step() turns round
         if (self.groups > 1 and movers.has_movers[k]
                 and (on_target or not p.stop_on_target_only) and tick >= self.pass_until):
@@ -211,7 +227,7 @@ class BatchDecisions:
             self.progress_tick = tick
             self.in_deadlock = False
         else:
-            self.odometer += c.moved[k]
+            self.odometer = odometer
         self.heading = heading
         changed = grad != KEEP_GRADIENT and grad != self.grad  # else my broadcast repeats
         if changed:
@@ -364,10 +380,4 @@ class BatchDecisions:
 
     def enclosed_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int) -> bool:
         """:meth:`is_enclosed` from the rows: waiting robots within 1.5 d_min all round."""
-        start = f.starts[k]
-        near = start + f.within(k, 1.5 * self.p.d_min)
-        waiting = [start + j for j, s in enumerate(f.status[start:near].tolist())
-                   if s == INITIAL or s == DETECTION]
-        if len(waiting) < 3:
-            return False
-        return widest_gap(c.offsets[waiting]) < ENCLOSED_GAP
+        return f.enclosed(k, 1.5 * self.p.d_min)

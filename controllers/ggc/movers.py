@@ -40,7 +40,7 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     a, b = f.chunk.movers.nearest[kk], f.chunk.movers.second[kk]
     last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
     velocity, heading, usable, bearing, circled, full = mover_geometry(
-        np.ascontiguousarray(c.offsets), np.ascontiguousarray(f.distance), a, b, np.array([r.sense for r in movers], dtype=float),
+        f.offset, f.distance, a, b, np.array([r.sense for r in movers], dtype=float),
         np.array([r.heading for r in movers], dtype=float).reshape(-1, 2),
         f.sender[a].astype(np.int64), np.array([r.circling_id for r in movers], dtype=np.int64),
         np.array(last), np.array([r.circled for r in movers], dtype=float),
@@ -51,11 +51,13 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     listen = movers[0].listen_range()  # the same for every robot in Coverage
     moves = zip(*(velocity[:, j].tolist() for j in (0, 1)), strict=True)
     da = f.distance[a]
-    return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen)
+    odometers = (np.array([r.odometer for r in movers], dtype=float).reshape(-1, 2)
+                 + np.array([c.moved[k] for k in ks], dtype=float).reshape(-1, 2))
+    return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen, odo)
             if ok else None
-            for robot, k, row, dist, move, head, grad, count, ok in zip(
+            for robot, k, row, dist, move, head, grad, count, ok, odo in zip(
                 movers, ks, a.tolist(), da.tolist(), moves, heading, grads, circling,
-                usable.tolist(), strict=True)]
+                usable.tolist(), odometers, strict=True)]
 
 
 def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int

@@ -1,6 +1,6 @@
-"""The compiled movers' kernel (controllers/ggc/moverkernel.py) gives the scalar rules'
-numbers to the bit: CPython's hypot, edge following, the valley, the heading and the
-circling count."""
+"""GGC's compiled kernels give the scalar rules' answers to the bit: the movers' kernel
+(moverkernel.py: CPython's hypot, edge following, the valley, the heading and the circling
+count) and the enclosure test (enclosure.py)."""
 
 import math
 from types import SimpleNamespace
@@ -9,9 +9,10 @@ import numpy as np
 from numba import njit
 
 from controllers.ggc import GGCParams
-from controllers.ggc.geometry import unit
+from controllers.ggc.enclosure import enclosed_robots
+from controllers.ggc.geometry import ENCLOSED_GAP, unit, widest_gap
 from controllers.ggc.moverkernel import mover_geometry, py_hypot, warm_up
-from controllers.ggc.robot import GGCRobot
+from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, INITIAL, GGCRobot
 from swarmsim.controller import NO_SENDER, RobotSetup
 
 
@@ -57,6 +58,8 @@ def random_offsets(rng: np.random.Generator, p: GGCParams, count: int) -> np.nda
     angle = rng.uniform(-math.pi, math.pi, size=count)
     offsets = np.column_stack((d * np.cos(angle), d * np.sin(angle)))
     offsets[1::7] = -offsets[0:-1:7][: len(offsets[1::7])]  # exactly opposite
+    turned = offsets[0:-2:7][: len(offsets[2::7])]
+    offsets[2::7] = np.column_stack((-turned[:, 1], turned[:, 0]))  # exactly perpendicular
     return offsets
 
 
@@ -84,6 +87,11 @@ def test_mover_geometry_is_the_scalar_rules():
         b = np.where(rng.random(m) < 0.8, rng.integers(0, rows, size=m), -1)
         sender = rng.choice([NO_SENDER, 4, 9], size=m).astype(np.int64)
         movers = [random_mover(rng, p) for _ in range(m)]
+        for r, row in zip(movers, a.tolist(), strict=True):
+            if rng.random() < 0.3:  # no turn this tick, on the rim of a whole circle
+                r.last_bearing = math.atan2(-offsets[row, 1], -offsets[row, 0])
+                r.circled = float(rng.choice([2 * math.pi, np.nextafter(2 * math.pi, 9),
+                                              -2 * math.pi]))
         last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
         got = mover_geometry(offsets, distances, a, b,
                              np.array([r.sense for r in movers]),
@@ -125,3 +133,39 @@ def test_warm_up_compiles_the_signature_runs_use(monkeypatch):
         sim.step()
     assert sum(calls) > 100  # movers were decided by the kernel
     assert len(mover_geometry.signatures) == compiled
+
+
+def enclosed_reference(offsets, distances, status, reach) -> bool:
+    """detection.py's ``is_enclosed`` on one robot's rows (nearest first)."""
+    near = int(distances.searchsorted(reach, side="right"))
+    waiting = [j for j in range(near) if status[j] in (INITIAL, DETECTION)]
+    return len(waiting) >= 3 and widest_gap(offsets[waiting]) < ENCLOSED_GAP
+
+
+def test_enclosed_robots_is_the_scalar_rule():
+    rng, reach = np.random.default_rng(7), 1.5 * GGCParams().d_min
+    answers = []
+    for _ in range(200):
+        counts = rng.integers(0, 20, size=int(rng.integers(1, 8)))
+        views = []
+        for count in counts.tolist():
+            lattice = rng.random() < 0.4  # ties: robots on a hexagonal lattice round me
+            angle = (rng.integers(0, 6, size=count) * math.pi / 3 if lattice
+                     else rng.uniform(-math.pi, math.pi, size=count))
+            d = rng.choice([reach, reach * 0.6, reach * 1.2], size=count, p=[0.4, 0.4, 0.2])
+            d = d if lattice else d * rng.uniform(0.8, 1.2, size=count)
+            offsets = np.column_stack((d * np.cos(angle), d * np.sin(angle)))
+            distances = np.hypot(offsets[:, 0], offsets[:, 1])
+            order = np.argsort(distances, kind="stable")
+            status = rng.choice([INITIAL, DETECTION, COVERAGE, ARRIVE], size=count,
+                                p=[0.4, 0.4, 0.1, 0.1])
+            views.append((offsets[order], distances[order], status))
+        starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+        got = enclosed_robots(np.concatenate([v[0] for v in views]).reshape(-1, 2),
+                              np.concatenate([v[1] for v in views]),
+                              np.concatenate([v[2] for v in views]).astype(np.int64),
+                              starts, reach, INITIAL, DETECTION, ENCLOSED_GAP)
+        want = [enclosed_reference(*view, reach) for view in views]
+        assert got.tolist() == want
+        answers += want
+    assert 50 < sum(answers) < len(answers) - 50  # both answers were tested, many times
