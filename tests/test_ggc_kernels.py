@@ -1,6 +1,6 @@
 """GGC's compiled kernels give the scalar rules' answers to the bit: the movers' kernel
 (moverkernel.py: CPython's hypot, edge following, the valley, the heading and the circling
-count) and the enclosure test (enclosure.py)."""
+count), the enclosure test (enclosure.py) and the movers' rows (moverrows.py)."""
 
 import math
 from types import SimpleNamespace
@@ -12,8 +12,18 @@ from controllers.ggc import GGCParams
 from controllers.ggc.enclosure import enclosed_robots
 from controllers.ggc.geometry import ENCLOSED_GAP, unit, widest_gap
 from controllers.ggc.moverkernel import mover_geometry, py_hypot, warm_up
-from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, INITIAL, GGCRobot
-from swarmsim.controller import NO_SENDER, RobotSetup
+from controllers.ggc.moverrows import mover_rows
+from controllers.ggc.robot import (
+    ARRIVE,
+    COVERAGE,
+    DETECTION,
+    INITIAL,
+    MESSAGE_FIELDS,
+    STOP,
+    SURPLUS,
+    GGCRobot,
+)
+from swarmsim.controller import NO_SENDER, RobotSetup, message_dtype
 
 
 @njit
@@ -169,3 +179,51 @@ def test_enclosed_robots_is_the_scalar_rule():
         assert got.tolist() == want
         answers += want
     assert 50 < sum(answers) < len(answers) - 50  # both answers were tested, many times
+
+
+def mover_rows_reference(starts, d, m, own_group, own_id, foreign_edges, p):
+    """The numpy masks MoverAnswers used before the kernel (batch.py)."""
+    segment = np.repeat(np.arange(len(starts) - 1), np.diff(starts))
+    robots = len(starts) - 1
+    edge = ~m["moving"]
+    if not foreign_edges:
+        edge &= ((m["group"] == own_group) | (m["status"] == ARRIVE)
+                 | (m["status"] == SURPLUS) | (m["id"] == NO_SENDER))
+    movers = ((d <= p.d_cover) & (m["group"] != own_group) & (m["id"] > own_id)
+              & (m["status"] == COVERAGE))
+    ahead = (d <= p.yield_distance) & m["moving"] & (m["id"] > own_id)
+
+    def spans(mask):
+        rows = np.flatnonzero(mask)
+        return rows, np.searchsorted(segment[rows], np.arange(robots + 1))
+
+    rows, first = spans(edge)
+    found = [[int(rows[first[k] + j]) if first[k] + j < first[k + 1] else -1
+              for k in range(robots)] for j in (0, 1)]
+    return (*found, *spans(movers), *spans(ahead))
+
+
+def test_mover_rows_are_the_masks():
+    rng, p = np.random.default_rng(5), GGCParams()
+    for case in range(150):
+        counts = rng.integers(0, 25, size=int(rng.integers(1, 9)))
+        starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+        rows = int(starts[-1])
+        m = np.zeros(rows, dtype=message_dtype(MESSAGE_FIELDS))
+        m["group"] = rng.integers(0, 3, size=rows)
+        m["status"] = rng.choice([INITIAL, DETECTION, COVERAGE, ARRIVE, STOP, SURPLUS],
+                                 size=rows)
+        m["id"] = rng.choice([NO_SENDER, 3, 5, 8, 12], size=rows)
+        m["moving"] = rng.random(rows) < 0.4
+        d = np.sort(rng.choice([p.d_cover, p.yield_distance, 2.0, 9.0], size=rows)
+                    * rng.choice([1.0, 1.0, 0.97], size=rows))
+        own_group = np.repeat(rng.integers(0, 3, size=len(counts)), counts).astype(np.int64)
+        own_id = np.repeat(rng.choice([3, 5, 8], size=len(counts)), counts).astype(np.int64)
+        foreign = bool(case % 2)
+        got = mover_rows(starts, d, *(np.ascontiguousarray(m[name])
+                                      for name in ("group", "status", "id", "moving")),
+                         own_group, own_id, foreign, p.d_cover, p.yield_distance, ARRIVE,
+                         SURPLUS, COVERAGE, NO_SENDER)
+        want = mover_rows_reference(starts, d, m, own_group, own_id, foreign, p)
+        for g, w in zip(got, want, strict=True):
+            assert np.asarray(g).tolist() == np.asarray(w).tolist()

@@ -11,13 +11,16 @@ from __future__ import annotations
 from collections import Counter
 from collections.abc import Sequence
 
-from swarmsim.controller import Action, DecideBatch, NeighbourBatch, register
+import numpy as np
+
+from swarmsim.controller import Action, DecideBatch, NeighbourBatch, message_dtype, register
 
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
 from .enclosure import warm_up as warm_up_enclosure
 from .fastpath import decide_chunk
 from .moverkernel import warm_up as warm_up_movers
+from .moverrows import warm_up as warm_up_mover_rows
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
@@ -60,6 +63,7 @@ class GGC(GGCRobot):
         """Compile (first time on a machine, a few seconds) or load the compiled kernels."""
         warm_up_movers()
         warm_up_enclosure()
+        warm_up_mover_rows(np.zeros(1, dtype=message_dtype(MESSAGE_FIELDS)))
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

@@ -18,6 +18,7 @@ import numpy as np
 
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, NeighbourBatch
 
+from .moverrows import mover_rows
 from .statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
@@ -62,20 +63,15 @@ class MoverAnswers:
 
     def __init__(self, robots: list, chunk: Chunk):
         p, first = robots[0].p, next(r for r in robots if r.status in (COVERAGE, STOP))
-        m, d, own_group, own_id = chunk.m, chunk.d, chunk.own_group, chunk.own_id
-        group, status, sender, moving = m["group"], m["status"], m["id"], m["moving"]
-        edge = ~moving
-        if not (p.follow_other_formations or first.groups == 1):
-            edge &= ((group == own_group) | (status == ARRIVE) | (status == SURPLUS)
-                     | (sender == NO_SENDER))
-        movers = ((d <= p.d_cover) & (group != own_group) & (sender > own_id)
-                  & (status == COVERAGE))
-        ahead = (d <= p.yield_distance) & moving & (sender > own_id)
-        n = len(robots)
-        self.nearest, self.second = first_two_rows(edge, chunk.segment, n)
+        m = chunk.m
+        nearest, second, movers, movers_first, ahead, ahead_first = mover_rows(
+            chunk.starts, np.require(chunk.d, float, ("C", "W")), m["group"], m["status"], m["id"], m["moving"],
+            chunk.own_group, chunk.own_id, p.follow_other_formations or first.groups == 1,
+            p.d_cover, p.yield_distance, ARRIVE, SURPLUS, COVERAGE, NO_SENDER)
+        self.nearest, self.second = nearest, second
         """(robots,) each robot's nearest and second edge robot (rows, -1: none)."""
-        self.mover_rows, self.mover_first = _rows_by_robot(movers, chunk.segment, n)
-        self.ahead_rows, self.ahead_first = _rows_by_robot(ahead, chunk.segment, n)
+        self.mover_rows, self.mover_first = movers.tolist(), movers_first.tolist()
+        self.ahead_rows, self.ahead_first = ahead.tolist(), ahead_first.tolist()
         self.has_movers = [a != b for a, b in zip(self.mover_first, self.mover_first[1:])]
         """Robot k hears another group's mover that outranks it (Section 4.3)."""
         self.starts: list[int] = chunk.starts.tolist()
@@ -201,13 +197,6 @@ def _row_spans(mask: np.ndarray, segment: np.ndarray, robots: int
     end): robot k's are ``rows[first[k]:first[k + 1]]``."""
     rows = np.flatnonzero(mask)
     return rows, np.searchsorted(segment[rows], np.arange(robots + 1))
-
-
-def _rows_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
-                   ) -> tuple[list[int], list[int]]:
-    """:func:`_row_spans` as Python lists (for masks that hold on few rows)."""
-    rows, first = _row_spans(mask, segment, robots)
-    return rows.tolist(), first.tolist()
 
 
 def first_two_by_robot(mask: np.ndarray, segment: np.ndarray, robots: int
