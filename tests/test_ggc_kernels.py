@@ -88,11 +88,12 @@ def expected(r: GGCRobot, offsets: np.ndarray, distances: np.ndarray, a: int, b:
 
 def test_mover_geometry_is_the_scalar_rules():
     rng, p = np.random.default_rng(11), GGCParams()
-    checked = 0
+    checked = gave_way = 0
     for _ in range(300):
         rows, m = int(rng.integers(2, 12)), int(rng.integers(1, 6))
         offsets = random_offsets(rng, p, rows)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
+        distances[(rng.random(rows) < 0.15) & (distances > 0)] = 0.75 * p.yield_distance
         a = rng.integers(0, rows, size=m)
         b = np.where(rng.random(m) < 0.8, rng.integers(0, rows, size=m), -1)
         sender = rng.choice([NO_SENDER, 4, 9], size=m).astype(np.int64)
@@ -103,13 +104,19 @@ def test_mover_geometry_is_the_scalar_rules():
                 r.circled = float(rng.choice([2 * math.pi, np.nextafter(2 * math.pi, 9),
                                               -2 * math.pi]))
         last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
+        ahead = [sorted(rng.choice(rows, size=int(rng.integers(0, min(rows, 4))),
+                                   replace=False).tolist())
+                 for _ in range(m)]  # the rows each mover gives way to, nearest first
+        ahead_first = np.concatenate(([0], np.cumsum([len(x) for x in ahead])))
         got = mover_geometry(offsets, distances, a, b,
                              np.array([r.sense for r in movers]),
                              np.array([r.heading for r in movers]).reshape(-1, 2), sender,
                              np.array([r.circling_id for r in movers], dtype=np.int64),
                              np.array(last), np.array([r.circled for r in movers]),
-                             p.d_cover, p.radial_gain, p.v, NO_SENDER)
-        velocity, heading, usable, bearing, circled, full = got
+                             p.d_cover, p.radial_gain, p.v, NO_SENDER, np.arange(m),
+                             np.array([r for x in ahead for r in x], dtype=np.intp), ahead_first,
+                             p.yield_distance)
+        velocity, heading, usable, bearing, circled, full, gives_way, give_way = got
         for j, r in enumerate(movers):
             usable_j = distances[a[j]] > 0 and (b[j] < 0 or distances[b[j]] > 0)
             assert usable[j] == usable_j
@@ -120,8 +127,14 @@ def test_mover_geometry_is_the_scalar_rules():
             np.testing.assert_array_equal(bits(heading[j]), bits(want[1]))
             assert bits(bearing[j]) == bits(want[2])
             assert bits(circled[j]) == bits(want[3]) and full[j] == want[4]
+            r.pre = SimpleNamespace(ahead=ahead[j])
+            way = r.give_way(SimpleNamespace(offsets=offsets, distances=distances), want[0])
+            assert gives_way[j] == (way is not None)
+            if way is not None:
+                np.testing.assert_array_equal(bits(give_way[j]), bits(way))
+                gave_way += 1
             checked += 1
-    assert checked > 600
+    assert checked > 600 and gave_way > 100
 
 
 def test_warm_up_compiles_the_signature_runs_use(monkeypatch):

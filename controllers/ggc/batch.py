@@ -58,7 +58,7 @@ class MoverAnswers:
     """A chunk's movers' answers as arrays over its rows; :meth:`precomputed` hands one
     robot its :class:`Precomputed` (only robots that take ``step`` need one)."""
 
-    __slots__ = ("ahead_first", "ahead_rows", "has_movers", "mover_first", "mover_rows",
+    __slots__ = ("ahead_array", "ahead_first", "ahead_first_array", "ahead_rows", "has_movers", "mover_first", "mover_rows",
                  "nearest", "second", "starts")
 
     def __init__(self, robots: list, chunk: Chunk):
@@ -72,6 +72,8 @@ class MoverAnswers:
         """(robots,) each robot's nearest and second edge robot (rows, -1: none)."""
         self.mover_rows, self.mover_first = movers.tolist(), movers_first.tolist()
         self.ahead_rows, self.ahead_first = ahead.tolist(), ahead_first.tolist()
+        self.ahead_array, self.ahead_first_array = ahead, ahead_first
+        """The same as arrays (for the compiled movers' kernel)."""
         self.has_movers = [a != b for a, b in zip(self.mover_first, self.mover_first[1:])]
         """Robot k hears another group's mover that outranks it (Section 4.3)."""
         self.starts: list[int] = chunk.starts.tolist()

@@ -137,9 +137,10 @@ class CollisionRules:
         ahead = self.pre.ahead if self.pre is not None else self.movers_outranking(p)
         if len(ahead) == 0:
             return None
-        ahead = np.asarray(ahead, dtype=np.intp)
-        ahead = ahead[p.offsets[ahead] @ velocity > 0]
-        if len(ahead) == 0:
+        vx, vy = float(velocity[0]), float(velocity[1])
+        ahead = [r for r, (x, y) in zip(ahead, p.offsets[ahead].tolist(), strict=True)
+                 if x * vx + y * vy > 0]  # IEEE products and sum, as the compiled kernel
+        if not ahead:
             return None
         other = ahead[0]
         if p.distances[other] < self.p.yield_distance * 0.75:

@@ -38,7 +38,7 @@ from .batch import (
 )
 from .coverage import two_arrived
 from .enclosure import enclosed_robots
-from .geometry import ENCLOSED_GAP, unit
+from .geometry import ENCLOSED_GAP
 from .movers import KEEP_GRADIENT, decide_movers
 from .statuses import (
     ARRIVE,
@@ -194,13 +194,15 @@ class BatchDecisions:
     def finish_coverage(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
                         da: float, velocity: tuple[float, float], heading: np.ndarray,
                         grad: int, circling: tuple[int, float, float, bool],
-                        listen: float | None, odometer: np.ndarray) -> Action | None:
+                        listen: float | None, odometer: np.ndarray,
+                        give_way: tuple[float, float] | None) -> Action | None:
         """This tick's action if it is the common case of :meth:`coverage`, else None with
         nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
         (row ``a``, ``da`` units away), its ``velocity`` and ``heading`` along that edge,
         its gradient (KEEP_GRADIENT: keep mine), its ``circling`` count after this tick
-        (circling_id, circled, last_bearing, gone all round?) and its ``odometer`` with this
-        tick's motion added (a 2-vector of its own, units)."""
+        (circling_id, circled, last_bearing, gone all round?), its ``odometer`` with this
+        tick's motion added (a 2-vector of its own, units) and the velocity :meth:`give_way`
+        replaces its own with (None: it does not give way)."""
         p, tick, movers = self.p, c.tick, f.chunk.movers
         on_target = c.on_target[k]
         if (on_target and da >= p.d_cover - p.arrive_tolerance
@@ -219,8 +221,6 @@ class BatchDecisions:
         if (self.groups > 1 and movers.has_movers[k]
                 and (on_target or not p.stop_on_target_only) and tick >= self.pass_until):
             return None  # Section 4.3: Stop
-        ahead = movers.ahead(k)
-        give_way = self.give_way_in_batch(c, f, ahead, np.array(velocity)) if ahead else None
         # the tick is mine: change the state as coverage() would
         if sampled:  # a progress sample that showed progress (stuck() returned False)
             self.odometer[:] = 0.0
@@ -237,7 +237,7 @@ class BatchDecisions:
             self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
         self.pre = self.pre_wait = None
         if give_way is not None:
-            velocity = (float(give_way[0]), float(give_way[1]))
+            velocity = give_way
         return make_action(velocity, self.message() if changed else None, False, None,
                            listen, True, None)
 
@@ -304,19 +304,6 @@ class BatchDecisions:
                 return True
             return p.junction_stop == "lattice" and f.at_lattice_site(k, reach)
         return f.gradient.item(a) >= self.grad
-
-    def give_way_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, ahead: list[int],
-                          velocity: np.ndarray) -> np.ndarray | None:
-        """:meth:`give_way` from the chunk's rows ``ahead`` (moving robots with a larger id
-        within yield_distance, nearest first)."""
-        rows = np.asarray(ahead, dtype=np.intp)
-        rows = rows[c.offsets[rows] @ velocity > 0]
-        if len(rows) == 0:
-            return None
-        other = int(rows[0])
-        if f.distance.item(other) < self.p.yield_distance * 0.75:
-            return -unit(c.offsets[other]) * self.p.v * 0.5
-        return np.zeros(2)
 
     def stop_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
                       ) -> Action | None:

@@ -1,12 +1,16 @@
 """GGC's Coverage movers' geometry, compiled (numba): edge following, the valley between two
-edge robots, the new heading and the circling count, for all of a chunk's movers in one call.
+edge robots, the new heading, the circling count and giving way, for all of a chunk's movers
+in one call.
 
 Each mover reads only its own rows (the offsets of its nearest two edge robots) and its own
 state, as :mod:`controllers.ggc.movers` does with numpy. The numbers are the same to the bit:
 ``+ - * /``, comparisons, ``min``/``max`` and ``%`` are IEEE operations in the same order
 (numba keeps IEEE arithmetic: no fast-math, so no fused multiply-add), ``math.atan2`` is the C
 library's on both sides, and :func:`py_hypot` is CPython's own ``math.hypot`` (which numpy's
-and the C library's ``hypot`` differ from in the last bit on ~0.6 % of inputs).
+and the C library's ``hypot`` differ from in the last bit on ~0.6 % of inputs). Giving way
+asks whether a robot is ahead with the dot product ``x * vx + y * vy``, two IEEE products
+and a sum, as :meth:`~controllers.ggc.collisions.CollisionRules.give_way` does (both took
+numpy's ``@`` before, whose BLAS kernel, and so its last bit, depends on the CPU).
 
 Why compiled: a chunk has ~150 movers, and numpy spent its time on the overhead of some forty
 calls over such short arrays and on one ``math.hypot`` per element in Python.
@@ -97,10 +101,26 @@ def _valley(oxa, oya, da, oxb, oyb, db, hx, hy, sense, radial_gain, v):  # pragm
     return True, vx, vy
 
 
+@njit(cache=True, inline="always")
+def _give_way(offsets, distances, rows, vx, vy, reach, v):  # pragma: no cover - compiled
+    """collisions.give_way over ``rows`` (moving robots with a larger id, nearest first):
+    (give way?, vx, vy): back away from the first one ahead (a positive dot product with my
+    velocity) if it is closer than ``reach``, else wait."""
+    for row in rows:
+        ox, oy = offsets[row, 0], offsets[row, 1]
+        if ox * vx + oy * vy > 0:
+            if distances[row] >= reach:
+                return True, 0.0, 0.0
+            ux, uy = _scaled(ox, oy, 1.0)  # geometry.unit
+            return True, -ux * v * 0.5, -uy * v * 0.5
+    return False, 0.0, 0.0
+
+
 @njit(cache=True)
 def mover_geometry(offsets, distances, a, b, sense, before, sender, circling_id, last_bearing,
-                   circled, d_cover, radial_gain, v, no_sender):  # pragma: no cover - compiled
-    """The velocity, heading and circling count of M movers.
+                   circled, d_cover, radial_gain, v, no_sender, movers, ahead, ahead_first,
+                   yield_distance):  # pragma: no cover - compiled
+    """The velocity, heading, circling count and giving way of M movers.
 
     Args:
         offsets: (P, 2) the chunk's neighbour offsets, units; distances: (P,) their lengths.
@@ -110,17 +130,23 @@ def mover_geometry(offsets, distances, a, b, sense, before, sender, circling_id,
             (radians): each mover's circling count before this tick.
         d_cover, radial_gain, v: GGC's parameters (units, 1/unit, units per tick).
         no_sender: the id of a silent robot.
+        movers: (M,) each mover's index in the chunk; ahead, ahead_first: the rows of the
+            moving robots each robot of the chunk gives way to (robot k's are
+            ``ahead[ahead_first[k]:ahead_first[k+1]]``); yield_distance: units.
 
     Returns:
         velocity (M, 2) units per tick; heading (M, 2) unit vectors; usable (M,) bool:
         False where a neighbour is at distance 0 (``coverage`` divides by it: the mover
         takes ``step``); bearing (M,) radians, the new last_bearing; circled_now (M,)
-        radians; full (M,) bool: gone all round.
+        radians; full (M,) bool: gone all round; gives_way (M,) bool and give_way (M, 2)
+        units per tick: the velocity that replaces ``velocity`` where it gives way.
     """
     m = len(a)
     velocity, heading = np.empty((m, 2)), np.empty((m, 2))
     usable, full = np.empty(m, dtype=np.bool_), np.empty(m, dtype=np.bool_)
     bearing, circled_now = np.empty(m), np.empty(m)
+    gives_way, give_way = np.empty(m, dtype=np.bool_), np.empty((m, 2))
+    reach = yield_distance * 0.75
     for j in range(m):
         ox, oy, da = offsets[a[j], 0], offsets[a[j], 1], distances[a[j]]
         db = distances[b[j]] if b[j] >= 0 else math.inf
@@ -143,7 +169,10 @@ def mover_geometry(offsets, distances, a, b, sense, before, sender, circling_id,
         turned = (bearing[j] - last + math.pi) % (2 * math.pi) - math.pi
         circled_now[j] = circled[j] + turned if same else 0.0
         full[j] = same and abs(circled_now[j]) > 2 * math.pi
-    return velocity, heading, usable, bearing, circled_now, full
+        k = movers[j]
+        gives_way[j], give_way[j, 0], give_way[j, 1] = _give_way(
+            offsets, distances, ahead[ahead_first[k]:ahead_first[k + 1]], vx, vy, reach, v)
+    return velocity, heading, usable, bearing, circled_now, full, gives_way, give_way
 
 
 def warm_up() -> None:
@@ -151,4 +180,4 @@ def warm_up() -> None:
     ints, floats = np.zeros(1, dtype=np.intp), np.ones(1)
     mover_geometry(np.ones((1, 2)), floats, ints, ints - 1, floats, np.zeros((1, 2)),
                    np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64), floats, floats,
-                   1.0, 1.0, 1.0, -1)
+                   1.0, 1.0, 1.0, -1, ints, ints, np.zeros(2, dtype=np.intp), 1.0)

@@ -37,14 +37,18 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     p = robots[ks[0]].p
     movers = [robots[k] for k in ks]
     kk = np.asarray(ks, dtype=np.intp)
-    a, b = f.chunk.movers.nearest[kk], f.chunk.movers.second[kk]
+    answers = f.chunk.movers
+    a, b = answers.nearest[kk], answers.second[kk]
     last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
-    velocity, heading, usable, bearing, circled, full = mover_geometry(
+    velocity, heading, usable, bearing, circled, full, gives_way, give_way = mover_geometry(
         f.offset, f.distance, a, b, np.array([r.sense for r in movers], dtype=float),
         np.array([r.heading for r in movers], dtype=float).reshape(-1, 2),
         f.sender[a].astype(np.int64), np.array([r.circling_id for r in movers], dtype=np.int64),
         np.array(last), np.array([r.circled for r in movers], dtype=float),
-        p.d_cover, p.radial_gain, p.v, NO_SENDER)
+        p.d_cover, p.radial_gain, p.v, NO_SENDER, kk, answers.ahead_array,
+        answers.ahead_first_array, p.yield_distance)
+    give_way = [tuple(v) if yes else None
+                for yes, v in zip(gives_way.tolist(), give_way.tolist(), strict=True)]
     grads = mover_gradients(a, kk, f, p, len(robots)).tolist()
     circling = zip(f.sender[a].tolist(), circled.tolist(), bearing.tolist(), full.tolist(),
                    strict=True)
@@ -53,11 +57,12 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     da = f.distance[a]
     odometers = (np.array([r.odometer for r in movers], dtype=float).reshape(-1, 2)
                  + np.array([c.moved[k] for k in ks], dtype=float).reshape(-1, 2))
-    return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen, odo)
+    return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen, odo,
+                                  way)
             if ok else None
-            for robot, k, row, dist, move, head, grad, count, ok, odo in zip(
+            for robot, k, row, dist, move, head, grad, count, ok, odo, way in zip(
                 movers, ks, a.tolist(), da.tolist(), moves, heading, grads, circling,
-                usable.tolist(), odometers, strict=True)]
+                usable.tolist(), odometers, give_way, strict=True)]
 
 
 def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int
