@@ -112,16 +112,21 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
     members, xs, ys, starts, cell_of, nx, ny = _grid(positions, radii.max(), per_robot)
     r = robots.shape[0]
     size = 0  # at most every robot in each one's 3 x 3 cells
+    widest = 1  # the longest view can have at most this many rows
     for k in range(r):
         cx, cy = cell_of[robots[k]] % nx, cell_of[robots[k]] // nx
+        rows = 0
         for gy in range(max(cy - 1, 0), min(cy + 2, ny)):
-            size += starts[gy * nx + min(cx + 2, nx)] - starts[gy * nx + max(cx - 1, 0)]
+            rows += starts[gy * nx + min(cx + 2, nx)] - starts[gy * nx + max(cx - 1, 0)]
+        size += rows
+        widest = max(widest, rows)
     counts = np.empty(r, dtype=np.int64)
     flat = np.empty(size, dtype=np.int64)
     ox = np.empty(size, dtype=np.float64)
     oy = np.empty(size, dtype=np.float64)
     d2 = np.empty(size, dtype=np.float64)
     at = 0
+    scratch = _scratch(widest)
     for k in range(r):
         i = robots[k]
         cx, cy = cell_of[i] % nx, cell_of[i] // nx
@@ -142,7 +147,7 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
                     at += 1
         counts[k] = at - first
         if ordered:
-            _order(flat, ox, oy, d2, first, at)
+            _order(flat, ox, oy, d2, first, at, scratch)
     offsets = np.empty((at, 2), dtype=np.float64)
     offsets[:, 0] = ox[:at]
     offsets[:, 1] = oy[:at]
@@ -150,7 +155,15 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
 
 
 @njit(cache=True)
-def _order(flat, ox, oy, d2, a, b):  # pragma: no cover - compiled
+def _scratch(rows):  # pragma: no cover - compiled
+    """The insertion sort's scratch arrays for views of up to ``rows`` rows: keys,
+    permutation, and one column each of indices, x and y offsets."""
+    return (np.empty(rows), np.empty(rows, dtype=np.int64), np.empty(rows, dtype=np.int64),
+            np.empty(rows), np.empty(rows))
+
+
+@njit(cache=True)
+def _order(flat, ox, oy, d2, a, b, scratch):  # pragma: no cover - compiled
     """Sort rows a..b by (squared distance, index): a total order (indices differ)."""
     if b - a > SMALL_SORT:
         by_index = np.argsort(flat[a:b], kind="mergesort")
@@ -160,10 +173,20 @@ def _order(flat, ox, oy, d2, a, b):  # pragma: no cover - compiled
         oy[a:b] = oy[a:b][by_distance]
         d2[a:b] = d2[a:b][by_distance]
         return
-    for s in range(a + 1, b):  # insertion sort: views are short
-        j, dd, x, y = flat[s], d2[s], ox[s], oy[s]
+    # insertion sort (views are short) of the keys and a permutation only; the rows follow
+    keys, perm, tmp_flat, tmp_x, tmp_y = scratch
+    n = b - a
+    for s in range(n):
+        keys[s], perm[s] = d2[a + s], s
+    for s in range(1, n):
+        dd, row = keys[s], perm[s]
+        j = flat[a + row]
         t = s - 1
-        while t >= a and (d2[t] > dd or (d2[t] == dd and flat[t] > j)):
-            flat[t + 1], d2[t + 1], ox[t + 1], oy[t + 1] = flat[t], d2[t], ox[t], oy[t]
+        while t >= 0 and (keys[t] > dd or (keys[t] == dd and flat[a + perm[t]] > j)):
+            keys[t + 1], perm[t + 1] = keys[t], perm[t]
             t -= 1
-        flat[t + 1], d2[t + 1], ox[t + 1], oy[t + 1] = j, dd, x, y
+        keys[t + 1], perm[t + 1] = dd, row
+    for s in range(n):
+        tmp_flat[s], tmp_x[s], tmp_y[s] = flat[a + perm[s]], ox[a + perm[s]], oy[a + perm[s]]
+    for s in range(n):
+        flat[a + s], ox[a + s], oy[a + s], d2[a + s] = tmp_flat[s], tmp_x[s], tmp_y[s], keys[s]
