@@ -183,7 +183,8 @@ class DecideBatch:
         neighbours: the chunk's heard broadcasts and distances (units).
         offsets: (P, 2) each heard robot's position relative to the listener, units.
         on_target: each robot's floor sensor.
-        moved: each robot's own displacement during the previous tick, (2,) units.
+        moved: (R, 2) each robot's own displacement during the previous tick, units (row k
+            is robot k's).
         beacons: (R, 2) each robot's unit bearing toward the beacon (Perception.beacon), or
             None in a world without a beacon.
         probe: ``probe(k)`` is robot k's floor probe (see Perception.probe).
@@ -195,7 +196,7 @@ class DecideBatch:
     neighbours: NeighbourBatch
     offsets: np.ndarray
     on_target: list[bool]
-    moved: list[np.ndarray]
+    moved: np.ndarray
     beacons: np.ndarray | None
     probe: Callable[[int], Callable[[np.ndarray], bool]]
     perceive: Callable[[int], Perception]

@@ -372,7 +372,7 @@ class Simulation:
         here = self.positions[awake]
         bearings = _bearings(self.world.beacon, here)
         probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
-        at, on, shift = here.tolist(), self.on_target[awake].tolist(), list(moved[awake])
+        at, on, shift = here.tolist(), self.on_target[awake].tolist(), moved[awake]
         deciding = [controllers[i] for i in awake.tolist()]
 
         def perceive(k: int) -> Perception:

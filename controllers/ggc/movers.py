@@ -55,8 +55,7 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     listen = movers[0].listen_range()  # the same for every robot in Coverage
     moves = zip(*(velocity[:, j].tolist() for j in (0, 1)), strict=True)
     da = f.distance[a]
-    odometers = (np.array([r.odometer for r in movers], dtype=float).reshape(-1, 2)
-                 + np.array([c.moved[k] for k in ks], dtype=float).reshape(-1, 2))
+    odometers = np.array([r.odometer for r in movers], dtype=float).reshape(-1, 2) + c.moved[kk]
     return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen, odo,
                                   way)
             if ok else None

@@ -1,0 +1,111 @@
+"""Two versions of the code on the same run, taking turns: which is faster, and by how much.
+
+Each version (a folder holding a checkout: swarmsim/ and controllers/, e.g. made with
+``git archive REV | tar -x -C /tmp/old``) runs the same world and seed in its own process.
+They take turns, --block ticks each, so that both meet the same machine: these machines'
+speed drifts by 10-30 % within minutes, which swamps a comparison of runs made one after the
+other (or side by side on two cores, which share a cache). Prints each version's seconds per
+phase, the ratio of their times block by block (median and quartiles) and whole, and checks
+that both runs ended the same: the same ticks, positions and broadcasts (a speed-up must not
+change results).
+
+    git archive HEAD~3 | tar -x -C /tmp/old
+    python bench/bench_versions.py /tmp/old .                  # K seed 0, to completion
+    python bench/bench_versions.py /tmp/old . --world house --ticks 5000
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+WORKER = r"""
+import hashlib, json, sys, time
+from swarmsim import Simulation
+from swarmsim.sim import PHASES
+world, seed, ticks = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+sim = Simulation(world, seed=seed, max_ticks=ticks or None)
+print(json.dumps({"ready": True}), flush=True)
+for line in sys.stdin:
+    block, began = int(line), time.perf_counter()
+    for _ in range(block):
+        if sim.stop_reason is not None:
+            break
+        sim.step()
+        sim.stop_reason = sim._should_stop()
+    state = hashlib.sha256(sim.positions.tobytes() + sim.messages.tobytes()).hexdigest()
+    print(json.dumps({"seconds": time.perf_counter() - began, "tick": sim.tick,
+                      "done": sim.stop_reason is not None, "state": state[:16],
+                      "phases": sim.phase_seconds}), flush=True)
+"""
+
+
+def start(code: Path, args: argparse.Namespace) -> subprocess.Popen:
+    """A worker process running the code in ``code`` (first on its import path)."""
+    env = dict(os.environ, PYTHONPATH=str(code.resolve()))
+    proc = subprocess.Popen([sys.executable, "-c", WORKER, args.world, str(args.seed),
+                             str(args.ticks)], cwd=code, env=env, text=True,
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+    json.loads(proc.stdout.readline())  # set up (kernels compiled or loaded): ready
+    return proc
+
+
+def turn(proc: subprocess.Popen, block: int) -> dict:
+    proc.stdin.write(f"{block}\n")
+    proc.stdin.flush()
+    return json.loads(proc.stdout.readline())
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("old", type=Path, help="folder of the version to compare against")
+    ap.add_argument("new", type=Path, help="folder of the version under test")
+    ap.add_argument("--world", default="K", help="world name or TOML path (default K)")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--ticks", type=int, default=0, help="stop here (default: run to the end)")
+    ap.add_argument("--block", type=int, default=250, help="ticks per turn (250)")
+    args = ap.parse_args()
+    for code in (args.old, args.new):
+        if not (code / "swarmsim" / "__init__.py").is_file():
+            ap.error(f"{code} holds no swarmsim/ package")
+    if args.block <= 0 or args.ticks < 0:
+        ap.error("--block must be > 0 and --ticks >= 0")
+    procs = {"old": start(args.old, args), "new": start(args.new, args)}
+    ratios, totals, last = [], {"old": 0.0, "new": 0.0}, {}
+    while not all(r.get("done") for r in last.values()) or not last:
+        for name, proc in procs.items():
+            last[name] = turn(proc, args.block)
+            totals[name] += last[name]["seconds"]
+        if last["old"]["seconds"] > 0 and last["new"]["seconds"] > 0:
+            ratios.append(last["old"]["seconds"] / last["new"]["seconds"])
+        if last["old"]["tick"] != last["new"]["tick"]:
+            break  # one ended first: the results differ
+    for proc in procs.values():
+        proc.stdin.close()
+        proc.wait()
+    report(args, totals, ratios, last)
+
+
+def report(args: argparse.Namespace, totals: dict, ratios: list[float], last: dict) -> None:
+    print(f"{args.world} seed {args.seed}: {last['new']['tick']} ticks, blocks of {args.block}")
+    for name in ("old", "new"):
+        phases = ", ".join(f"{k} {v:.1f}" for k, v in last[name]["phases"].items())
+        print(f"  {name}: {totals[name]:.1f} s ({phases})")
+    q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
+    print(f"  old / new: {totals['old'] / totals['new']:.3f} whole; block by block median "
+          f"{statistics.median(ratios):.3f} (quartiles {q[0]:.3f}-{q[2]:.3f}, "
+          f"{len(ratios)} blocks)")
+    same = all(last["old"][k] == last["new"][k] for k in ("tick", "state"))
+    print("  the same end state: " + ("yes" if same else
+                                      f"NO (old {last['old']}, new {last['new']})"))
+    if not same:
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
