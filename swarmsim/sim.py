@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, spawn
+from swarmsim import cellsearch, spawn, wakes
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     INF_GRADIENT,
@@ -36,7 +36,7 @@ from swarmsim.imperfections import Imperfections
 from swarmsim.metrics import CoverageGrid, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
-from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch, rows
+from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World, load_world
 
@@ -209,6 +209,7 @@ class Simulation:
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
         cellsearch.warm_up()  # compiled or loaded before the run's clock starts
+        wakes.warm_up()
         if self._decide_batch is not None and hasattr(self.controller_cls, "warm_up"):
             self.controller_cls.warm_up()  # its kernels too
         self.stop_reason: str | None = None
@@ -297,13 +298,13 @@ class Simulation:
         sleeping = self.asleep & ~self.failed
         if sleeping.any():
             self.asleep[sleeping & (self.wake_tick <= self.tick)] = False  # their own timeouts
-            drift = np.hypot(*(self.positions - self._ref_positions).T) > self.config.wake_eps
-            by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
-            changed = drift | by_message
+            # drift: moved more than wake_eps since last looked at (its reference moves on);
             # a robot that moved without being told to was pushed: that wakes even sleepers
             # that asked not to be woken by motion (a pushed neighbour is not a passing mover)
-            pushed = drift & ~self.velocities.any(axis=1)
-            self._ref_positions[drift] = self.positions[drift]
+            drift, pushed = wakes.drifted(self.positions, self._ref_positions,
+                                          self.velocities, self.config.wake_eps)
+            by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
+            changed = drift | by_message
             if changed.any():
                 self._wake_near(search, np.flatnonzero(changed), by_message | pushed)
                 self.asleep[drift] = False
@@ -328,12 +329,8 @@ class Simulation:
         for start in range(0, len(changed), DECIDE_CHUNK):  # bounded memory, same result
             sources = changed[start:start + DECIDE_CHUNK]
             k, near = search.pairs_near(sources, reach)  # each source itself included
-            src = sources[k]
-            offsets = rows(self.positions, near) - rows(self.positions, src)
-            d = np.hypot(offsets[:, 0], offsets[:, 1])
-            hit = self.asleep[near] & (d <= self.wake_range[near] + margin)
-            hit &= self.wake_on_motion[near] | by_message[src]
-            self.asleep[near[hit]] = False
+            wakes.wake_pairs(self.positions, asleep, self.wake_range, self.wake_on_motion,
+                             by_message, sources, k, near, margin)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray

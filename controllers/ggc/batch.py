@@ -58,16 +58,17 @@ class MoverAnswers:
     """A chunk's movers' answers as arrays over its rows; :meth:`precomputed` hands one
     robot its :class:`Precomputed` (only robots that take ``step`` need one)."""
 
-    __slots__ = ("ahead_array", "ahead_first", "ahead_first_array", "ahead_rows", "has_movers", "mover_first", "mover_rows",
-                 "nearest", "second", "starts")
+    __slots__ = ("ahead_array", "ahead_first", "ahead_first_array", "ahead_rows", "has_movers",
+                 "mover_first", "mover_rows", "nearest", "second", "starts")
 
     def __init__(self, robots: list, chunk: Chunk):
         p, first = robots[0].p, next(r for r in robots if r.status in (COVERAGE, STOP))
         m = chunk.m
         nearest, second, movers, movers_first, ahead, ahead_first = mover_rows(
-            chunk.starts, np.require(chunk.d, float, ("C", "W")), m["group"], m["status"], m["id"], m["moving"],
-            chunk.own_group, chunk.own_id, p.follow_other_formations or first.groups == 1,
-            p.d_cover, p.yield_distance, ARRIVE, SURPLUS, COVERAGE, NO_SENDER)
+            chunk.starts, np.require(chunk.d, float, ("C", "W")), m["group"], m["status"],
+            m["id"], m["moving"], chunk.own_group, chunk.own_id,
+            p.follow_other_formations or first.groups == 1, p.d_cover, p.yield_distance,
+            ARRIVE, SURPLUS, COVERAGE, NO_SENDER)
         self.nearest, self.second = nearest, second
         """(robots,) each robot's nearest and second edge robot (rows, -1: none)."""
         self.mover_rows, self.mover_first = movers.tolist(), movers_first.tolist()

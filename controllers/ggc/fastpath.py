@@ -5,16 +5,16 @@ end, no Stop), robots waiting in Stop or Detection, and formations travelling (I
 those, :class:`BatchDecisions` does what the status's handler does (``coverage``,
 ``stopped``, ``detection``, ``initial``), reading the robot's own rows of the chunk's arrays
 instead of a Perception, with the same float operations in the same order (``math.hypot``,
-``math.atan2``, the same numpy products), so the result is the same to the bit. The
-movers' geometry, gradients and circling counts come as arrays over the whole chunk
-(movers.py); :meth:`BatchDecisions.finish_coverage` does the rest robot by robot. A robot
-whose broadcast did not change sends none (message None: the engine repeats its row). The
-path changes the robot's state only once it knows it decides the tick. Every other case (an arrival, a
-dead end, a Stop, giving up after a surplus lap, stepping in across the boundary,
-wandering, leaving, resuming, a halt, a leader, and the two options it does not know: own
-edges, stop-ahead) returns None first, and the robot takes its ``step`` with a full
-Perception. ``batch_decide = false`` (a run setting) turns this off: results must not
-change (tests/test_ggc_fastpath.py).
+``math.atan2``, the same products), so the result is the same to the bit. The movers'
+geometry, circling counts and giving way come from one compiled call over the whole chunk,
+their gradients as arrays (movers.py, moverkernel.py); :meth:`BatchDecisions.finish_coverage`
+does the rest robot by robot. A robot whose broadcast did not change sends none (message
+None: the engine repeats its row). The path changes the robot's state only once it knows it
+decides the tick. Every other case (an arrival, a dead end, a Stop, giving up after a
+surplus lap, stepping in across the boundary, wandering, leaving, resuming, a halt, a
+leader, and the two options it does not know: own edges, stop-ahead) returns None first,
+and the robot takes its ``step`` with a full Perception. ``batch_decide = false`` (a run
+setting) turns this off: results must not change (tests/test_ggc_fastpath.py).
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from controllers.edges import turn_between
-from controllers.views import any_of, within
+from controllers.views import any_of
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch, make_action
 
 from .batch import (
@@ -67,14 +67,16 @@ class LapAnswers(NamedTuple):
 class ChunkRows:
     """The chunk's arrays a robot reads, each field contiguous (rows as in the batch)."""
 
-    __slots__ = ("_enclosed", "_lap", "chunk", "distance", "gradient", "group", "moving", "offset",
-                 "own_group", "segment", "sender", "starts", "status", "stepped")
+    __slots__ = ("_enclosed", "_lap", "chunk", "distance", "gradient", "group", "moving",
+                 "offset", "own_group", "segment", "sender", "starts", "starts_array", "status",
+                 "stepped")
 
     def __init__(self, chunk: Chunk, batch: DecideBatch):
         self.chunk = chunk
         """The chunk's rows as batch.py's queries read them."""
         m = chunk.m
-        self.starts: list[int] = batch.neighbours.starts.tolist()
+        self.starts_array = np.require(batch.neighbours.starts, np.int64, ("C", "W"))
+        self.starts: list[int] = self.starts_array.tolist()
         # contiguous and writeable: the one signature the compiled kernels are warmed up for
         self.distance, self.offset = (np.require(x, float, ("C", "W"))
                                       for x in (batch.neighbours.distances, batch.offsets))
@@ -105,19 +107,14 @@ class ChunkRows:
         chunk on first use."""
         if self._enclosed is None:
             self._enclosed = enclosed_robots(
-                self.offset, self.distance, self.status.astype(np.int64),
-                np.asarray(self.starts, dtype=np.int64), reach, INITIAL, DETECTION,
-                ENCLOSED_GAP).tolist()
+                self.offset, self.distance, self.status.astype(np.int64), self.starts_array,
+                reach, INITIAL, DETECTION, ENCLOSED_GAP).tolist()
         return self._enclosed[k]
 
     def at_lattice_site(self, k: int, reach: float) -> bool:
         """``at_lattice_site``: two arrived robots within ``reach`` of robot k."""
         start, end = self.starts[k], self.starts[k + 1]
         return two_arrived(self.distance[start:end], self.status[start:end], reach)
-
-    def within(self, k: int, reach: float) -> int:
-        """How many of robot k's rows (nearest first) are within ``reach`` (units)."""
-        return within(self.distance[self.starts[k]:self.starts[k + 1]], reach)
 
 
 class TravelAnswers(NamedTuple):

@@ -1,6 +1,6 @@
-"""GGC's Coverage movers of a chunk decided together: the edge-following geometry and the
-circling counts of all of them in one compiled call (moverkernel.py), their gradients as
-arrays; the rest, robot by robot, in
+"""GGC's Coverage movers of a chunk decided together: the edge-following geometry, the
+circling counts and giving way of all of them in one compiled call (moverkernel.py), their
+gradients as arrays; the rest, robot by robot, in
 :meth:`~controllers.ggc.fastpath.BatchDecisions.finish_coverage`.
 
 Both give the same numbers as :meth:`~controllers.ggc.coverage.CoverageRules.coverage` to
