@@ -13,16 +13,8 @@ from controllers.ggc.enclosure import enclosed_robots
 from controllers.ggc.geometry import ENCLOSED_GAP, unit, widest_gap
 from controllers.ggc.moverkernel import mover_geometry, py_hypot, warm_up
 from controllers.ggc.moverrows import mover_rows
-from controllers.ggc.robot import (
-    ARRIVE,
-    COVERAGE,
-    DETECTION,
-    INITIAL,
-    MESSAGE_FIELDS,
-    STOP,
-    SURPLUS,
-    GGCRobot,
-)
+from controllers.ggc.robot import MESSAGE_FIELDS, GGCRobot
+from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STOP, SURPLUS
 from swarmsim.controller import NO_SENDER, RobotSetup, message_dtype
 
 
