@@ -75,7 +75,7 @@ def test_prepared_waiting_answers_are_each_robots_own():
         robots, perceptions, batch = random_chunk(rng, groups, GGCParams())
         prepare_chunk(robots, batch)
         waiting = sum(r.status == DETECTION for r in robots)
-        if waiting:  # a few waiting robots are asked over their own rows only (rows_of)
+        if waiting:  # chunks with few and with many waiting robots
             seen[("few", 4 * waiting <= len(robots))] += 1
         for robot, p in zip(robots, perceptions, strict=True):
             pre = robot.pre_wait

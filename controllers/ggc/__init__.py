@@ -24,6 +24,7 @@ from .moverrows import warm_up as warm_up_mover_rows
 from .params import GGCParams
 from .robot import MESSAGE_FIELDS, STATUSES, GGCRobot, message_fields
 from .statuses import SETTLED
+from .waitrows import warm_up as warm_up_waiting
 
 
 @register
@@ -63,7 +64,9 @@ class GGC(GGCRobot):
         """Compile (first time on a machine, a few seconds) or load the compiled kernels."""
         warm_up_movers()
         warm_up_enclosure()
-        warm_up_mover_rows(np.zeros(1, dtype=message_dtype(MESSAGE_FIELDS)))
+        messages = np.zeros(1, dtype=message_dtype(MESSAGE_FIELDS))
+        warm_up_mover_rows(messages)
+        warm_up_waiting(messages)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:

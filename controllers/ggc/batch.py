@@ -20,11 +20,14 @@ from swarmsim.controller import INF_GRADIENT, NO_SENDER, NeighbourBatch
 
 from .moverrows import mover_rows
 from .statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS
+from .waitrows import waiting_answers
 
 NOT_BLOCKED, BLOCKED_BY_WAITING, BLOCKED_BY_MOVER = 0, 1, 2
 """GGCRobot.blocked's answers."""
 FIELDS = ("group", "status", "id", "moving", "gradient", "enclosed")
 """The broadcast fields the queries read."""
+WAITING_CODES = np.array([ARRIVE, SURPLUS, STOP, COVERAGE], dtype=np.int64)
+"""The status codes waitrows.waiting_answers tells apart, in its order."""
 _new_tuple = tuple.__new__
 """``_new_tuple(Cls, values)`` makes a NamedTuple without its Python-level __new__."""
 
@@ -126,54 +129,29 @@ def prepare_chunk(robots: list, batch: NeighbourBatch, hand_out: bool = True) ->
         if hand_out:
             for k in movers:
                 robots[k].pre = chunk.movers.precomputed(k)
-    if waiting and 4 * len(waiting) <= len(robots):  # a few: masks over their rows only
-        prepare_waiting([robots[k] for k in waiting], list(range(len(waiting))),
-                        rows_of(chunk, waiting))
-    elif waiting:
-        prepare_waiting(robots, waiting, chunk)
+    if waiting:
+        prepare_waiting([robots[k] for k in waiting], waiting, chunk)
     return chunk
 
 
-def rows_of(chunk: Chunk, chosen: list[int]) -> Chunk:
-    """The chunk's rows of the ``chosen`` robots only (robot j of the result is robot
-    ``chosen[j]``; its rows in the same order)."""
-    ks = np.asarray(chosen, dtype=np.intp)
-    first, counts = chunk.starts[ks], chunk.starts[ks + 1] - chunk.starts[ks]
-    starts = np.concatenate(([0], np.cumsum(counts)))
-    rows = np.arange(starts[-1]) + np.repeat(first - starts[:-1], counts)
-    return Chunk({name: field[rows] for name, field in chunk.m.items()}, chunk.d[rows],
-                 starts, np.repeat(np.arange(len(ks)), counts), chunk.own_group[rows],
-                 chunk.own_id[rows])
-
-
 def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
-    """Give each chosen robot (Detection) its :class:`WaitingAnswers` (Algorithms 1 and 7)."""
-    first = robots[chosen[0]]
-    p, n = first.p, len(robots)
-    m, d, seg, own_group, own_id = chunk.m, chunk.d, chunk.segment, chunk.own_group, chunk.own_id
-    group, status, sender, moving, gradient = (m["group"], m["status"], m["id"], m["moving"],
-                                               m["gradient"])
-    mine = (group == own_group) & (sender != NO_SENDER)
-    surplus = np.zeros(n, dtype=bool)
-    if first.surplus_rule:
-        near = (d <= p.d_cover + p.arrive_tolerance) & (status == SURPLUS) & (group == own_group)
-        surplus = any_by_robot(near, seg, n)
-    best = formation_minimum(chunk, p.d_min, n)
-    grads = np.array([r.grad for r in robots], dtype=np.int64)
-    grads = np.where(best < INF_GRADIENT, best + 1, grads)  # the gradient each robot takes
-    rival = (d <= p.d_cover) & mine & (status != ARRIVE) & (status != SURPLUS) & ~m["enclosed"]
-    if first.groups > 1:
-        rival &= status != STOP  # a mover in Stop has left already (Section 4.3)
-    g = grads[seg]
-    rival &= (gradient > g) | ((gradient == g) & (sender > own_id))
-    by_waiting = any_by_robot(rival & ~moving, seg, n).tolist()
-    by_any = any_by_robot(rival, seg, n).tolist()
-    surplus, best = surplus.tolist(), best.tolist()
-    for k in chosen:
-        blocker = (BLOCKED_BY_WAITING if by_waiting[k] else BLOCKED_BY_MOVER if by_any[k]
+    """Give each waiting robot (Detection) its :class:`WaitingAnswers` (Algorithms 1 and 7):
+    ``robots[j]`` is robot ``chosen[j]`` of the chunk (see waitrows.py)."""
+    first = robots[0]
+    p, m = first.p, chunk.m
+    surplus, best, by_waiting, by_any = (answers.tolist() for answers in waiting_answers(
+        np.require(chunk.starts, np.int64, ("C", "W")), np.require(chunk.d, float, ("C", "W")),
+        m["group"], m["status"], m["id"], m["moving"], m["gradient"], m["enclosed"],
+        np.array(chosen, dtype=np.int64), *(np.array([getattr(r, name) for r in robots],
+                                                     dtype=np.int64)
+                                            for name in ("group", "id", "grad")),
+        WAITING_CODES, np.array([p.d_cover + p.arrive_tolerance, 1.5 * p.d_min, p.d_cover]),
+        INF_GRADIENT, NO_SENDER, first.surplus_rule, first.groups > 1))
+    for j, robot in enumerate(robots):
+        blocker = (BLOCKED_BY_WAITING if by_waiting[j] else BLOCKED_BY_MOVER if by_any[j]
                    else NOT_BLOCKED)
-        grad = best[k] + 1 if best[k] < INF_GRADIENT else None
-        robots[k].pre_wait = _new_tuple(WaitingAnswers, (surplus[k], grad, blocker))
+        grad = best[j] + 1 if best[j] < INF_GRADIENT else None
+        robot.pre_wait = _new_tuple(WaitingAnswers, (surplus[j], grad, blocker))
 
 
 def formation_minimum(chunk: Chunk, d_min: float, robots: int) -> np.ndarray:
