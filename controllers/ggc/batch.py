@@ -68,10 +68,9 @@ class MoverAnswers:
         p, first = robots[0].p, next(r for r in robots if r.status in (COVERAGE, STOP))
         m = chunk.m
         nearest, second, movers, movers_first, ahead, ahead_first = mover_rows(
-            chunk.starts, np.require(chunk.d, float, ("C", "W")), m["group"], m["status"],
-            m["id"], m["moving"], chunk.own_group, chunk.own_id,
-            p.follow_other_formations or first.groups == 1, p.d_cover, p.yield_distance,
-            ARRIVE, SURPLUS, COVERAGE, NO_SENDER)
+            chunk.starts, chunk.d, m["group"], m["status"], m["id"], m["moving"],
+            chunk.own_group, chunk.own_id, p.follow_other_formations or first.groups == 1,
+            p.d_cover, p.yield_distance, ARRIVE, SURPLUS, COVERAGE, NO_SENDER)
         self.nearest, self.second = nearest, second
         """(robots,) each robot's nearest and second edge robot (rows, -1: none)."""
         self.mover_rows, self.mover_first = movers.tolist(), movers_first.tolist()
@@ -119,7 +118,10 @@ def prepare_chunk(robots: list, batch: NeighbourBatch, hand_out: bool = True) ->
     robots ask for themselves."""
     segment = np.repeat(np.arange(len(robots)), np.diff(batch.starts))
     fields = {name: np.ascontiguousarray(batch.messages[name]) for name in FIELDS}
-    chunk = Chunk(fields, batch.distances, batch.starts, segment,
+    # contiguous and writeable, once: the one signature the compiled kernels are warmed up for
+    distances = np.require(batch.distances, float, ("C", "W"))
+    starts = np.require(batch.starts, np.int64, ("C", "W"))
+    chunk = Chunk(fields, distances, starts, segment,
                   np.array([r.group for r in robots])[segment],
                   np.array([r.id for r in robots])[segment])
     movers = [k for k, r in enumerate(robots) if r.status == COVERAGE or r.status == STOP]
@@ -140,7 +142,7 @@ def prepare_waiting(robots: list, chosen: list[int], chunk: Chunk) -> None:
     first = robots[0]
     p, m = first.p, chunk.m
     surplus, best, by_waiting, by_any = (answers.tolist() for answers in waiting_answers(
-        np.require(chunk.starts, np.int64, ("C", "W")), np.require(chunk.d, float, ("C", "W")),
+        chunk.starts, chunk.d,
         m["group"], m["status"], m["id"], m["moving"], m["gradient"], m["enclosed"],
         np.array(chosen, dtype=np.int64), *(np.array([getattr(r, name) for r in robots],
                                                      dtype=np.int64)

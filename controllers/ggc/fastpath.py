@@ -68,18 +68,17 @@ class ChunkRows:
     """The chunk's arrays a robot reads, each field contiguous (rows as in the batch)."""
 
     __slots__ = ("_enclosed", "_lap", "chunk", "distance", "gradient", "group", "moving",
-                 "offset", "own_group", "segment", "sender", "starts", "starts_array", "status",
+                 "offset", "own_group", "segment", "sender", "starts", "status",
                  "stepped")
 
     def __init__(self, chunk: Chunk, batch: DecideBatch):
         self.chunk = chunk
         """The chunk's rows as batch.py's queries read them."""
         m = chunk.m
-        self.starts_array = np.require(batch.neighbours.starts, np.int64, ("C", "W"))
-        self.starts: list[int] = self.starts_array.tolist()
-        # contiguous and writeable: the one signature the compiled kernels are warmed up for
-        self.distance, self.offset = (np.require(x, float, ("C", "W"))
-                                      for x in (batch.neighbours.distances, batch.offsets))
+        self.starts: list[int] = chunk.starts.tolist()
+        # contiguous and writeable (as the chunk's distances): the kernels' one signature
+        self.distance = chunk.d
+        self.offset = np.require(batch.offsets, float, ("C", "W"))
         self.group, self.status, self.sender = m["group"], m["status"], m["id"]
         self.moving, self.gradient = m["moving"], m["gradient"]
         self.stepped = np.ascontiguousarray(batch.neighbours.messages["stepped"])
@@ -107,7 +106,7 @@ class ChunkRows:
         chunk on first use."""
         if self._enclosed is None:
             self._enclosed = enclosed_robots(
-                self.offset, self.distance, self.status.astype(np.int64), self.starts_array,
+                self.offset, self.distance, self.status.astype(np.int64), self.chunk.starts,
                 reach, INITIAL, DETECTION, ENCLOSED_GAP).tolist()
         return self._enclosed[k]
 

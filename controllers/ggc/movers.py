@@ -39,18 +39,19 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     kk = np.asarray(ks, dtype=np.intp)
     answers = f.chunk.movers
     a, b = answers.nearest[kk], answers.second[kk]
+    sender = f.sender[a].astype(np.int64)  # the id of the edge robot each mover follows
     last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
     velocity, heading, usable, bearing, circled, full, gives_way, give_way = mover_geometry(
         f.offset, f.distance, a, b, np.array([r.sense for r in movers], dtype=float),
         np.array([r.heading for r in movers], dtype=float).reshape(-1, 2),
-        f.sender[a].astype(np.int64), np.array([r.circling_id for r in movers], dtype=np.int64),
+        sender, np.array([r.circling_id for r in movers], dtype=np.int64),
         np.array(last), np.array([r.circled for r in movers], dtype=float),
         p.d_cover, p.radial_gain, p.v, NO_SENDER, kk, answers.ahead_array,
         answers.ahead_first_array, p.yield_distance)
     give_way = [tuple(v) if yes else None
                 for yes, v in zip(gives_way.tolist(), give_way.tolist(), strict=True)]
     grads = mover_gradients(a, kk, f, p, len(robots)).tolist()
-    circling = zip(f.sender[a].tolist(), circled.tolist(), bearing.tolist(), full.tolist(),
+    circling = zip(sender.tolist(), circled.tolist(), bearing.tolist(), full.tolist(),
                    strict=True)
     listen = movers[0].listen_range()  # the same for every robot in Coverage
     moves = zip(*(velocity[:, j].tolist() for j in (0, 1)), strict=True)
