@@ -31,6 +31,9 @@ Writing a controller::
                     # decides a chunk itself (in place of prepare and step); must give the
                     # same actions as step would (run setting batch_decide=false to compare)
         @classmethod
+        def create_robots(cls, setups, params, rngs) -> list: ...  # optional: makes the
+                    # run's robots together (default: cls(setup, params, rng) for each)
+        @classmethod
         def warm_up(cls) -> None: ...  # optional: compile or load its kernels; the engine
                     # calls it as a run is set up, so its run clock does not count that
 

@@ -179,8 +179,7 @@ class Simulation:
         if not self.sensing_range > 0:
             raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
                               key="sensing_range")
-        self.controllers = [self.controller_cls(s, self.params, np.random.default_rng(rs))
-                            for s, rs in zip(setups, robot_seeds, strict=True)]
+        self.controllers = self._create_robots(setups, robot_seeds)
         self.statuses = tuple(self.controller_cls.STATUSES)
         self.dtype = message_dtype(run_message_fields(self.controller_cls, cfg.groups))
         self._prepare = getattr(self.controller_cls, "prepare", None)
@@ -389,6 +388,16 @@ class Simulation:
                 self._prepare(deciding, batch)
             actions = self._step_all(deciding, [perceive(k) for k in range(len(deciding))])
         self._apply(awake, actions, new_messages, velocities)
+
+    def _create_robots(self, setups: list[RobotSetup], seeds: list) -> list:
+        """One controller per robot, each with its own Generator; through the class's
+        ``create_robots`` if it has one (to make them together)."""
+        rngs = [np.random.default_rng(seed) for seed in seeds]
+        create = getattr(self.controller_cls, "create_robots", None)
+        if create is not None:
+            return list(create(setups, self.params, rngs))
+        return [self.controller_cls(s, self.params, rng)
+                for s, rng in zip(setups, rngs, strict=True)]
 
     def _heard(self, senders: np.ndarray) -> np.ndarray:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages

@@ -6,6 +6,7 @@ from collections import Counter
 import numpy as np
 import pytest
 
+from controllers.ggc.book import EdgeBook
 from controllers.ggc.robot import COVERAGE, DETECTION, INITIAL, STATUSES, STOP, GGCRobot
 from swarmsim import Simulation
 from swarmsim.sim import rows_to_array
@@ -13,10 +14,12 @@ from tests.test_ggc import small_world
 
 
 def controller_state(sim: Simulation) -> list[dict]:
-    """Every robot's controller state (its attributes; arrays as bytes), to compare runs."""
-    skip = {"rng", "p", "handlers", "pre", "pre_wait"}
-    return [{name: value.tobytes() if isinstance(value, np.ndarray) else value
-             for name, value in vars(c).items() if name not in skip}
+    """Every robot's controller state (its attributes and its row of the run's EdgeBook;
+    arrays as bytes), to compare runs."""
+    skip = {"rng", "p", "handlers", "pre", "pre_wait", "book"}
+    return [{**{name: value.tobytes() if isinstance(value, np.ndarray) else value
+                for name, value in vars(c).items() if name not in skip},
+             **{name: getattr(c.book, name)[c.row].tobytes() for name in EdgeBook.__slots__}}
             for c in sim.controllers]
 
 

@@ -13,10 +13,18 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from swarmsim.controller import Action, DecideBatch, NeighbourBatch, message_dtype, register
+from swarmsim.controller import (
+    Action,
+    DecideBatch,
+    NeighbourBatch,
+    RobotSetup,
+    message_dtype,
+    register,
+)
 
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
+from .book import EdgeBook
 from .enclosure import warm_up as warm_up_enclosure
 from .fastpath import decide_chunk
 from .moverkernel import warm_up as warm_up_movers
@@ -46,6 +54,15 @@ class GGC(GGCRobot):
     def message_fields_for(cls, groups: int) -> list[tuple]:
         """The broadcast fields of a run with ``groups`` groups (see robot.message_fields)."""
         return message_fields(groups)
+
+    @classmethod
+    def create_robots(cls, setups: Sequence[RobotSetup], params: GGCParams,
+                      rngs: Sequence[np.random.Generator]) -> list[GGC]:
+        """The run's robots, sharing one :class:`~controllers.ggc.book.EdgeBook` (each its
+        own row: movers.py reads and writes a chunk's rows at once)."""
+        book = EdgeBook(len(setups), params.orbit)
+        return [cls(setup, params, rng, book, row)
+                for row, (setup, rng) in enumerate(zip(setups, rngs, strict=True))]
 
     @classmethod
     def prepare(cls, robots: list[GGCRobot], batch: NeighbourBatch) -> None:

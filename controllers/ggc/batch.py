@@ -62,7 +62,8 @@ class MoverAnswers:
     robot its :class:`Precomputed` (only robots that take ``step`` need one)."""
 
     __slots__ = ("ahead_array", "ahead_first", "ahead_first_array", "ahead_rows", "has_movers",
-                 "mover_first", "mover_rows", "nearest", "second", "starts")
+                 "has_movers_array", "mover_first", "mover_rows", "nearest", "second",
+                 "starts")
 
     def __init__(self, robots: list, chunk: Chunk):
         p, first = robots[0].p, next(r for r in robots if r.status in (COVERAGE, STOP))
@@ -77,8 +78,9 @@ class MoverAnswers:
         self.ahead_rows, self.ahead_first = ahead.tolist(), ahead_first.tolist()
         self.ahead_array, self.ahead_first_array = ahead, ahead_first
         """The same as arrays (for the compiled movers' kernel)."""
-        self.has_movers = [a != b for a, b in zip(self.mover_first, self.mover_first[1:])]
-        """Robot k hears another group's mover that outranks it (Section 4.3)."""
+        self.has_movers_array = movers_first[1:] != movers_first[:-1]
+        """(robots,) robot k hears another group's mover that outranks it (Section 4.3)."""
+        self.has_movers = self.has_movers_array.tolist()
         self.starts: list[int] = chunk.starts.tolist()
 
     def ahead(self, k: int) -> list[int]:

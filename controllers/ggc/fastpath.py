@@ -7,8 +7,10 @@ those, :class:`BatchDecisions` does what the status's handler does (``coverage``
 instead of a Perception, with the same float operations in the same order (``math.hypot``,
 ``math.atan2``, the same products), so the result is the same to the bit. The movers'
 geometry, circling counts and giving way come from one compiled call over the whole chunk,
-their gradients as arrays (movers.py, moverkernel.py); :meth:`BatchDecisions.finish_coverage`
-does the rest robot by robot. A robot whose broadcast did not change sends none (message
+their gradients, common-case tests and state writes as arrays over their rows of the run's
+:class:`~controllers.ggc.book.EdgeBook` (movers.py, moverkernel.py); the rare tests
+(arrival, a progress sample, the surplus lap) robot by robot with the methods below. A robot
+whose broadcast did not change sends none (message
 None: the engine repeats its row). The path changes the robot's state only once it knows it
 decides the tick. Every other case (an arrival, a dead end, a Stop, giving up after a
 surplus lap, stepping in across the boundary, wandering, leaving, resuming, a halt, a
@@ -26,7 +28,7 @@ import numpy as np
 
 from controllers.edges import turn_between
 from controllers.views import any_of
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch, make_action
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
 
 from .batch import (
     BLOCKED_BY_MOVER,
@@ -39,7 +41,7 @@ from .batch import (
 from .coverage import two_arrived
 from .enclosure import enclosed_robots
 from .geometry import ENCLOSED_GAP
-from .movers import KEEP_GRADIENT, decide_movers
+from .movers import decide_movers
 from .statuses import (
     ARRIVE,
     CMD_HALT,
@@ -186,56 +188,6 @@ def coverage_movers(robots: list[GGCRobot], f: ChunkRows, tick: int) -> list[int
 class BatchDecisions:
     """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: the common cases of Coverage, Stop,
     Detection and Initial from a chunk's arrays."""
-
-    def finish_coverage(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
-                        da: float, velocity: tuple[float, float], heading: np.ndarray,
-                        grad: int, circling: tuple[int, float, float, bool],
-                        listen: float | None, odometer: np.ndarray,
-                        give_way: tuple[float, float] | None) -> Action | None:
-        """This tick's action if it is the common case of :meth:`coverage`, else None with
-        nothing changed. movers.py found, for robot k of the chunk, its nearest edge robot
-        (row ``a``, ``da`` units away), its ``velocity`` and ``heading`` along that edge,
-        its gradient (KEEP_GRADIENT: keep mine), its ``circling`` count after this tick
-        (circling_id, circled, last_bearing, gone all round?), its ``odometer`` with this
-        tick's motion added (a 2-vector of its own, units) and the velocity :meth:`give_way`
-        replaces its own with (None: it does not give way)."""
-        p, tick, movers = self.p, c.tick, f.chunk.movers
-        on_target = c.on_target[k]
-        if (on_target and da >= p.d_cover - p.arrive_tolerance
-                and self.arrives_in_batch(c, f, k, a, da, heading)):
-            return None
-        lap = None
-        if self.surplus_rule:
-            lap = self.lap_in_batch(c, f, k, a, da)
-            if lap is None:
-                return None  # surplus: step() gives up
-        if self.boundary_fill and self.steps_in_batch(c, f, k, a, da):
-            return None  # boundary fill: step() steps in
-        sampled = tick - self.progress_tick >= p.T_r
-        if circling[3] or (sampled and math.hypot(*odometer) <= p.theta):
-            return None  # a dead end (circled all round, or stuck): step() turns round
-        if (self.groups > 1 and movers.has_movers[k]
-                and (on_target or not p.stop_on_target_only) and tick >= self.pass_until):
-            return None  # Section 4.3: Stop
-        # the tick is mine: change the state as coverage() would
-        if sampled:  # a progress sample that showed progress (stuck() returned False)
-            self.odometer[:] = 0.0
-            self.progress_tick = tick
-            self.in_deadlock = False
-        else:
-            self.odometer = odometer
-        self.heading = heading
-        changed = grad != KEEP_GRADIENT and grad != self.grad  # else my broadcast repeats
-        if changed:
-            self.grad = grad
-        self.circling_id, self.circled, self.last_bearing, _ = circling
-        if lap is not None:
-            self.away, self.frontier, self.lap_whole, self.winding, self.beacon_angle = lap
-        self.pre = self.pre_wait = None
-        if give_way is not None:
-            velocity = give_way
-        return make_action(velocity, self.message() if changed else None, False, None,
-                           listen, True, None)
 
     def lap_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int, da: float
                      ) -> tuple | None:

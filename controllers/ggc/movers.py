@@ -1,11 +1,15 @@
 """GGC's Coverage movers of a chunk decided together: the edge-following geometry, the
 circling counts and giving way of all of them in one compiled call (moverkernel.py), their
-gradients as arrays; the rest, robot by robot, in
-:meth:`~controllers.ggc.fastpath.BatchDecisions.finish_coverage`.
+gradients and the common case's tests as arrays, and their new state written to their rows
+of the run's :class:`~controllers.ggc.book.EdgeBook` at once. Only the rare tests go robot by
+robot: an arrival (for movers at d_cover from their edge robot on the target), a progress
+sample (once every T_r ticks), and with one group the surplus lap and the step-in.
 
 Both give the same numbers as :meth:`~controllers.ggc.coverage.CoverageRules.coverage` to
-the bit (see moverkernel.py; the gradients are integer tests). A mover they cannot stand for
-(a neighbour at distance 0: ``coverage`` divides by it) gets None: it takes ``step``.
+the bit (see moverkernel.py; the gradients are integer tests). A mover whose tick is not
+the common case (a neighbour at distance 0: ``coverage`` divides by it; an arrival, a dead
+end, a Stop, a surplus robot giving up, a step-in) gets None with nothing changed: it takes
+``step``.
 """
 
 from __future__ import annotations
@@ -15,12 +19,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch, make_action
 
 from .batch import first_two_rows
 from .moverkernel import mover_geometry
 
 if TYPE_CHECKING:
+    from .book import EdgeBook
     from .fastpath import ChunkRows
     from .params import GGCParams
     from .robot import GGCRobot
@@ -34,35 +39,114 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
                   ) -> list[Action | None]:
     """The actions of the chunk's Coverage movers ``ks`` (indices in the chunk, each with a
     nearest edge robot); None for those whose tick is not the common case (``step``)."""
-    p = robots[ks[0]].p
+    lead = robots[ks[0]]
+    p, book = lead.p, lead.book
     movers = [robots[k] for k in ks]
+    rows = np.array([r.row for r in movers], dtype=np.intp)
     kk = np.asarray(ks, dtype=np.intp)
     answers = f.chunk.movers
     a, b = answers.nearest[kk], answers.second[kk]
     sender = f.sender[a].astype(np.int64)  # the id of the edge robot each mover follows
-    last = [math.nan if r.last_bearing is None else r.last_bearing for r in movers]
     velocity, heading, usable, bearing, circled, full, gives_way, give_way = mover_geometry(
-        f.offset, f.distance, a, b, np.array([r.sense for r in movers], dtype=float),
-        np.array([r.heading for r in movers], dtype=float).reshape(-1, 2),
-        sender, np.array([r.circling_id for r in movers], dtype=np.int64),
-        np.array(last), np.array([r.circled for r in movers], dtype=float),
+        f.offset, f.distance, a, b, book.sense[rows], book.heading[rows], sender,
+        book.circling_id[rows], book.last_bearing[rows], book.circled[rows],
         p.d_cover, p.radial_gain, p.v, NO_SENDER, kk, answers.ahead_array,
         answers.ahead_first_array, p.yield_distance)
-    give_way = [tuple(v) if yes else None
-                for yes, v in zip(gives_way.tolist(), give_way.tolist(), strict=True)]
-    grads = mover_gradients(a, kk, f, p, len(robots)).tolist()
-    circling = zip(sender.tolist(), circled.tolist(), bearing.tolist(), full.tolist(),
-                   strict=True)
-    listen = movers[0].listen_range()  # the same for every robot in Coverage
-    moves = zip(*(velocity[:, j].tolist() for j in (0, 1)), strict=True)
+    odometers = book.odometer[rows] + c.moved[kk]
+    sampled = c.tick - book.progress_tick[rows] >= p.T_r
+    mine = usable & ~full & ~_stops(lead, book, rows, kk, c, f)
+    laps = _rare_tests(movers, ks, c, f, a, heading, odometers, sampled, mine)
+    grads = mover_gradients(a, kk, f, p, len(robots))
+    changed = mine & (grads != KEEP_GRADIENT) & (grads != [r.grad for r in movers])
+    w = np.flatnonzero(mine)
+    _write_book(book, rows[w], c.tick, heading[w], odometers[w], sampled[w], sender[w],
+                circled[w], bearing[w])
+    for j in np.flatnonzero(mine & sampled).tolist():  # a sample that showed progress
+        movers[j].in_deadlock = False
+    for j, grad in zip(np.flatnonzero(changed).tolist(), grads[changed].tolist(), strict=True):
+        movers[j].grad = grad
+    for j, lap in laps.items():
+        if mine[j]:
+            r = movers[j]
+            r.away, r.frontier, r.lap_whole, r.winding, r.beacon_angle = lap
+    return _actions(movers, mine, changed, np.where(gives_way[:, None], give_way, velocity))
+
+
+def _stops(lead: GGCRobot, book: EdgeBook, rows: np.ndarray, kk: np.ndarray,
+           c: DecideBatch, f: ChunkRows) -> np.ndarray:
+    """(M,) which movers Stop for another group's mover (Section 4.3): step() does that."""
+    if lead.groups == 1:
+        return np.zeros(len(rows), dtype=bool)
+    p = lead.p
+    stop = f.chunk.movers.has_movers_array[kk] & (c.tick >= book.pass_until[rows])
+    if p.stop_on_target_only:
+        stop &= np.asarray(c.on_target, dtype=bool)[kk]
+    return stop
+
+
+def _rare_tests(movers: list[GGCRobot], ks: list[int], c: DecideBatch, f: ChunkRows,
+                a: np.ndarray, heading: np.ndarray, odometers: np.ndarray,
+                sampled: np.ndarray, mine: np.ndarray) -> dict[int, tuple]:
+    """Clear ``mine`` (in place) for the movers that arrive, are stuck, give up after a
+    surplus lap or step in across the boundary (step() does those); return the new lap
+    books of the others that keep one (by index in ``movers``). Each test is pure, so
+    their order does not matter."""
+    lead = movers[0]
+    p, on = lead.p, c.on_target
     da = f.distance[a]
-    odometers = np.array([r.odometer for r in movers], dtype=float).reshape(-1, 2) + c.moved[kk]
-    return [robot.finish_coverage(c, f, k, row, dist, move, head, grad, count, listen, odo,
-                                  way)
-            if ok else None
-            for robot, k, row, dist, move, head, grad, count, ok, odo, way in zip(
-                movers, ks, a.tolist(), da.tolist(), moves, heading, grads, circling,
-                usable.tolist(), odometers, give_way, strict=True)]
+    near = np.flatnonzero(mine & (da >= p.d_cover - p.arrive_tolerance)).tolist()
+    for j in near:
+        if on[ks[j]] and movers[j].arrives_in_batch(c, f, ks[j], int(a[j]), float(da[j]),
+                                                     heading[j]):
+            mine[j] = False
+    for j in np.flatnonzero(mine & sampled).tolist():
+        if math.hypot(*odometers[j]) <= p.theta:
+            mine[j] = False  # stuck: step() turns round
+    laps: dict[int, tuple] = {}
+    if lead.surplus_rule or lead.boundary_fill:
+        for j in np.flatnonzero(mine).tolist():
+            mine[j], lap = _lap_and_step_in(movers[j], c, f, ks[j], int(a[j]), float(da[j]))
+            if lap is not None:
+                laps[j] = lap
+    return laps
+
+
+def _lap_and_step_in(robot: GGCRobot, c: DecideBatch, f: ChunkRows, k: int, a: int,
+                     da: float) -> tuple[bool, tuple | None]:
+    """Is robot k's tick still the common case after its surplus lap and the boundary
+    fill's step-in test, and its lap's new books (None: it keeps none)."""
+    lap = None
+    if robot.surplus_rule:
+        lap = robot.lap_in_batch(c, f, k, a, da)
+        if lap is None:
+            return False, None  # surplus: step() gives up
+    if robot.boundary_fill and robot.steps_in_batch(c, f, k, a, da):
+        return False, None  # boundary fill: step() steps in
+    return True, lap
+
+
+def _write_book(book: EdgeBook, rows: np.ndarray, tick: int, heading: np.ndarray,
+                odometers: np.ndarray, sampled: np.ndarray, sender: np.ndarray,
+                circled: np.ndarray, bearing: np.ndarray) -> None:
+    """The movers' new rows, as ``coverage`` leaves them (a progress sample that showed
+    progress zeroes the odometer and restarts the sample's clock)."""
+    book.heading[rows] = heading
+    odometers[sampled] = 0.0
+    book.odometer[rows] = odometers
+    book.progress_tick[rows[sampled]] = tick
+    book.circling_id[rows] = sender
+    book.circled[rows] = circled
+    book.last_bearing[rows] = bearing
+
+
+def _actions(movers: list[GGCRobot], mine: np.ndarray, changed: np.ndarray,
+             velocity: np.ndarray) -> list[Action | None]:
+    """Each mover's Action (its broadcast only where its gradient changed), or None."""
+    listen = movers[0].listen_range()  # the same for every robot in Coverage
+    return [make_action((vx, vy), robot.message() if new else None, False, None, listen,
+                        True, None) if ok else None
+            for robot, ok, new, (vx, vy) in zip(movers, mine.tolist(), changed.tolist(),
+                                                 velocity.tolist(), strict=True)]
 
 
 def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int

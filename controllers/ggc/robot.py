@@ -38,6 +38,7 @@ from swarmsim.controller import (
 
 from .aggregation import AGGREGATION_FIELDS, MAX_GROUPS, Aggregation, aggregation_fields
 from .batch import Precomputed, WaitingAnswers
+from .book import BookRow, EdgeBook
 from .collisions import CollisionRules
 from .coverage import CoverageRules
 from .detection import DetectionRules
@@ -75,18 +76,23 @@ def message_fields(groups: int) -> list[tuple]:
     return [*MESSAGE_FIELDS[:-len(AGGREGATION_FIELDS)], *aggregation_fields(groups)]
 
 
-class GGCRobot(DetectionRules, CoverageRules, BatchDecisions, CollisionRules, SurplusLap,
-               Aggregation, CirclingWatch, ProgressWatch):
+class GGCRobot(BookRow, DetectionRules, CoverageRules, BatchDecisions, CollisionRules,
+               SurplusLap, Aggregation, CirclingWatch, ProgressWatch):
     """One robot's GGC controller: its state, broadcasts and the Initial status (travel)
     here; Detection in detection.py, Coverage in coverage.py, the surplus lap in surplus.py,
     Stop and deadlocks in collisions.py; the common cases a chunk at a time in fastpath.py
     (the Coverage movers' geometry as arrays in movers.py); the scattered start's leader
     selection, grouping
-    and aggregation in aggregation.py."""
+    and aggregation in aggregation.py. Its edge-following state lives in its row of a
+    run-wide :class:`~controllers.ggc.book.EdgeBook` (``create_robots`` makes one for the
+    run; a robot made on its own gets a book of one row)."""
 
-    def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator):
+    def __init__(self, setup: RobotSetup, params: GGCParams, rng: np.random.Generator,
+                 book: EdgeBook | None = None, row: int = 0):
         if setup.groups > MAX_GROUPS:
             raise ValueError(f"GGC supports at most {MAX_GROUPS} groups, got {setup.groups}")
+        self.book = EdgeBook(1, params.orbit) if book is None else book
+        self.row = 0 if book is None else row
         self.id = setup.robot_id
         self.p = params
         self.rng = rng
