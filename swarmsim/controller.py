@@ -29,7 +29,8 @@ Writing a controller::
         @classmethod
         def decide_batch(cls, robots, batch: DecideBatch) -> list[Action]: ...  # optional:
                     # decides a chunk itself (in place of prepare and step); must give the
-                    # same actions as step would (run setting batch_decide=false to compare)
+                    # same actions as step would (run setting batch_decide=false to compare);
+                    # may return a ChunkActions (the same actions as columns) instead
         @classmethod
         def create_robots(cls, setups, params, rngs) -> list: ...  # optional: makes the
                     # run's robots together (default: cls(setup, params, rng) for each)
@@ -235,6 +236,52 @@ class Action:
     listen: float | None = None
     wake_on_motion: bool = True
     wake_tick: int | None = None
+
+
+class ChunkActions:
+    """A chunk's actions as columns: what ``decide_batch`` may return in place of a list of
+    :class:`Action` (the same meaning, robot k's in row k), so that robots decided together
+    need no Action objects. Start from :meth:`empty` (every robot standing still, listening
+    its full range, repeating its broadcast, awake) and fill it in.
+
+    Attributes:
+        velocities: (R, 2) desired velocities, units per tick.
+        listen: (R,) how far each robot senses next tick, units (NaN: its full range).
+        messages: {k: robot k's new broadcast tuple} (the others repeat theirs).
+        sleepers: {k: Action} the robots that ask to sleep, with their promises
+            (``Action.sleep`` and its fields; honoured only where the velocity is zero).
+    """
+
+    __slots__ = ("listen", "messages", "sleepers", "velocities")
+
+    def __init__(self, velocities: np.ndarray, listen: np.ndarray,
+                 messages: dict[int, tuple], sleepers: dict[int, Action]):
+        self.velocities, self.listen = velocities, listen
+        self.messages, self.sleepers = messages, sleepers
+
+    @classmethod
+    def empty(cls, robots: int) -> ChunkActions:
+        return cls(np.zeros((robots, 2)), np.full(robots, np.nan), {}, {})
+
+    def put(self, k: int, action: Action) -> None:
+        """Row k from a whole Action."""
+        self.velocities[k] = action.velocity
+        if action.listen is not None:
+            self.listen[k] = action.listen
+        if action.message is not None:
+            self.messages[k] = action.message
+        if action.sleep:
+            self.sleepers[k] = action
+
+    @classmethod
+    def of(cls, actions: list[Action]) -> ChunkActions:
+        """The columns of a list of Actions."""
+        velocities = np.array([a.velocity for a in actions], dtype=float).reshape(-1, 2)
+        listen = np.array([np.nan if a.listen is None else a.listen for a in actions],
+                          dtype=float)
+        return cls(velocities, listen,
+                   {k: a.message for k, a in enumerate(actions) if a.message is not None},
+                   {k: a for k, a in enumerate(actions) if a.sleep})
 
 
 # Fast makers for the two objects made once per awake robot per tick (K with 3 groups: about

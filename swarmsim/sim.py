@@ -21,6 +21,7 @@ from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     INF_GRADIENT,
     Action,
+    ChunkActions,
     DecideBatch,
     NeighbourBatch,
     Perception,
@@ -423,36 +424,40 @@ class Simulation:
             actions[k] = robots[k].step(perceptions[k])
         return actions
 
-    def _apply(self, awake: np.ndarray, actions: list[Action], new_messages: np.ndarray,
-               velocities: np.ndarray) -> None:
+    def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
+               new_messages: np.ndarray, velocities: np.ndarray) -> None:
         """Write the awake robots' actions: velocities, broadcasts, listening and sleep."""
-        if not actions:
+        if len(awake) == 0:
             return
-        vel = np.array([a.velocity for a in actions], dtype=float).reshape(-1, 2)
+        if not isinstance(actions, ChunkActions):
+            actions = ChunkActions.of(actions)
+        vel = actions.velocities
         velocities[awake] = vel
-        sent = [k for k, a in enumerate(actions) if a.message is not None]
-        if sent:
-            rows = [actions[k].message for k in sent]
-            try:
-                new_messages[awake[sent]] = rows_to_array(rows, self.dtype)
-            except (TypeError, ValueError):  # not plain tuples: assign row by row
-                for k, row in zip(sent, rows, strict=True):
-                    new_messages[awake[k]] = row
+        if actions.messages:
+            self._send(awake, actions.messages, new_messages)
         reach = self.sensing_range
-        listen = np.array([reach if a.listen is None else a.listen for a in actions], dtype=float)
-        self.listen[awake] = np.minimum(listen, reach)
-        if not self.config.allow_sleep:
+        listen = actions.listen
+        self.listen[awake] = np.minimum(np.where(np.isnan(listen), reach, listen), reach)
+        if not self.config.allow_sleep or not actions.sleepers:
             return
-        still = (vel[:, 0] == 0) & (vel[:, 1] == 0)
-        for k in np.flatnonzero(still).tolist():
-            action = actions[k]
-            if action.sleep:
+        for k, action in actions.sleepers.items():
+            if vel[k, 0] == 0 and vel[k, 1] == 0:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
                 self.wake_tick[i] = NEVER if action.wake_tick is None else int(action.wake_tick)
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
+
+    def _send(self, awake: np.ndarray, messages: dict[int, tuple],
+              new_messages: np.ndarray) -> None:
+        """Write the new broadcasts ({k: row} of the chunk's robots)."""
+        sent, rows = list(messages), list(messages.values())
+        try:
+            new_messages[awake[sent]] = rows_to_array(rows, self.dtype)
+        except (TypeError, ValueError):  # not plain tuples: assign row by row
+            for k, row in zip(sent, rows, strict=True):
+                new_messages[awake[k]] = row
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""

@@ -14,7 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from swarmsim.controller import (
-    Action,
+    ChunkActions,
     DecideBatch,
     NeighbourBatch,
     RobotSetup,
@@ -71,7 +71,7 @@ class GGC(GGCRobot):
         prepare_chunk(robots, batch)
 
     @classmethod
-    def decide_batch(cls, robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
+    def decide_batch(cls, robots: list[GGCRobot], batch: DecideBatch) -> ChunkActions:
         """The chunk's actions: movers' common case from the arrays, the rest by ``step``
         (see fastpath.py)."""
         return decide_chunk(robots, batch)

@@ -2,7 +2,8 @@
 
 Each robot reads and writes its own row through properties of
 :class:`~controllers.ggc.robot.GGCRobot` (``heading``, ``odometer``, ``sense``,
-``circling_id``, ``circled``, ``last_bearing``, ``progress_tick``, ``pass_until``), as it did
+``circling_id``, ``circled``, ``last_bearing``, ``progress_tick``, ``pass_until``,
+``stop_since``, ``resume_tick``), as it did
 its attributes. The chunk's Coverage movers (movers.py) read their rows with one gather per
 field and write them back with one scatter, instead of ~200 attribute reads and writes per
 field and tick. Nothing here is global knowledge: a row is one robot's own memory.
@@ -29,6 +30,8 @@ class EdgeBook:
         last_bearing: (N,) bearing to it at the last tick, radians (NaN: none yet).
         progress_tick: (N,) tick of the last progress sample.
         pass_until: (N,) until this tick the robot does not Stop for other groups.
+        stop_since: (N,) the tick its current Stop began.
+        resume_tick: (N,) after a deadlock, it waits in Stop until this tick.
     """
 
     __slots__ = (
@@ -39,7 +42,9 @@ class EdgeBook:
         "odometer",
         "pass_until",
         "progress_tick",
+        "resume_tick",
         "sense",
+        "stop_since",
     )
 
     def __init__(self, robots: int, orbit: float):
@@ -51,6 +56,8 @@ class EdgeBook:
         self.last_bearing = np.full(robots, math.nan)
         self.progress_tick = np.zeros(robots, dtype=np.int64)
         self.pass_until = np.zeros(robots, dtype=np.int64)
+        self.stop_since = np.zeros(robots, dtype=np.int64)
+        self.resume_tick = np.zeros(robots, dtype=np.int64)
 
 
 class BookRow:
@@ -125,3 +132,19 @@ class BookRow:
     @pass_until.setter
     def pass_until(self, value: int) -> None:
         self.book.pass_until[self.row] = value
+
+    @property
+    def stop_since(self) -> int:
+        return int(self.book.stop_since[self.row])
+
+    @stop_since.setter
+    def stop_since(self, value: int) -> None:
+        self.book.stop_since[self.row] = value
+
+    @property
+    def resume_tick(self) -> int:
+        return int(self.book.resume_tick[self.row])
+
+    @resume_tick.setter
+    def resume_tick(self, value: int) -> None:
+        self.book.resume_tick[self.row] = value

@@ -28,7 +28,7 @@ import numpy as np
 
 from controllers.edges import turn_between
 from controllers.views import any_of
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, ChunkActions, DecideBatch
 
 from .batch import (
     BLOCKED_BY_MOVER,
@@ -145,23 +145,24 @@ class TravelAnswers(NamedTuple):
                    *(np.ascontiguousarray(m[name]) for name in ("cmd", "vx", "vy")))
 
 
-def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
+def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> ChunkActions:
     """Each robot's action: the common cases from the arrays, the rest by ``step`` (after
     the chunk's queries of batch.py, as ``GGC.prepare`` would do)."""
     rows = ChunkRows(prepare_chunk(robots, batch.neighbours, hand_out=False), batch)
-    movers = coverage_movers(robots, rows, batch.tick)
-    decided = dict(zip(movers, decide_movers(robots, movers, batch, rows), strict=True)
-                   ) if movers else {}
+    out, done = ChunkActions.empty(len(robots)), np.zeros(len(robots), dtype=bool)
+    if rows.chunk.movers is not None:  # robots in Coverage or Stop
+        statuses = np.array([r.status for r in robots])
+        movers = coverage_movers(robots, statuses, rows, batch.tick)
+        if movers:
+            decide_movers(robots, movers, batch, rows, out, done)
+        waiting = stop_robots(robots, statuses, batch.tick)
+        if waiting:
+            decide_stops(robots, waiting, batch, rows, out, done)
     travel: TravelAnswers | None = None  # made for the chunk's first travelling robot
-    perceive = batch.perceive
-    actions = []
-    for k, robot in enumerate(robots):
+    for k in np.flatnonzero(~done).tolist():
+        robot = robots[k]
         action, status = None, robot.status
-        if status == COVERAGE:
-            action = decided.get(k)
-        elif status == STOP and robot.batch_coverage:
-            action = robot.stop_in_batch(batch, rows, k)
-        elif status == DETECTION:
+        if status == DETECTION:
             action = robot.detection_in_batch(batch, rows, k)
         elif status == INITIAL and not robot.leader:
             travel = TravelAnswers.of(robots, batch, rows) if travel is None else travel
@@ -169,20 +170,55 @@ def decide_chunk(robots: list[GGCRobot], batch: DecideBatch) -> list[Action]:
         if action is None:
             if status == COVERAGE or status == STOP:
                 robot.pre = rows.chunk.movers.precomputed(k)
-            action = robot.step(perceive(k))
-        actions.append(action)
-    return actions
+            action = robot.step(batch.perceive(k))
+        out.put(k, action)
+    return out
 
 
-def coverage_movers(robots: list[GGCRobot], f: ChunkRows, tick: int) -> list[int]:
+def _batched(robots: list[GGCRobot], tick: int) -> bool:
+    """May this run's Coverage and Stop robots be decided a chunk at a time this tick?
+    (not with own edges or stop-ahead, nor while a scattered start selects leaders)"""
+    lead = robots[0]
+    return lead.batch_coverage and not (lead.scattered and tick < lead.selection_ticks)
+
+
+def coverage_movers(robots: list[GGCRobot], statuses: np.ndarray, f: ChunkRows, tick: int
+                    ) -> list[int]:
     """The chunk's robots in Coverage whose tick may be the common case: those movers.py
     decides (each has an edge robot to follow; not stepping in, not selecting leaders)."""
-    if f.chunk.movers is None:
+    if not _batched(robots, tick):
         return []
-    nearest = f.chunk.movers.nearest.tolist()
-    return [k for k, r in enumerate(robots)
-            if r.status == COVERAGE and r.batch_coverage and nearest[k] >= 0
-            and not r.stepping_in and not (r.scattered and tick < r.selection_ticks)]
+    found = (statuses == COVERAGE) & (f.chunk.movers.nearest >= 0)
+    return [k for k in np.flatnonzero(found).tolist() if not robots[k].stepping_in]
+
+
+def stop_robots(robots: list[GGCRobot], statuses: np.ndarray, tick: int) -> list[int]:
+    """The chunk's robots in Stop that :func:`decide_stops` may decide."""
+    return np.flatnonzero(statuses == STOP).tolist() if _batched(robots, tick) else []
+
+
+def decide_stops(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: ChunkRows,
+                 out: ChunkActions, done: np.ndarray) -> None:
+    """:meth:`stopped` for the robots ``ks`` in Stop that keep waiting (T_s after a
+    deadlock, or another group's mover still near): they stand, repeat their broadcast and
+    restart their progress sample (waiting is not a lack of progress). Those that would
+    resume are left untouched (``step`` does that)."""
+    lead, tick = robots[ks[0]], c.tick
+    p, book = lead.p, lead.book
+    rows = np.array([robots[k].row for k in ks], dtype=np.intp)
+    kk = np.asarray(ks, dtype=np.intp)
+    waiting = tick < book.resume_tick[rows]
+    if lead.groups > 1:
+        near = f.chunk.movers.has_movers_array[kk]
+        if p.stop_patience:
+            near &= (np.asarray(c.on_target, dtype=bool)[kk]
+                     | (tick - book.stop_since[rows] < p.stop_patience))
+        waiting |= near
+    rows, decided = rows[waiting], kk[waiting]
+    book.progress_tick[rows] = tick
+    book.odometer[rows] = 0.0
+    out.listen[decided] = lead.listen_range()  # the same for every robot in Stop
+    done[decided] = True
 
 
 class BatchDecisions:
@@ -252,22 +288,6 @@ class BatchDecisions:
                 return True
             return p.junction_stop == "lattice" and f.at_lattice_site(k, reach)
         return f.gradient.item(a) >= self.grad
-
-    def stop_in_batch(self: GGCRobot, c: DecideBatch, f: ChunkRows, k: int
-                      ) -> Action | None:
-        """:meth:`stopped` while the robot keeps waiting (T_s after a deadlock, or another
-        group's mover still near); None when it would resume (step() does that)."""
-        tick, patience = c.tick, self.p.stop_patience
-        if self.scattered and tick < self.selection_ticks:
-            return None
-        if tick >= self.resume_tick and not (
-                self.groups > 1 and f.chunk.movers.has_movers[k]
-                and (not patience or c.on_target[k] or tick - self.stop_since < patience)):
-            return None
-        self.progress_tick = tick  # waiting is not a lack of progress (stopped())
-        self.odometer[:] = 0.0
-        self.pre = self.pre_wait = None
-        return self.act(repeat=True)  # nothing I broadcast changed
 
     def initial_in_batch(self: GGCRobot, c: DecideBatch, t: TravelAnswers, k: int
                          ) -> Action | None:

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, DecideBatch, make_action
+from swarmsim.controller import INF_GRADIENT, NO_SENDER, ChunkActions, DecideBatch
 
 from .batch import first_two_rows
 from .moverkernel import mover_geometry
@@ -35,10 +35,11 @@ KEEP_GRADIENT = -1
 stationary neighbour of its group to take one from)."""
 
 
-def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: ChunkRows
-                  ) -> list[Action | None]:
-    """The actions of the chunk's Coverage movers ``ks`` (indices in the chunk, each with a
-    nearest edge robot); None for those whose tick is not the common case (``step``)."""
+def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: ChunkRows,
+                  out: ChunkActions, done: np.ndarray) -> None:
+    """Decide the common case of the chunk's Coverage movers ``ks`` (indices in the chunk,
+    each with a nearest edge robot): their actions into ``out``, ``done`` set for them; the
+    others are left untouched (they take ``step``)."""
     lead = robots[ks[0]]
     p, book = lead.p, lead.book
     movers = [robots[k] for k in ks]
@@ -69,7 +70,12 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
         if mine[j]:
             r = movers[j]
             r.away, r.frontier, r.lap_whole, r.winding, r.beacon_angle = lap
-    return _actions(movers, mine, changed, np.where(gives_way[:, None], give_way, velocity))
+    decided = kk[w]
+    out.velocities[decided] = np.where(gives_way[w, None], give_way[w], velocity[w])
+    out.listen[decided] = lead.listen_range()  # the same for every robot in Coverage
+    for j in np.flatnonzero(changed).tolist():  # the others repeat their broadcast
+        out.messages[ks[j]] = movers[j].message()
+    done[decided] = True
 
 
 def _stops(lead: GGCRobot, book: EdgeBook, rows: np.ndarray, kk: np.ndarray,
@@ -137,16 +143,6 @@ def _write_book(book: EdgeBook, rows: np.ndarray, tick: int, heading: np.ndarray
     book.circling_id[rows] = sender
     book.circled[rows] = circled
     book.last_bearing[rows] = bearing
-
-
-def _actions(movers: list[GGCRobot], mine: np.ndarray, changed: np.ndarray,
-             velocity: np.ndarray) -> list[Action | None]:
-    """Each mover's Action (its broadcast only where its gradient changed), or None."""
-    listen = movers[0].listen_range()  # the same for every robot in Coverage
-    return [make_action((vx, vy), robot.message() if new else None, False, None, listen,
-                        True, None) if ok else None
-            for robot, ok, new, (vx, vy) in zip(movers, mine.tolist(), changed.tolist(),
-                                                 velocity.tolist(), strict=True)]
 
 
 def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int
