@@ -1,10 +1,11 @@
-"""The edge-following state of a run's GGC robots, one row per robot, in arrays.
+"""The state a run's GGC robots keep for edge following and Stop, one row per robot, in
+arrays.
 
 Each robot reads and writes its own row through properties of
 :class:`~controllers.ggc.robot.GGCRobot` (``heading``, ``odometer``, ``sense``,
 ``circling_id``, ``circled``, ``last_bearing``, ``progress_tick``, ``pass_until``,
-``stop_since``, ``resume_tick``), as it did
-its attributes. The chunk's Coverage movers (movers.py) read their rows with one gather per
+``stop_since``, ``resume_tick``), as it did its attributes. A chunk's Coverage movers
+(movers.py) and robots waiting in Stop (fastpath.py) read their rows with one gather per
 field and write them back with one scatter, instead of ~200 attribute reads and writes per
 field and tick. Nothing here is global knowledge: a row is one robot's own memory.
 """
@@ -19,7 +20,8 @@ from swarmsim.controller import NO_SENDER
 
 
 class EdgeBook:
-    """Rows of the robots' edge-following state (row = the robot's place in the run).
+    """Rows of the robots' edge-following and Stop state (row = the robot's place in the
+    run).
 
     Attributes:
         heading: (N, 2) unit heading of the last move along an edge (0, 0 before any).
