@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 from swarmsim.errors import ConfigError
 from swarmsim.world import World
@@ -160,19 +161,30 @@ def formation_layout(world: World, n: int, k: int, spacing: float, rng: np.rando
     radius = spacing * math.sqrt(max(sizes) * 0.866 / math.pi) + spacing
     centres = formation_centres(world, k, radius, rng)
     pos = [hex_offsets(size, spacing) + c for size, c in zip(sizes, centres, strict=True)]
-    for g in range(k):
-        others = np.vstack([p for j, p in enumerate(pos) if j != g]) if k > 1 else np.zeros((0, 2))
-        if len(others) and np.min(np.hypot(*(pos[g][:, None, :] - others[None]).T)) < spacing:
-            raise ConfigError(f"{k} formations of {sizes[g]} robots do not fit apart in the "
-                              "spawn areas", source=world.source, key="groups")
     slots = np.vstack(pos)
-    check_formation_floor(world, slots, n, k, spacing)
     slot_group = np.concatenate([np.full(size, g + 1) for g, size in enumerate(sizes)])
+    check_formation_floor(world, slots, n, k, spacing)
+    crowded = _first_crowded_group(slots, slot_group, spacing)
+    if crowded is not None:
+        raise ConfigError(f"{k} formations of {sizes[crowded - 1]} robots do not fit apart in "
+                          "the spawn areas", source=world.source, key="groups")
     centre_slots = np.cumsum([0] + sizes[:-1])
     order = rng.permutation(n)  # robot i stands at slot order[i]
     robot_at = np.empty(n, dtype=np.intp)
     robot_at[order] = np.arange(n)
     return slots[order], slot_group[order], robot_at[centre_slots]
+
+
+def _first_crowded_group(slots: np.ndarray, group: np.ndarray, spacing: float) -> int | None:
+    """The first group (1..k) with a robot closer than ``spacing`` (units) to another
+    group's, or None. Only pairs within 2 spacing are measured (a k-d tree finds them), so
+    memory follows the robots, not their pairs; their distances are np.hypot's, as a full
+    matrix's would be."""
+    pairs = cKDTree(slots).query_pairs(2 * spacing, output_type="ndarray")
+    pairs = pairs[group[pairs[:, 0]] != group[pairs[:, 1]]]
+    gaps = np.hypot(*(slots[pairs[:, 0]] - slots[pairs[:, 1]]).T)
+    close = pairs[gaps < spacing]
+    return int(group[close].min()) if len(close) else None
 
 
 def check_formation_floor(world: World, slots: np.ndarray, n: int, k: int, spacing: float

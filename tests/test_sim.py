@@ -288,6 +288,19 @@ def test_a_formation_that_does_not_fit_is_an_error_not_robots_behind_walls():
     assert not shapely.contains_xy(world.target, pos[:, 0], pos[:, 1]).any()
 
 
+def test_a_huge_robot_count_is_refused_clearly_and_cheaply():
+    """100,000 robots on K: three formations of 33,334 spill over the walls. Checking that
+    formations keep apart once measured every pair of them (33 GB)."""
+    with pytest.raises(ConfigError, match=r"key 'robots'.*100000 robots in 3 formations"):
+        Simulation("K", robots=100_000)
+
+
+def test_formations_that_overlap_are_refused_naming_the_groups():
+    with pytest.raises(ConfigError, match=r"key 'groups'.*10 formations of 500 robots do not "
+                                          r"fit apart"):
+        Simulation("K", robots=5000, groups=10)
+
+
 def test_the_python_api_and_the_command_line_run_the_same_controller_by_default():
     from swarmsim.cli import build_parser
 

@@ -13,6 +13,8 @@ field and tick. Nothing here is global knowledge: a row is one robot's own memor
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -62,91 +64,49 @@ class EdgeBook:
         self.resume_tick = np.zeros(robots, dtype=np.int64)
 
 
+def _row_field(name: str, read: Callable[[Any], Any], write: Callable[[Any], Any],
+               doc: str) -> property:
+    """A property over the robot's row of the book's array ``name``: ``read`` converts the
+    stored value to what the robot sees, ``write`` what it sets to what is stored."""
+
+    def get(self: BookRow) -> Any:
+        return read(getattr(self.book, name)[self.row])
+
+    def set_(self: BookRow, value: Any) -> None:
+        getattr(self.book, name)[self.row] = write(value)
+
+    return property(get, set_, doc=doc)
+
+
+def _same(value: Any) -> Any:
+    return value
+
+
+def _bearing_or_none(stored: np.float64) -> float | None:
+    bearing = float(stored)
+    return None if math.isnan(bearing) else bearing
+
+
+def _nan_for_none(value: float | None) -> float:
+    return math.nan if value is None else value
+
+
 class BookRow:
-    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: its edge-following state as
-    properties over its row ``self.row`` of ``self.book`` (the same types as plain
-    attributes would have: ``heading`` and ``odometer`` are the row's live 2-vectors)."""
+    """Mixin of :class:`~controllers.ggc.robot.GGCRobot`: its edge-following and Stop state
+    as properties over its row ``self.row`` of ``self.book``, with the types plain
+    attributes had (``heading`` and ``odometer`` are the row's live 2-vectors)."""
 
     book: EdgeBook
     row: int
 
-    @property
-    def heading(self) -> np.ndarray:
-        return self.book.heading[self.row]
-
-    @heading.setter
-    def heading(self, value) -> None:
-        self.book.heading[self.row] = value
-
-    @property
-    def odometer(self) -> np.ndarray:
-        return self.book.odometer[self.row]
-
-    @odometer.setter
-    def odometer(self, value) -> None:
-        self.book.odometer[self.row] = value
-
-    @property
-    def sense(self) -> float:
-        return float(self.book.sense[self.row])
-
-    @sense.setter
-    def sense(self, value: float) -> None:
-        self.book.sense[self.row] = value
-
-    @property
-    def circling_id(self) -> int:
-        return int(self.book.circling_id[self.row])
-
-    @circling_id.setter
-    def circling_id(self, value: int) -> None:
-        self.book.circling_id[self.row] = value
-
-    @property
-    def circled(self) -> float:
-        return float(self.book.circled[self.row])
-
-    @circled.setter
-    def circled(self, value: float) -> None:
-        self.book.circled[self.row] = value
-
-    @property
-    def last_bearing(self) -> float | None:
-        bearing = float(self.book.last_bearing[self.row])
-        return None if math.isnan(bearing) else bearing
-
-    @last_bearing.setter
-    def last_bearing(self, value: float | None) -> None:
-        self.book.last_bearing[self.row] = math.nan if value is None else value
-
-    @property
-    def progress_tick(self) -> int:
-        return int(self.book.progress_tick[self.row])
-
-    @progress_tick.setter
-    def progress_tick(self, value: int) -> None:
-        self.book.progress_tick[self.row] = value
-
-    @property
-    def pass_until(self) -> int:
-        return int(self.book.pass_until[self.row])
-
-    @pass_until.setter
-    def pass_until(self, value: int) -> None:
-        self.book.pass_until[self.row] = value
-
-    @property
-    def stop_since(self) -> int:
-        return int(self.book.stop_since[self.row])
-
-    @stop_since.setter
-    def stop_since(self, value: int) -> None:
-        self.book.stop_since[self.row] = value
-
-    @property
-    def resume_tick(self) -> int:
-        return int(self.book.resume_tick[self.row])
-
-    @resume_tick.setter
-    def resume_tick(self, value: int) -> None:
-        self.book.resume_tick[self.row] = value
+    heading = _row_field("heading", _same, _same, "unit heading of the last move (2,)")
+    odometer = _row_field("odometer", _same, _same, "displacement since the last sample (2,)")
+    sense = _row_field("sense", float, _same, "orbit sense, +1 or -1")
+    circling_id = _row_field("circling_id", int, _same, "the robot being circled")
+    circled = _row_field("circled", float, _same, "how far round it, radians")
+    last_bearing = _row_field("last_bearing", _bearing_or_none, _nan_for_none,
+                              "bearing to it last tick, radians (None: none yet)")
+    progress_tick = _row_field("progress_tick", int, _same, "tick of the last sample")
+    pass_until = _row_field("pass_until", int, _same, "no Stop for other groups before")
+    stop_since = _row_field("stop_since", int, _same, "the tick the current Stop began")
+    resume_tick = _row_field("resume_tick", int, _same, "waits in Stop until this tick")

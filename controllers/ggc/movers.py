@@ -8,8 +8,9 @@ sample (once every T_r ticks), and with one group the surplus lap and the step-i
 Both give the same numbers as :meth:`~controllers.ggc.coverage.CoverageRules.coverage` to
 the bit (see moverkernel.py; the gradients are integer tests). A mover whose tick is not
 the common case (a neighbour at distance 0: ``coverage`` divides by it; an arrival, a dead
-end, a Stop, a surplus robot giving up, a step-in) gets None with nothing changed: it takes
-``step``.
+end, a Stop, a surplus robot giving up, a step-in) is left with nothing changed: it takes
+``step``. (A mover decided here has no ``pre`` or ``pre_wait`` to clear: the chunk path
+hands out none to movers, and a Detection robot's is cleared in the tick it is given.)
 """
 
 from __future__ import annotations
