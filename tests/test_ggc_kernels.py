@@ -9,10 +9,11 @@ import numpy as np
 from numba import njit
 
 from controllers.ggc import GGCParams
+from controllers.ggc.batch import first_two_rows
 from controllers.ggc.enclosure import enclosed_robots
 from controllers.ggc.geometry import ENCLOSED_GAP, unit, widest_gap
 from controllers.ggc.moverkernel import mover_geometry, py_hypot, warm_up
-from controllers.ggc.moverrows import mover_rows
+from controllers.ggc.moverrows import gradient_sources, mover_rows
 from controllers.ggc.robot import MESSAGE_FIELDS, GGCRobot
 from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STOP, SURPLUS
 from swarmsim.controller import NO_SENDER, RobotSetup, message_dtype
@@ -232,3 +233,32 @@ def test_mover_rows_are_the_masks():
         want = mover_rows_reference(starts, d, m, own_group, own_id, foreign, p)
         for g, w in zip(got, want, strict=True):
             assert np.asarray(g).tolist() == np.asarray(w).tolist()
+
+
+def test_gradient_sources_are_the_masks():
+    """The row each mover takes its gradient from: the compiled pass against the masks it
+    replaced (first_two_rows over the whole chunk), with distances exactly at the reach."""
+    rng, p = np.random.default_rng(6), GGCParams()
+    reach, took_other = 1.5 * p.d_cover, 0
+    for _ in range(200):
+        counts = rng.integers(1, 20, size=int(rng.integers(1, 9)))
+        starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+        rows = int(starts[-1])
+        m = np.zeros(rows, dtype=message_dtype(MESSAGE_FIELDS))
+        m["group"] = rng.integers(0, 3, size=rows)
+        m["moving"] = rng.random(rows) < 0.4
+        d = rng.choice([reach, 2.0, 12.0], size=rows) * rng.choice([1.0, 1.0, 0.99], size=rows)
+        own_group = np.repeat(rng.integers(0, 3, size=len(counts)), counts).astype(np.int64)
+        movers = np.flatnonzero(rng.random(len(counts)) < 0.7).astype(np.int64)
+        a = np.array([rng.integers(starts[k], starts[k + 1]) for k in movers], dtype=np.int64)
+        group, moving = np.ascontiguousarray(m["group"]), np.ascontiguousarray(m["moving"])
+        got = gradient_sources(a, movers, starts, d, group, own_group, moving, reach)
+        want = a.copy()
+        foreign = group[a] != own_group[a]
+        segment = np.repeat(np.arange(len(counts)), counts)
+        mine = ~moving & (group == own_group) & (d <= reach)
+        first, _ = first_two_rows(mine, segment, len(counts))
+        want[foreign] = first[movers[foreign]]
+        assert got.tolist() == want.tolist()
+        took_other += int((foreign & (want >= 0)).sum())
+    assert took_other > 100

@@ -1,6 +1,6 @@
 """Which of its rows each robot of a chunk reads as a mover, compiled (numba): its nearest
-two edge robots, the other groups' movers that outrank it and the moving robots it gives
-way to. The answers of :class:`~controllers.ggc.batch.MoverAnswers`, in one pass over the
+two edge robots, the other groups' movers that outrank it, the moving robots it gives
+way to, and the robot it takes its gradient from. The answers of :class:`~controllers.ggc.batch.MoverAnswers`, in one pass over the
 chunk's rows instead of a dozen numpy masks over all of them (comparisons only, so the same
 answers).
 """
@@ -62,6 +62,30 @@ def mover_rows(starts, d, group, status, sender, moving, own_group, own_id, fore
     return nearest, second, movers[:n_movers], movers_first, ahead[:n_ahead], ahead_first
 
 
+@njit(cache=True)
+def gradient_sources(a, movers, starts, d, group, own_group, moving, reach
+                     ):  # pragma: no cover - compiled
+    """The row each mover takes its gradient from (``follow_gradient``): its nearest edge
+    robot's (``a[j]``), or where that robot is of another group, the first (nearest) row of
+    a stationary robot of its own group within ``reach`` (units); -1: none.
+
+    Args:
+        a: (M,) each mover's nearest edge row; movers: (M,) each mover's index in the chunk.
+        starts, d, group, own_group, moving: the chunk's rows, as in :func:`mover_rows`.
+    """
+    source = a.copy()
+    for j in range(len(a)):
+        if group[a[j]] == own_group[a[j]]:
+            continue
+        source[j] = -1
+        k = movers[j]
+        for row in range(starts[k], starts[k + 1]):
+            if not moving[row] and group[row] == own_group[row] and d[row] <= reach:
+                source[j] = row
+                break
+    return source
+
+
 def warm_up(messages: np.ndarray) -> None:
     """Compile (first time on a machine) or load (from the cache) the kernel now, for the
     field types of ``messages`` (a run's broadcast rows)."""
@@ -70,3 +94,6 @@ def warm_up(messages: np.ndarray) -> None:
     mover_rows(np.array([0, 1]), np.ones(1), *(np.ascontiguousarray(row[name])
                                              for name in ("group", "status", "id", "moving")),
                ints, ints, True, 1.0, 1.0, 0, 1, 2, -1)
+    gradient_sources(ints, ints, np.array([0, 1]), np.ones(1),
+                     np.ascontiguousarray(row["group"]), ints,
+                     np.ascontiguousarray(row["moving"]), 1.0)

@@ -22,8 +22,8 @@ import numpy as np
 
 from swarmsim.controller import INF_GRADIENT, NO_SENDER, ChunkActions, DecideBatch
 
-from .batch import first_two_rows
 from .moverkernel import mover_geometry
+from .moverrows import gradient_sources
 
 if TYPE_CHECKING:
     from .book import EdgeBook
@@ -58,7 +58,7 @@ def decide_movers(robots: list[GGCRobot], ks: list[int], c: DecideBatch, f: Chun
     sampled = c.tick - book.progress_tick[rows] >= p.T_r
     mine = usable & ~full & ~_stops(lead, book, rows, kk, c, f)
     laps = _rare_tests(movers, ks, c, f, a, heading, odometers, sampled, mine)
-    grads = mover_gradients(a, kk, f, p, len(robots))
+    grads = mover_gradients(a, kk, f, p)
     changed = mine & (grads != KEEP_GRADIENT) & (grads != [r.grad for r in movers])
     w = np.flatnonzero(mine)
     _write_book(book, rows[w], c.tick, heading[w], odometers[w], sampled[w], sender[w],
@@ -146,17 +146,13 @@ def _write_book(book: EdgeBook, rows: np.ndarray, tick: int, heading: np.ndarray
     book.last_bearing[rows] = bearing
 
 
-def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams, robots: int
+def mover_gradients(a: np.ndarray, kk: np.ndarray, f: ChunkRows, p: GGCParams
                     ) -> np.ndarray:
     """(M,) the gradient each mover takes (``follow_gradient``): its nearest edge robot's
     (rows ``a``) plus one, or with another group's robot there, its nearest stationary
     robot's of its own group within 1.5 d_cover; KEEP_GRADIENT where it keeps its own."""
-    source = a.copy()
-    foreign = f.group[a] != f.own_group[a]
-    if foreign.any():
-        mine = ~f.moving & (f.group == f.own_group) & (f.distance <= 1.5 * p.d_cover)
-        first, _ = first_two_rows(mine, f.segment, robots)
-        source[foreign] = first[kk[foreign]]
+    source = gradient_sources(a, kk, f.chunk.starts, f.distance, f.group, f.own_group,
+                              f.moving, 1.5 * p.d_cover)
     gradient = f.gradient[source].astype(np.int64)
     take = (source >= 0) & (f.sender[source] != NO_SENDER) & (gradient < INF_GRADIENT)
     return np.where(take, gradient + 1, KEEP_GRADIENT)
