@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 from numba import njit
 
-from controllers.ggc import GGCParams
+from controllers.ggc import GGC, GGCParams
 from controllers.ggc.batch import first_two_rows
 from controllers.ggc.enclosure import enclosed_robots
 from controllers.ggc.geometry import ENCLOSED_GAP, unit, widest_gap
@@ -143,12 +143,15 @@ def test_warm_up_compiles_the_signature_runs_use(monkeypatch):
     monkeypatch.setattr(movers, "mover_geometry", counted)
     warm_up()
     compiled = len(mover_geometry.signatures)
+    GGC.warm_up()  # all of GGC's kernels
+    sources = len(gradient_sources.signatures)
     sim = Simulation("K", controller="ggc", seed=1, robots=60,
                      settings={"stop_on_complete": False})
     for _ in range(1500):
         sim.step()
     assert sum(calls) > 100  # movers were decided by the kernel
     assert len(mover_geometry.signatures) == compiled
+    assert len(gradient_sources.signatures) == sources
 
 
 def enclosed_reference(offsets, distances, status, reach) -> bool:
