@@ -212,14 +212,22 @@ def mover_rows_reference(starts, d, m, own_group, own_id, foreign_edges, p):
     return (*found, *spans(movers), *spans(ahead))
 
 
+def random_chunk_rows(rng: np.random.Generator, fewest: int, most: int
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A chunk of 1-8 robots with fewest..most-1 rows each: (counts, starts, rows), the rows
+    GGC broadcasts with random groups 0-2 (the other fields zero)."""
+    counts = rng.integers(fewest, most, size=int(rng.integers(1, 9)))
+    starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
+    m = np.zeros(int(starts[-1]), dtype=message_dtype(MESSAGE_FIELDS))
+    m["group"] = rng.integers(0, 3, size=len(m))
+    return counts, starts, m
+
+
 def test_mover_rows_are_the_masks():
     rng, p = np.random.default_rng(5), GGCParams()
     for case in range(150):
-        counts = rng.integers(0, 25, size=int(rng.integers(1, 9)))
-        starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
-        rows = int(starts[-1])
-        m = np.zeros(rows, dtype=message_dtype(MESSAGE_FIELDS))
-        m["group"] = rng.integers(0, 3, size=rows)
+        counts, starts, m = random_chunk_rows(rng, 0, 25)
+        rows = len(m)
         m["status"] = rng.choice([INITIAL, DETECTION, COVERAGE, ARRIVE, STOP, SURPLUS],
                                  size=rows)
         m["id"] = rng.choice([NO_SENDER, 3, 5, 8, 12], size=rows)
@@ -244,11 +252,8 @@ def test_gradient_sources_are_the_masks():
     rng, p = np.random.default_rng(6), GGCParams()
     reach, took_other = 1.5 * p.d_cover, 0
     for _ in range(200):
-        counts = rng.integers(1, 20, size=int(rng.integers(1, 9)))
-        starts = np.concatenate(([0], np.cumsum(counts))).astype(np.int64)
-        rows = int(starts[-1])
-        m = np.zeros(rows, dtype=message_dtype(MESSAGE_FIELDS))
-        m["group"] = rng.integers(0, 3, size=rows)
+        counts, starts, m = random_chunk_rows(rng, 1, 20)
+        rows = len(m)
         m["moving"] = rng.random(rows) < 0.4
         d = rng.choice([reach, 2.0, 12.0], size=rows) * rng.choice([1.0, 1.0, 0.99], size=rows)
         own_group = np.repeat(rng.integers(0, 3, size=len(counts)), counts).astype(np.int64)
