@@ -31,11 +31,15 @@ Table 3 says.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from swarmsim.controller import Action, Perception, RobotSetup, register
+
+from .mapkernel import warm_up as _warm_up_map
+from .mapkernel import window_within
 
 SEEKING, MOVING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Moving", "Resting")
@@ -72,7 +76,7 @@ class LocalMap:
         self._size = 2 * (reach + self.MARGIN) + 1
         self._grid = np.full((self._size, self._size), -1, dtype=np.int8)
         self._origin = np.array([-(reach + self.MARGIN)] * 2)
-        self._base: np.ndarray | None = None
+        self._base: tuple[int, int] | None = None  # the lattice cell the window is for
         self._points = self._local = self._values = np.zeros((0, 2))
 
     def move(self, moved: np.ndarray) -> None:
@@ -104,24 +108,23 @@ class LocalMap:
         points not yet known are probed now.
         """
         radius = self.radius if radius is None else min(float(radius), self.radius)
-        base = np.floor(self.odo / self.cell).astype(np.int64)
-        if self._base is None or (base != self._base).any():
-            self._base = base
+        cell = (math.floor(self.odo[0] / self.cell), math.floor(self.odo[1] / self.cell))
+        if self._base != cell:  # a new lattice cell: the window of points around it
+            self._base = cell
+            base = np.array(cell, dtype=np.int64)
             self._recentre(base)
             idx = self._stencil + base
             self._points = idx * self.cell
             self._local = idx - self._origin
             self._values = self._grid[self._local[:, 0], self._local[:, 1]]
-        offsets = self._points - self.odo
-        keep = np.flatnonzero(sq_norms(offsets) <= radius * radius)
         values = self._values
-        unknown = keep[values[keep] < 0]
+        offsets, known, unknown, unknown_at = window_within(self._points, self.odo,
+                                                            radius * radius, values)
         if len(unknown):
-            for k in unknown.tolist():
-                values[k] = 1 if p.probe(offsets[k]) else 0
+            known[unknown_at] = values[unknown] = probe_all(p.probe, offsets[unknown_at])
             loc = self._local[unknown]
             self._grid[loc[:, 0], loc[:, 1]] = values[unknown]
-        return offsets[keep], values[keep] == 1
+        return offsets, known == 1
 
 
     def lookup(self, p: Perception, offsets: np.ndarray) -> np.ndarray:
@@ -144,6 +147,15 @@ class LocalMap:
                 self._grid[local[k, 0], local[k, 1]] = values[k]
                 self._base = None  # cached window values are stale
         return values == 1
+
+
+def probe_all(probe: Callable[[np.ndarray], bool], offsets: np.ndarray) -> np.ndarray:
+    """(k,) bool: the floor probe at each of ``offsets`` (k, 2), units; in one query where the
+    probe can (the engine's ``FloorProbe.many``), else one by one."""
+    many = getattr(probe, "many", None)
+    if many is not None:
+        return many(offsets)
+    return np.array([bool(probe(offset)) for offset in offsets], dtype=bool)
 
 
 def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
@@ -236,6 +248,11 @@ class CVT:
     def sensing_range(cls, params: CVTParams) -> float:
         """Neighbours within 2 * cell_radius can own points of the cell."""
         return 2 * params.cell_radius
+
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile or load the local map's kernel before a run's clock starts."""
+        _warm_up_map()
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
         self.id = setup.robot_id

@@ -41,7 +41,10 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
-from .cvt import LocalMap, clamp, min_sq_distance, sq_norms
+from .cvt import LocalMap, clamp, sq_norms
+from .mapkernel import warm_up as _warm_up_map
+from .shiftkernel import explore, interact
+from .shiftkernel import warm_up as _warm_up_kernels
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
@@ -118,6 +121,12 @@ class MeanShift:
     def sensing_range(cls, params: MeanShiftParams) -> float:
         return max(params.r_sense + params.r_occupied, params.d_cover)
 
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile or load the kernels before a run's clock starts."""
+        _warm_up_map()
+        _warm_up_kernels()
+
     def __init__(self, setup: RobotSetup, params: MeanShiftParams, rng: np.random.Generator):
         self.id = setup.robot_id
         self.group = setup.group
@@ -145,43 +154,16 @@ class MeanShift:
         return np.zeros(2)
 
     def exploring(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
-        q = points[target]
-        if len(q) == 0:
-            return np.zeros(2)
-        d = np.sqrt(sq_norms(q))
-        w = 0.5 * (1.0 + np.cos(np.pi * np.minimum(d / self.p.r_sense, 1.0)))
-        out = np.zeros(2)
-        w_sum = w.sum()
-        if w_sum > 0:
-            out += self.p.kappa_fill * (w[:, None] * q).sum(axis=0) / w_sum
-        free = self.unoccupied(p, q)
-        wf = w if free is None else w[free]
-        wf_sum = wf.sum()
-        if wf_sum > 0:
-            qf = q if free is None else q[free]
-            out += self.p.kappa_expl * (wf[:, None] * qf).sum(axis=0) / wf_sum
-        return out
-
-    def unoccupied(self, p: Perception, q: np.ndarray) -> np.ndarray | None:
-        """Which target points (offsets q, (k, 2)) lie farther than r_occupied from every
-        neighbour; None when no neighbour is near enough to occupy any."""
-        near = p.distances <= self.p.r_sense + self.p.r_occupied
-        if not near.any():
-            return None
-        return min_sq_distance(q, p.offsets[near]) > self.p.r_occupied ** 2
+        """The mean-shift command toward sensed target floor, free floor most (kernel)."""
+        return explore(points, target, p.offsets, p.distances, self.p.r_sense,
+                       self.p.r_occupied, self.p.kappa_fill, self.p.kappa_expl)
 
     def interaction(self, p: Perception) -> np.ndarray:
-        out = np.zeros(2)
-        close = p.distances < self.p.d_cover
-        if close.any():
-            d = np.maximum(p.distances[close], 1e-6)
-            push = (self.p.d_cover - d) / d
-            out -= self.p.kappa_avoid * (p.offsets[close] / d[:, None] * push[:, None]).sum(0)
-        heard = (p.distances <= self.p.r_sense) & (p.messages["id"] != NO_SENDER)
-        if heard.any() and self.p.kappa_cons > 0:
-            vj = np.column_stack([p.messages["vx"][heard], p.messages["vy"][heard]])
-            out -= self.p.kappa_cons * (self.velocity - vj.astype(float)).mean(axis=0)
-        return out
+        """Repulsion within d_cover and velocity consensus with the neighbours heard."""
+        m = p.messages
+        return interact(p.offsets, p.distances, m["id"], m["vx"], m["vy"], self.velocity,
+                        self.p.d_cover, self.p.r_sense, self.p.kappa_avoid, self.p.kappa_cons,
+                        NO_SENDER)
 
     def step(self, p: Perception) -> Action:
         self.map.move(p.moved)

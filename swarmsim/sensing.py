@@ -39,17 +39,42 @@ class FloorSensor:
         """(N,) bool: is each robot's centre over the target?"""
         return shapely.contains_xy(self.target, positions[:, 0], positions[:, 1])
 
-    def probe_at(self, x: float, y: float) -> Callable[[np.ndarray], bool]:
+    def probe_at(self, x: float, y: float) -> FloorProbe:
         """A probe for a robot at (x, y): ``probe(offset)`` tells if floor at +offset is target."""
-        target, limit = self.target, self.probe_range
+        return FloorProbe(self.target, self.probe_range, x, y)
 
-        def probe(offset: np.ndarray) -> bool:
-            ox, oy = float(offset[0]), float(offset[1])
-            if ox * ox + oy * oy > limit * limit * (1 + 1e-9):
-                raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {limit}")
-            return bool(shapely.contains_xy(target, x + ox, y + oy))
 
-        return probe
+class FloorProbe:
+    """One robot's floor probe for one tick: is the floor at its position plus an offset part
+    of the target? (A Perception's ``probe``.)
+
+    Args:
+        target: the target area (prepared).
+        limit: the probe's reach, units.
+        x, y: the robot's position, units (held here, never shown to the controller).
+    """
+
+    __slots__ = ("limit", "target", "x", "y")
+
+    def __init__(self, target: Polygon, limit: float, x: float, y: float):
+        self.target, self.limit, self.x, self.y = target, limit, x, y
+
+    def __call__(self, offset: np.ndarray) -> bool:
+        """Is the floor at +``offset`` (2,), units, target?"""
+        ox, oy = float(offset[0]), float(offset[1])
+        if ox * ox + oy * oy > self.limit * self.limit * (1 + 1e-9):
+            raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {self.limit}")
+        return bool(shapely.contains_xy(self.target, self.x + ox, self.y + oy))
+
+    def many(self, offsets: np.ndarray) -> np.ndarray:
+        """(k,) bool: the same for each row of ``offsets`` (k, 2), units, in one query."""
+        ox, oy = offsets[:, 0], offsets[:, 1]
+        beyond = ox * ox + oy * oy > self.limit * self.limit * (1 + 1e-9)
+        if beyond.any():
+            first = offsets[np.argmax(beyond)]
+            raise ValueError(f"probe offset {(float(first[0]), float(first[1]))} is beyond the "
+                             f"probe range {self.limit}")
+        return shapely.contains_xy(self.target, self.x + ox, self.y + oy)
 
 
 NEIGHBOURHOOD_CHUNK = 2048

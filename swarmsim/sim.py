@@ -210,7 +210,7 @@ class Simulation:
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
         cellsearch.warm_up()  # compiled or loaded before the run's clock starts
         wakes.warm_up()
-        if self._decide_batch is not None and hasattr(self.controller_cls, "warm_up"):
+        if hasattr(self.controller_cls, "warm_up"):
             self.controller_cls.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0

@@ -1,0 +1,125 @@
+"""The compiled kernels of the map-reading baselines (mean-shift, CVT) give the very numbers of
+the numpy formulas they replaced, so their runs did not change to the bit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import box
+
+from controllers.cvt import probe_all
+from controllers.mapkernel import window_within
+from controllers.shiftkernel import explore, interact, pairwise_sum
+from swarmsim.controller import NO_SENDER
+from swarmsim.sensing import FloorSensor
+
+
+def test_pairwise_sum_is_numpys_sum_to_the_bit():
+    """Sizes round numpy's block of 128 and its halving (a plain running sum differs)."""
+    rng = np.random.default_rng(3)
+    for n in [*range(300), 511, 512, 513, 1031, 4099]:
+        a = rng.random(n) * 10 ** rng.uniform(-3, 3)
+        assert pairwise_sum(a, 0, n) == a.sum()
+    a = rng.random(1000)
+    assert pairwise_sum(a, 100, 700) == a[100:800].sum()
+    running = 0.0
+    for x in a:
+        running += x
+    assert running != a.sum()  # the test can tell the two sums apart
+
+
+def numpy_explore(points, target, offsets, distances, r_sense, r_occupied, kf, ke):
+    """Mean-shift's exploring command as it was written in numpy."""
+    q = points[target]
+    if len(q) == 0:
+        return np.zeros(2)
+    d = np.sqrt((q * q).sum(axis=1))
+    w = 0.5 * (1.0 + np.cos(np.pi * np.minimum(d / r_sense, 1.0)))
+    out = np.zeros(2)
+    if w.sum() > 0:
+        out += kf * (w[:, None] * q).sum(axis=0) / w.sum()
+    near = distances <= r_sense + r_occupied
+    free = None
+    if near.any():
+        d2 = ((q[:, None, :] - offsets[near][None, :, :]) ** 2).sum(axis=2).min(axis=1)
+        free = d2 > r_occupied ** 2
+    wf, qf = (w, q) if free is None else (w[free], q[free])
+    if wf.sum() > 0:
+        out += ke * (wf[:, None] * qf).sum(axis=0) / wf.sum()
+    return out
+
+
+def numpy_interact(offsets, distances, messages, velocity, d_cover, r_sense, ka, kc):
+    """Mean-shift's interaction command as it was written in numpy."""
+    out = np.zeros(2)
+    close = distances < d_cover
+    if close.any():
+        d = np.maximum(distances[close], 1e-6)
+        push = (d_cover - d) / d
+        out -= ka * (offsets[close] / d[:, None] * push[:, None]).sum(0)
+    heard = (distances <= r_sense) & (messages["id"] != NO_SENDER)
+    if heard.any() and kc > 0:
+        vj = np.column_stack([messages["vx"][heard], messages["vy"][heard]])
+        out -= kc * (velocity - vj.astype(float)).mean(axis=0)
+    return out
+
+
+def random_neighbourhood(rng):
+    """Offsets, distances and broadcasts of 0-40 neighbours (a few silent, a few at 0)."""
+    k = int(rng.integers(0, 40))
+    offsets = rng.normal(size=(k, 2)) * 6
+    if k > 2:
+        offsets[0] = 0.0
+    distances = np.hypot(offsets[:, 0], offsets[:, 1])
+    messages = np.zeros(k, dtype=[("id", "i4"), ("status", "i1"), ("vx", "f4"), ("vy", "f4")])
+    messages["id"] = np.where(rng.random(k) < 0.2, NO_SENDER, np.arange(k))
+    messages["vx"], messages["vy"] = rng.normal(size=(2, k)) * 0.05
+    return offsets, distances, messages
+
+
+def test_mean_shift_kernels_match_the_numpy_formulas_to_the_bit():
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        points = rng.normal(size=(int(rng.integers(0, 400)), 2)) * 6
+        target = rng.random(len(points)) < rng.random()
+        offsets, distances, messages = random_neighbourhood(rng)
+        args = (10.0, 3.0, 0.025, 0.075)
+        got = explore(points, target, offsets, distances, *args)
+        assert got.tobytes() == numpy_explore(points, target, offsets, distances,
+                                              *args).tobytes()
+        velocity = rng.normal(size=2) * 0.05
+        got = interact(offsets, distances, messages["id"], messages["vx"], messages["vy"],
+                       velocity, 6.0, 10.0, 0.5, 1.0, NO_SENDER)
+        want = numpy_interact(offsets, distances, messages, velocity, 6.0, 10.0, 0.5, 1.0)
+        assert got.tobytes() == want.tobytes()
+
+
+def test_map_window_matches_the_numpy_selection():
+    rng = np.random.default_rng(5)
+    for _ in range(100):
+        points = rng.integers(-12, 13, size=(625, 2)) * rng.uniform(0.25, 1.5)
+        odo = rng.normal(size=2) * 3
+        values = rng.integers(-1, 2, size=len(points)).astype(np.int8)
+        radius = rng.uniform(0.5, 10)
+        offsets, known, unknown, unknown_at = window_within(points, odo, radius * radius,
+                                                            values)
+        plain = points - odo
+        keep = np.flatnonzero((plain * plain).sum(axis=1) <= radius * radius)
+        assert offsets.tobytes() == plain[keep].tobytes()
+        assert np.array_equal(known, values[keep])
+        assert np.array_equal(unknown, keep[values[keep] < 0])
+        assert np.array_equal(keep[unknown_at], unknown)
+
+
+def test_floor_probe_many_answers_as_one_by_one():
+    sensor = FloorSensor(box(0, 0, 10, 5), probe_range=6.0)
+    probe = sensor.probe_at(2.0, 2.5)
+    offsets = np.random.default_rng(2).uniform(-4, 4, size=(200, 2))
+    one_by_one = np.array([probe(o) for o in offsets])
+    assert np.array_equal(probe.many(offsets), one_by_one)
+    assert np.array_equal(probe_all(lambda o: probe(o), offsets), one_by_one)  # no .many
+    assert 0 < one_by_one.sum() < len(offsets)
+    with pytest.raises(ValueError, match="beyond the probe range"):
+        probe.many(np.array([[1.0, 0.0], [7.0, 0.0]]))
+    assert shapely.is_prepared(sensor.target)
