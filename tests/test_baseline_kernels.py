@@ -8,10 +8,10 @@ import pytest
 import shapely
 from shapely.geometry import box
 
-from controllers.cvt import probe_all
+from controllers.cvt import CVT, CVTParams, probe_all
 from controllers.mapkernel import window_within
 from controllers.shiftkernel import explore, interact, pairwise_sum
-from swarmsim.controller import NO_SENDER
+from swarmsim.controller import NO_SENDER, RobotSetup
 from swarmsim.sensing import FloorSensor
 
 
@@ -123,3 +123,20 @@ def test_floor_probe_many_answers_as_one_by_one():
     with pytest.raises(ValueError, match="beyond the probe range"):
         probe.many(np.array([[1.0, 0.0], [7.0, 0.0]]))
     assert shapely.is_prepared(sensor.target)
+
+
+def test_a_still_cvt_robot_sleeps_once_its_sampling_disc_settles():
+    """Asleep, a robot must answer as it would awake, so a still CVT robot sleeps only when
+    its next cell is sampled in the same disc: a change within one grid step keeps the old
+    disc; a larger one keeps it awake; two discs in turn count as settled."""
+    robot = CVT(RobotSetup(0), CVTParams(), np.random.default_rng(0))
+    step = 3.5 / 7  # one grid step of a disc of radius 3.5
+    robot.extent, robot.heard = 3.5 + 0.9 * step, 7.0 + 1.8 * step  # as cell() may leave it
+    assert robot.settle_disc((3.5, 7.0))
+    assert (robot.extent, robot.heard) == (3.5, 7.0)  # kept the disc it sampled in
+    robot.extent, robot.heard = 3.5 + 1.2 * step, 7.0 + 2.4 * step
+    assert not robot.settle_disc((3.5, 7.0))  # grown by more than a step: sample anew
+    assert (robot.extent, robot.heard) == (3.5 + 1.2 * step, 7.0 + 2.4 * step)
+    robot.extent, robot.heard = 3.5, 7.0  # ... and back: a cycle of two discs
+    assert robot.settle_disc((3.5 + 1.2 * step, 7.0 + 2.4 * step))
+    assert (robot.extent, robot.heard) == (3.5 + 1.2 * step, 7.0 + 2.4 * step)
