@@ -38,8 +38,8 @@ import numpy as np
 
 from swarmsim.controller import Action, Perception, RobotSetup, register
 
+from .mapkernel import lattice_values, window_within
 from .mapkernel import warm_up as _warm_up_map
-from .mapkernel import window_within
 
 SEEKING, MOVING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Moving", "Resting")
@@ -77,6 +77,7 @@ class LocalMap:
         self._size = 2 * (reach + self.MARGIN) + 1
         self._grid = np.full((self._size, self._size), -1, dtype=np.int8)
         self._origin = np.array([-(reach + self.MARGIN)] * 2)
+        self._origin_xy = (-(reach + self.MARGIN),) * 2  # the same, as ints
         self._base: tuple[int, int] | None = None  # the lattice cell the window is for
         self._points = self._local = self._values = np.zeros((0, 2))
 
@@ -84,12 +85,17 @@ class LocalMap:
         """Dead reckoning: add the robot's own displacement."""
         self.odo = self.odo + moved
 
-    def _recentre(self, base: np.ndarray) -> None:
-        lo = base - self._reach
-        hi = base + self._reach
-        if (lo >= self._origin).all() and (hi < self._origin + self._size).all():
+    def _lattice_cell(self) -> tuple[int, int]:
+        """The lattice cell the robot is in: floor(odo / cell)."""
+        return math.floor(self.odo[0] / self.cell), math.floor(self.odo[1] / self.cell)
+
+    def _recentre(self, base: tuple[int, int]) -> None:
+        """Move the window of remembered points so the stencil round ``base`` fits in it."""
+        reach, (o0, o1) = self._reach, self._origin_xy
+        if (base[0] - reach >= o0 and base[1] - reach >= o1
+                and base[0] + reach < o0 + self._size and base[1] + reach < o1 + self._size):
             return
-        new_origin = base - (self._reach + self.MARGIN)
+        new_origin = np.array(base, dtype=np.int64) - (self._reach + self.MARGIN)
         grid = np.full_like(self._grid, -1)
         shift = new_origin - self._origin
         src_lo = np.maximum(shift, 0)
@@ -101,6 +107,7 @@ class LocalMap:
                 self._grid[src_lo[0]:src_hi[0], src_lo[1]:src_hi[1]]
         self._grid = grid
         self._origin = new_origin
+        self._origin_xy = (int(new_origin[0]), int(new_origin[1]))
 
     def sense(self, p: Perception, radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Lattice points within ``radius`` (default: the map's radius) of the robot.
@@ -109,12 +116,11 @@ class LocalMap:
         points not yet known are probed now.
         """
         radius = self.radius if radius is None else min(float(radius), self.radius)
-        cell = (math.floor(self.odo[0] / self.cell), math.floor(self.odo[1] / self.cell))
+        cell = self._lattice_cell()
         if self._base != cell:  # a new lattice cell: the window of points around it
             self._base = cell
-            base = np.array(cell, dtype=np.int64)
-            self._recentre(base)
-            idx = self._stencil + base
+            self._recentre(cell)
+            idx = self._stencil + np.array(cell, dtype=np.int64)
             self._points = idx * self.cell
             self._local = idx - self._origin
             self._values = self._grid[self._local[:, 0], self._local[:, 1]]
@@ -134,19 +140,14 @@ class LocalMap:
         Lattice points not yet known are probed (only those within ``radius``); farther ones
         count as not target.
         """
-        idx = np.floor((self.odo + offsets) / self.cell + 0.5).astype(np.int64)
-        self._recentre(np.floor(self.odo / self.cell).astype(np.int64))
-        local = idx - self._origin
-        row, col = local[:, 0], local[:, 1]
-        ok = (row >= 0) & (row < self._size) & (col >= 0) & (col < self._size)
-        values = np.zeros(len(offsets), dtype=np.int8)
-        values[ok] = self._grid[local[ok, 0], local[ok, 1]]
-        for k in np.flatnonzero(ok & (values < 0)).tolist():
-            point = idx[k] * self.cell - self.odo
-            if point @ point <= self.radius * self.radius:
-                values[k] = 1 if p.probe(point) else 0
-                self._grid[local[k, 0], local[k, 1]] = values[k]
-                self._base = None  # cached window values are stale
+        self._recentre(self._lattice_cell())
+        values, local, unknown, points = lattice_values(self.odo, offsets, self.cell,
+                                                        self._origin, self._grid,
+                                                        self.radius * self.radius)
+        if len(unknown):
+            values[unknown] = probe_all(p.probe, points)
+            self._grid[local[unknown, 0], local[unknown, 1]] = values[unknown]
+            self._base = None  # cached window values are stale
         return values == 1
 
 

@@ -9,7 +9,7 @@ import shapely
 from shapely.geometry import box
 
 from controllers.cvt import CVT, CVTParams, probe_all
-from controllers.mapkernel import window_within
+from controllers.mapkernel import lattice_values, window_within
 from controllers.shiftkernel import explore, interact, pairwise_sum
 from swarmsim.controller import NO_SENDER, RobotSetup
 from swarmsim.sensing import FloorSensor
@@ -110,6 +110,29 @@ def test_map_window_matches_the_numpy_selection():
         assert np.array_equal(known, values[keep])
         assert np.array_equal(unknown, keep[values[keep] < 0])
         assert np.array_equal(keep[unknown_at], unknown)
+
+
+def test_lattice_values_match_the_numpy_lookup():
+    """The lookup's lattice indices, window cells, values and points to probe, against the
+    numpy formulas it replaced; offsets that leave the window and repeat a point included."""
+    rng = np.random.default_rng(9)
+    cell, size = 1.0, 31
+    for _ in range(100):
+        odo = rng.normal(size=2) * 4
+        offsets = rng.uniform(-9, 9, size=(int(rng.integers(1, 200)), 2))
+        offsets[-1] = offsets[0] + 0.01  # most likely the same lattice point
+        origin = np.floor(odo / cell).astype(np.int64) - 12
+        grid = rng.integers(-1, 2, size=(size, size)).astype(np.int8)
+        values, local, unknown, points = lattice_values(odo, offsets, cell, origin, grid, 36.0)
+        idx = np.floor((odo + offsets) / cell + 0.5).astype(np.int64)
+        want_local = idx - origin
+        ok = ((want_local >= 0) & (want_local < size)).all(axis=1)
+        want = np.zeros(len(offsets), dtype=np.int8)
+        want[ok] = grid[want_local[ok, 0], want_local[ok, 1]]
+        near = np.array([(q := i * cell - odo) @ q <= 36.0 for i in idx])
+        assert np.array_equal(local, want_local) and np.array_equal(values, want)
+        assert np.array_equal(unknown, np.flatnonzero(ok & (want < 0) & near))
+        assert points.tobytes() == (idx[unknown] * cell - odo).tobytes()
 
 
 def test_floor_probe_many_answers_as_one_by_one():
