@@ -41,6 +41,9 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
+from .dashkernel import push_away, spacing_view
+from .dashkernel import warm_up as _warm_up_kernels
+
 SEEKING, SPREADING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Spreading", "Resting")
 MESSAGE_FIELDS = [("spacing", "f4")]
@@ -111,6 +114,11 @@ class Dash:
     def sensing_range(cls, params: DashParams) -> float:
         return 1.5 * params.d_cover
 
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile or load the kernels before a run's clock starts."""
+        _warm_up_kernels()
+
     def __init__(self, setup: RobotSetup, params: DashParams, rng: np.random.Generator):
         self.id = setup.robot_id
         self.group = setup.group
@@ -130,12 +138,8 @@ class Dash:
         return Action((float(v[0]), float(v[1])), self.message(moving), sleep, None, listen)
 
     def push(self, p: Perception, radius: float) -> np.ndarray:
-        close = p.distances < radius
-        if not close.any():
-            return np.zeros(2)
-        d = np.maximum(p.distances[close], 1e-6)
-        weight = (radius - d) / d
-        return -self.p.gain * (p.offsets[close] * weight[:, None]).sum(axis=0)
+        """Away from the neighbours closer than ``radius`` (units), harder the closer."""
+        return push_away(p.offsets, p.distances, radius, self.p.gain)
 
     def adapt(self, p: Perception) -> None:
         """Real-time spacing adjustment, one adapt_rate step per tick at most.
@@ -145,10 +149,10 @@ class Dash:
         """
         p_ = self.p
         m = p.messages
-        peers = ((p.distances <= 1.5 * p_.d_cover) & (m["id"] != NO_SENDER)
-                 & (m["status"] != SEEKING) & (m["status"] >= 0))
-        mean = float(m["spacing"][peers].mean()) if peers.any() else self.s
-        too_close = int((p.distances < self.s * (1 - p_.tolerance)).sum())
+        mean, too_close = spacing_view(p.distances, m["id"], m["status"], m["spacing"],
+                                       1.5 * p_.d_cover, self.s * (1 - p_.tolerance),
+                                       NO_SENDER, SEEKING)
+        mean = self.s if math.isnan(mean) else mean  # no peer: its own
         band, rate = p_.consensus_band, p_.adapt_rate
         room = too_close == 0 and self.s + rate <= mean + band
         packed = too_close >= p_.crowd and self.s - rate >= mean - band

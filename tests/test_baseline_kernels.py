@@ -9,8 +9,10 @@ import shapely
 from shapely.geometry import box
 
 from controllers.cvt import CVT, CVTParams, probe_all
+from controllers.dashkernel import push_away, spacing_view
 from controllers.mapkernel import lattice_values, window_within
-from controllers.shiftkernel import explore, interact, pairwise_sum
+from controllers.npsum import pairwise_sum
+from controllers.shiftkernel import explore, interact
 from swarmsim.controller import NO_SENDER, RobotSetup
 from swarmsim.sensing import FloorSensor
 
@@ -23,6 +25,10 @@ def test_pairwise_sum_is_numpys_sum_to_the_bit():
         assert pairwise_sum(a, 0, n) == a.sum()
     a = rng.random(1000)
     assert pairwise_sum(a, 100, 700) == a[100:800].sum()
+    for n in (0, 5, 77, 300):  # float32 sums in float32, as numpy's do
+        b = rng.random(n).astype(np.float32)
+        assert pairwise_sum(b, 0, n) == b.sum()
+    assert b.sum() != b.astype(float).sum()  # float32 arithmetic shows
     running = 0.0
     for x in a:
         running += x
@@ -93,6 +99,30 @@ def test_mean_shift_kernels_match_the_numpy_formulas_to_the_bit():
                        velocity, 6.0, 10.0, 0.5, 1.0, NO_SENDER)
         want = numpy_interact(offsets, distances, messages, velocity, 6.0, 10.0, 0.5, 1.0)
         assert got.tobytes() == want.tobytes()
+
+
+def test_dash_kernels_match_the_numpy_formulas_to_the_bit():
+    rng = np.random.default_rng(13)
+    for _ in range(300):
+        offsets, distances, messages = random_neighbourhood(rng)
+        status = rng.integers(-1, 3, size=len(distances)).astype(np.int8)
+        spacing = rng.uniform(1, 6, size=len(distances)).astype(np.float32)
+        peers = ((distances <= 9.0) & (messages["id"] != NO_SENDER) & (status != 0)
+                 & (status >= 0))
+        mean, close = spacing_view(distances, messages["id"], status, spacing, 9.0, 4.5,
+                                   NO_SENDER, 0)
+        if peers.any():
+            assert mean == float(spacing[peers].mean())
+        else:
+            assert np.isnan(mean)
+        assert close == int((distances < 4.5).sum())
+        radius = rng.uniform(0.5, 8)
+        near = distances < radius
+        want = np.zeros(2)
+        if near.any():
+            d = np.maximum(distances[near], 1e-6)
+            want = -0.05 * (offsets[near] * ((radius - d) / d)[:, None]).sum(axis=0)
+        assert push_away(offsets, distances, radius, 0.05).tobytes() == want.tobytes()
 
 
 def test_map_window_matches_the_numpy_selection():
