@@ -12,6 +12,7 @@ change results).
     git archive HEAD~3 | tar -x -C /tmp/old
     python bench/bench_versions.py /tmp/old .                  # K seed 0, to completion
     python bench/bench_versions.py /tmp/old . --world house --ticks 5000
+    python bench/bench_versions.py /tmp/old . --controller meanshift --block 200
 """
 
 from __future__ import annotations
@@ -28,8 +29,10 @@ WORKER = r"""
 import hashlib, json, sys, time
 from swarmsim import Simulation
 from swarmsim.sim import PHASES
-world, seed, ticks = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-sim = Simulation(world, seed=seed, max_ticks=ticks or None)
+world, seed, ticks, controller = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+groups = int(sys.argv[5]) or None
+sim = Simulation(world, controller=controller or None, seed=seed, max_ticks=ticks or None,
+                 groups=groups)
 print(json.dumps({"ready": True}), flush=True)
 for line in sys.stdin:
     block, began = int(line), time.perf_counter()
@@ -49,7 +52,7 @@ def start(code: Path, args: argparse.Namespace) -> subprocess.Popen:
     """A worker process running the code in ``code`` (first on its import path)."""
     env = dict(os.environ, PYTHONPATH=str(code.resolve()))
     proc = subprocess.Popen([sys.executable, "-c", WORKER, args.world, str(args.seed),
-                             str(args.ticks)], cwd=code, env=env, text=True,
+                             str(args.ticks), args.controller, str(args.groups)], cwd=code, env=env, text=True,
                             stdin=subprocess.PIPE, stdout=subprocess.PIPE)
     json.loads(proc.stdout.readline())  # set up (kernels compiled or loaded): ready
     return proc
@@ -67,6 +70,8 @@ def main() -> None:
     ap.add_argument("new", type=Path, help="folder of the version under test")
     ap.add_argument("--world", default="K", help="world name or TOML path (default K)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--controller", default="", help="controller (default: the world's)")
+    ap.add_argument("--groups", type=int, default=0, help="groups K (default: the world's)")
     ap.add_argument("--ticks", type=int, default=0, help="stop here (default: run to the end)")
     ap.add_argument("--block", type=int, default=250, help="ticks per turn (250)")
     args = ap.parse_args()
