@@ -97,7 +97,8 @@ def main() -> None:
 
 
 def report(args: argparse.Namespace, totals: dict, ratios: list[float], last: dict) -> None:
-    print(f"{args.world} seed {args.seed}: {last['new']['tick']} ticks, blocks of {args.block}")
+    run = " ".join([args.world, args.controller, f"{args.groups} groups" if args.groups else ""])
+    print(f"{run.strip()} seed {args.seed}: {last['new']['tick']} ticks, blocks of {args.block}")
     for name in ("old", "new"):
         phases = ", ".join(f"{k} {v:.1f}" for k, v in last[name]["phases"].items())
         print(f"  {name}: {totals[name]:.1f} s ({phases})")
