@@ -51,30 +51,30 @@ class FloorProbe:
     Args:
         target: the target area (prepared).
         limit: the probe's reach, units.
-        x, y: the robot's position, units (held here, never shown to the controller).
+        x, y: the robot's position, units (held privately: a controller may only ask).
     """
 
-    __slots__ = ("limit", "target", "x", "y")
+    __slots__ = ("_limit", "_target", "_x", "_y")  # private: the controller only asks
 
     def __init__(self, target: Polygon, limit: float, x: float, y: float):
-        self.target, self.limit, self.x, self.y = target, limit, x, y
+        self._target, self._limit, self._x, self._y = target, limit, x, y
 
     def __call__(self, offset: np.ndarray) -> bool:
         """Is the floor at +``offset`` (2,), units, target?"""
         ox, oy = float(offset[0]), float(offset[1])
-        if ox * ox + oy * oy > self.limit * self.limit * (1 + 1e-9):
-            raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {self.limit}")
-        return bool(shapely.contains_xy(self.target, self.x + ox, self.y + oy))
+        if ox * ox + oy * oy > self._limit * self._limit * (1 + 1e-9):
+            raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {self._limit}")
+        return bool(shapely.contains_xy(self._target, self._x + ox, self._y + oy))
 
     def many(self, offsets: np.ndarray) -> np.ndarray:
         """(k,) bool: the same for each row of ``offsets`` (k, 2), units, in one query."""
         ox, oy = offsets[:, 0], offsets[:, 1]
-        beyond = ox * ox + oy * oy > self.limit * self.limit * (1 + 1e-9)
+        beyond = ox * ox + oy * oy > self._limit * self._limit * (1 + 1e-9)
         if beyond.any():
             first = offsets[np.argmax(beyond)]
             raise ValueError(f"probe offset {(float(first[0]), float(first[1]))} is beyond the "
-                             f"probe range {self.limit}")
-        return shapely.contains_xy(self.target, self.x + ox, self.y + oy)
+                             f"probe range {self._limit}")
+        return shapely.contains_xy(self._target, self._x + ox, self._y + oy)
 
 
 NEIGHBOURHOOD_CHUNK = 2048

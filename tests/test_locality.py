@@ -7,6 +7,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+from shapely.geometry import box
 
 from swarmsim.controller import (
     NeighbourBatch,
@@ -14,6 +15,7 @@ from swarmsim.controller import (
     available_controllers,
     get_controller,
 )
+from swarmsim.sensing import FloorProbe, FloorSensor
 
 CONTROLLERS = Path(__file__).resolve().parent.parent / "controllers"
 FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics", "swarmsim.sim",
@@ -56,6 +58,17 @@ def names_attribute(text: str, word: str) -> bool:
     ``.space``)?"""
     end = r"\b" if word[-1].isalnum() else ""
     return re.search(r"\." + re.escape(word) + end, text) is not None
+
+
+def test_controllers_only_ask_their_floor_probe():
+    """The probe holds the robot's position (privately): a controller calls it, or its
+    ``many``, and reads nothing of it."""
+    for f in sorted(CONTROLLERS.rglob("*.py")):
+        for use in re.findall(r"probe\.(\w+)", f.read_text()):
+            assert use == "many", f"{f.name} reads probe.{use}"
+    public = [name for name in FloorProbe.__slots__ if not name.startswith("_")]
+    assert public == []
+    assert not hasattr(FloorSensor(box(0, 0, 1, 1), 1.0).probe_at(0.5, 0.5), "x")
 
 
 def test_names_attribute_matches_whole_names_only():
