@@ -190,3 +190,33 @@ def test_kilobot_counts_one_trap_per_lap_round_a_robot_off_the_target():
         if robot.status == JOINED:
             break
     assert len(laps) >= 2 and laps[1] - laps[0] > 40  # a lap apart, not a tick
+
+
+STRIP = """
+name = "strip"
+description = "a 160 x 12 strip entered at one end: a crowd that must spread a long way"
+
+[target]
+outline = [[30, 10], [190, 10], [190, 22], [30, 22]]
+
+[[spawn]]
+outline = [[5, 6], [20, 6], [20, 26], [5, 26]]
+
+[beacon]
+position = [36, 16]
+
+[arena]
+margin = 15.0
+"""
+
+
+def test_cvt_spreads_a_crowd_all_the_way(tmp_path):
+    """Robots that rest must not stop Lloyd short. Entering a long strip at one end, the
+    crowd thins out toward the far end; with the old tolerance (0.04) it rested there, the
+    far end empty (72.6 % coverage, stalled at tick 2,592), and a still robot that kept its
+    old sampling disc froze likewise. Now it completes (tick 1,962, seed 0)."""
+    world = tmp_path / "strip.toml"
+    world.write_text(STRIP)
+    result = Simulation(str(world), controller="cvt", robots=80, seed=0, max_ticks=3000).run()
+    assert result.summary["stop_reason"] == "complete"
+    assert result.summary["coverage"] >= 0.99
