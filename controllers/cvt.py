@@ -320,15 +320,17 @@ class CVT:
         return min(self.p.cell_radius, self.heard / 2, self.extent)
 
     def settle_disc(self, sampled_with: tuple[float, float]) -> bool:
-        """Whether a robot standing still may sleep: only once the disc (extent, heard) its
-        next cell would be sampled in stops changing, or returns to the one of the tick
-        before (a cycle of two discs, both answering "stand still"): then it keeps this one.
+        """Whether a robot standing still may sleep; it then keeps the disc (extent, heard)
+        its cell was sampled in. It may when the disc its next cell would be sampled in is
+        within DISC_DEADBAND grid steps of this one, or is the one of the tick before (two
+        discs in turn, both answering "stand still"); a larger change keeps it awake.
 
-        Asleep, a robot promises the same answer to the same perception; a cell sampled in
-        another disc can have another centroid. (Sleeping at once with the new disc broke
-        that promise; keeping the old disc froze robots on too small a cell, at 77 % coverage
-        on K; waiting for a fixed point alone kept ~440 still robots awake, their discs
-        alternating between two sizes.)
+        Asleep, a robot promises the same answer to the same perception, and a cell sampled
+        in another disc can have another centroid: so it keeps the disc it sleeps with.
+        (Sleeping at once with the new disc broke that promise; always keeping the old disc
+        froze robots on too small a cell, at 77 % coverage on K; waiting for an exact fixed
+        point kept ~440 still robots awake a tick, their discs jittering with every
+        neighbour's move.)
         """
         extent, heard = sampled_with
         was = min(self.p.cell_radius, heard / 2, extent)
