@@ -40,6 +40,8 @@ from swarmsim.controller import Action, Perception, RobotSetup, register
 
 from .mapkernel import lattice_values, window_within
 from .mapkernel import warm_up as _warm_up_map
+from .pushkernel import push_away
+from .pushkernel import warm_up as _warm_up_push
 
 SEEKING, MOVING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Moving", "Resting")
@@ -77,7 +79,6 @@ class LocalMap:
         self._size = 2 * (reach + self.MARGIN) + 1
         self._grid = np.full((self._size, self._size), -1, dtype=np.int8)
         self._origin = np.array([-(reach + self.MARGIN)] * 2)
-        self._origin_xy = (-(reach + self.MARGIN),) * 2  # the same, as ints
         self._base: tuple[int, int] | None = None  # the lattice cell the window is for
         self._points = self._local = self._values = np.zeros((0, 2))
 
@@ -91,7 +92,7 @@ class LocalMap:
 
     def _recentre(self, base: tuple[int, int]) -> None:
         """Move the window of remembered points so the stencil round ``base`` fits in it."""
-        reach, (o0, o1) = self._reach, self._origin_xy
+        reach, (o0, o1) = self._reach, self._origin.tolist()
         if (base[0] - reach >= o0 and base[1] - reach >= o1
                 and base[0] + reach < o0 + self._size and base[1] + reach < o1 + self._size):
             return
@@ -107,7 +108,6 @@ class LocalMap:
                 self._grid[src_lo[0]:src_hi[0], src_lo[1]:src_hi[1]]
         self._grid = grid
         self._origin = new_origin
-        self._origin_xy = (int(new_origin[0]), int(new_origin[1]))
 
     def sense(self, p: Perception, radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Lattice points within ``radius`` (default: the map's radius) of the robot.
@@ -162,12 +162,7 @@ def probe_all(probe: Callable[[np.ndarray], bool], offsets: np.ndarray) -> np.nd
 
 def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
     """Push away from neighbours closer than ``radius`` (grows as they get closer)."""
-    close = p.distances < radius
-    if not close.any():
-        return np.zeros(2)
-    d = np.maximum(p.distances[close], 1e-6)
-    push = (radius - d) / d
-    return -gain * (p.offsets[close] * push[:, None]).sum(axis=0)
+    return push_away(p.offsets, p.distances, radius, gain)
 
 
 def sq_norms(v: np.ndarray) -> np.ndarray:
@@ -256,8 +251,10 @@ class CVT:
 
     @classmethod
     def warm_up(cls) -> None:
-        """Compile or load the local map's kernel before a run's clock starts."""
+        """Compile or load the local map's and the push's kernels before a run's clock
+        starts."""
         _warm_up_map()
+        _warm_up_push()
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
         self.id = setup.robot_id
@@ -315,9 +312,11 @@ class CVT:
             return Action((0.0, 0.0), msg, sleep=True, wake_range=self.heard, listen=self.heard)
         return Action((float(v[0]), float(v[1])), msg, listen=self.heard)
 
-    def disc_radius(self) -> float:
-        """Radius (units) of the disc the next cell is sampled in."""
-        return min(self.p.cell_radius, self.heard / 2, self.extent)
+    def disc_radius(self, disc: tuple[float, float] | None = None) -> float:
+        """Radius (units) of the disc (extent, heard) a cell is sampled in (default: the
+        next cell's)."""
+        extent, heard = (self.extent, self.heard) if disc is None else disc
+        return min(self.p.cell_radius, heard / 2, extent)
 
     def settle_disc(self, sampled_with: tuple[float, float]) -> bool:
         """Whether a robot standing still may sleep; it then keeps the disc (extent, heard)
@@ -332,10 +331,9 @@ class CVT:
         point kept ~440 still robots awake a tick, their discs jittering with every
         neighbour's move.)
         """
-        extent, heard = sampled_with
-        was = min(self.p.cell_radius, heard / 2, extent)
+        was = self.disc_radius(sampled_with)
         if abs(self.disc_radius() - was) <= DISC_DEADBAND * was / DISC_STEPS:
-            self.extent, self.heard = extent, heard
+            self.extent, self.heard = sampled_with
             return True
         if (self.extent, self.heard) == self.still_disc:
             self.extent, self.heard = sampled_with

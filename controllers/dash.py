@@ -41,8 +41,10 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
-from .dashkernel import push_away, spacing_view
-from .dashkernel import warm_up as _warm_up_kernels
+from .dashkernel import spacing_view
+from .dashkernel import warm_up as _warm_up_spacing
+from .pushkernel import push_away
+from .pushkernel import warm_up as _warm_up_push
 
 SEEKING, SPREADING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Spreading", "Resting")
@@ -117,7 +119,8 @@ class Dash:
     @classmethod
     def warm_up(cls) -> None:
         """Compile or load the kernels before a run's clock starts."""
-        _warm_up_kernels()
+        _warm_up_spacing()
+        _warm_up_push()
 
     def __init__(self, setup: RobotSetup, params: DashParams, rng: np.random.Generator):
         self.id = setup.robot_id

@@ -1,8 +1,7 @@
-"""DASH's per-tick arithmetic, compiled (numba): the neighbours' mean spacing and the count of
-those too close (:func:`spacing_view`), and the push away from those within a radius
-(:func:`push_away`), each in one pass where numpy made ~10 calls on a robot's neighbours.
-The same numbers as numpy's, to the bit (float32 spacings summed pairwise, in float32, as
-numpy's ``mean`` does; rows added in order); tests compare both.
+"""DASH's spacing arithmetic, compiled (numba): the neighbours' mean spacing and the count of
+those too close (:func:`spacing_view`), in one pass where numpy made ~10 calls on a robot's
+neighbours. The same numbers as numpy's, to the bit (float32 spacings summed pairwise, in
+float32, as numpy's ``mean`` does); tests compare both. Its push: controllers/pushkernel.py.
 """
 
 from __future__ import annotations
@@ -34,28 +33,7 @@ def spacing_view(distances, sender, status, spacing, reach, too_close, no_sender
     return np.float64(mean), close
 
 
-@njit(cache=True)
-def push_away(offsets, distances, radius, gain):  # pragma: no cover - compiled
-    """``-gain`` times the sum of the offsets (units) of the neighbours closer than
-    ``radius``, each weighted by (radius - d) / d: a push away from them."""
-    sx = sy = 0.0
-    close = False
-    for j in range(distances.shape[0]):
-        if distances[j] < radius:
-            d = max(distances[j], 1e-6)
-            weight = (radius - d) / d
-            sx += offsets[j, 0] * weight
-            sy += offsets[j, 1] * weight
-            close = True
-    out = np.zeros(2)
-    if close:
-        out[0] = -gain * sx
-        out[1] = -gain * sy
-    return out
-
-
 def warm_up() -> None:
-    """Compile (first time on a machine) or load (from the cache) the kernels now."""
+    """Compile (first time on a machine) or load (from the cache) the kernel now."""
     rows = np.zeros(1, dtype=[("id", "i4"), ("status", "i1"), ("spacing", "f4")])
     spacing_view(np.ones(1), rows["id"], rows["status"], rows["spacing"], 1.0, 1.0, -1, 0)
-    push_away(np.zeros((1, 2)), np.ones(1), 1.0, 1.0)

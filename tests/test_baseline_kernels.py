@@ -9,9 +9,10 @@ import shapely
 from shapely.geometry import box
 
 from controllers.cvt import CVT, CVTParams, probe_all
-from controllers.dashkernel import push_away, spacing_view
+from controllers.dashkernel import spacing_view
 from controllers.mapkernel import lattice_values, window_within
 from controllers.npsum import pairwise_sum
+from controllers.pushkernel import push_away
 from controllers.shiftkernel import explore, interact
 from swarmsim.controller import NO_SENDER, RobotSetup
 from swarmsim.sensing import FloorSensor
