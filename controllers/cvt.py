@@ -38,6 +38,8 @@ import numpy as np
 
 from swarmsim.controller import Action, Perception, RobotSetup, register
 
+from .cellkernel import owned
+from .cellkernel import warm_up as _warm_up_cell
 from .mapkernel import lattice_values, window_within
 from .mapkernel import warm_up as _warm_up_map
 from .pushkernel import push_away
@@ -172,17 +174,6 @@ def sq_norms(v: np.ndarray) -> np.ndarray:
     return x * x + y * y
 
 
-def min_sq_distance(q: np.ndarray, others: np.ndarray) -> np.ndarray:
-    """Squared distance (units^2) from each point ``q`` (k, 2) to the nearest of ``others``
-    (m, 2, m >= 1). The same sums, to the bit, as ``((q[:, None] - others) ** 2).sum(2)``,
-    without the slow reduction over an axis of length 2."""
-    dx = q[:, 0, None] - others[:, 0]
-    dy = q[:, 1, None] - others[:, 1]
-    d2 = dx * dx
-    d2 += dy * dy
-    return d2.min(axis=1)
-
-
 def clamp(v: np.ndarray, limit: float) -> np.ndarray:
     """``v`` shortened to at most ``limit``."""
     n = math.hypot(float(v[0]), float(v[1]))
@@ -251,9 +242,10 @@ class CVT:
 
     @classmethod
     def warm_up(cls) -> None:
-        """Compile or load the local map's and the push's kernels before a run's clock
-        starts."""
+        """Compile or load the local map's, the cell's and the push's kernels before a run's
+        clock starts."""
         _warm_up_map()
+        _warm_up_cell()
         _warm_up_push()
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
@@ -290,9 +282,7 @@ class CVT:
         q = self.disc * radius
         q = q[self.map.lookup(p, q)]
         if len(q):
-            near = p.distances <= 2 * radius
-            if near.any():
-                q = q[sq_norms(q) <= min_sq_distance(q, p.offsets[near])]
+            q = q[owned(q, p.offsets[p.distances <= 2 * radius])]
         if len(q) == 0:
             self.extent = full
             self.reach = 0.0

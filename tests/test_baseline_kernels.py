@@ -8,6 +8,7 @@ import pytest
 import shapely
 from shapely.geometry import box
 
+from controllers.cellkernel import owned
 from controllers.cvt import CVT, CVTParams, probe_all
 from controllers.dashkernel import spacing_view
 from controllers.mapkernel import lattice_values, window_within
@@ -34,6 +35,27 @@ def test_pairwise_sum_is_numpys_sum_to_the_bit():
     for x in a:
         running += x
     assert running != a.sum()  # the test can tell the two sums apart
+
+
+def test_cell_ownership_is_the_numpy_formulas_to_the_bit():
+    """CVT's compiled ownership keeps exactly the points the table of squared distances kept,
+    ties on the bisector (which stay the robot's) and no neighbours at all included."""
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        q = rng.normal(size=(int(rng.integers(1, 300)), 2)) * 7
+        others = rng.normal(size=(int(rng.integers(0, 25)), 2)) * 9
+        if len(others):
+            plain = (q * q).sum(1) <= ((q[:, None, :] - others) ** 2).sum(2).min(1)
+        else:
+            plain = np.ones(len(q), dtype=bool)
+        assert np.array_equal(owned(q, others), plain)
+    on_grid = np.array([(x, y) for x in range(-4, 5) for y in range(-4, 5)], dtype=float)
+    neighbours = np.array([[2.0, 0.0], [0.0, -4.0], [3.0, 3.0]])
+    ties = (on_grid * on_grid).sum(1) == ((on_grid[:, None] - neighbours) ** 2).sum(2).min(1)
+    assert ties.sum() >= 9  # e.g. (1, y): as near the robot as the neighbour at (2, 0)
+    plain = (on_grid * on_grid).sum(1) <= ((on_grid[:, None] - neighbours) ** 2).sum(2).min(1)
+    assert np.array_equal(owned(on_grid, neighbours), plain)
+    assert not owned(on_grid, neighbours).all()
 
 
 def numpy_explore(points, target, offsets, distances, r_sense, r_occupied, kf, ke):

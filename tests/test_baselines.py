@@ -128,19 +128,6 @@ def test_controllers_see_only_their_perception():
         assert act.message is None or len(act.message) == len(dtype.names)
 
 
-def test_min_sq_distance_sums_exactly_as_the_3d_formula():
-    """Mean-shift and CVT rely on these sums being the very ones of the plain formula
-    (their runs did not change to the bit when it was introduced)."""
-    from controllers.cvt import min_sq_distance
-
-    rng = np.random.default_rng(7)
-    for _ in range(50):
-        q = rng.normal(size=(int(rng.integers(1, 300)), 2)) * 7
-        others = rng.normal(size=(int(rng.integers(1, 25)), 2)) * 9
-        plain = ((q[:, None, :] - others[None, :, :]) ** 2).sum(axis=2).min(axis=1)
-        assert min_sq_distance(q, others).tobytes() == plain.tobytes()
-
-
 @pytest.mark.parametrize("name, ticks, start", [
     ("fcdfs", 700, ""),  # a queued robot slept through an entering one (differed at 564)
     ("fcdfs", 500, "random"),  # no gradient heard: init_timeout never fired while asleep
