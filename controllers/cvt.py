@@ -258,8 +258,8 @@ class CVT:
         self.heard = 2 * params.cell_radius  # how far it listened for this tick's perception
         self.extent = params.cell_radius     # radius of the disc its cell is sampled in
         self.reach = 0.0
-        self.still_disc: tuple[float, float] | None = None  # (extent, heard) of the last
-        # tick, when it stood still then
+        # (extent, heard) of the tick before, when it stood still then
+        self.still_disc: tuple[float, float] | None = None
         self.disc = DISC
 
     def message(self, moving: bool) -> tuple:
@@ -322,10 +322,8 @@ class CVT:
         neighbour's move.)
         """
         was = self.disc_radius(sampled_with)
-        if abs(self.disc_radius() - was) <= DISC_DEADBAND * was / DISC_STEPS:
-            self.extent, self.heard = sampled_with
-            return True
-        if (self.extent, self.heard) == self.still_disc:
+        if (abs(self.disc_radius() - was) <= DISC_DEADBAND * was / DISC_STEPS
+                or (self.extent, self.heard) == self.still_disc):
             self.extent, self.heard = sampled_with
             return True
         self.still_disc = sampled_with

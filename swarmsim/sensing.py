@@ -62,19 +62,25 @@ class FloorProbe:
     def __call__(self, offset: np.ndarray) -> bool:
         """Is the floor at +``offset`` (2,), units, target?"""
         ox, oy = float(offset[0]), float(offset[1])
-        if ox * ox + oy * oy > self._limit * self._limit * (1 + 1e-9):
-            raise ValueError(f"probe offset {(ox, oy)} is beyond the probe range {self._limit}")
+        if self._beyond(ox, oy):
+            raise self._too_far(ox, oy)
         return bool(shapely.contains_xy(self._target, self._x + ox, self._y + oy))
 
     def many(self, offsets: np.ndarray) -> np.ndarray:
         """(k,) bool: the same for each row of ``offsets`` (k, 2), units, in one query."""
         ox, oy = offsets[:, 0], offsets[:, 1]
-        beyond = ox * ox + oy * oy > self._limit * self._limit * (1 + 1e-9)
+        beyond = self._beyond(ox, oy)
         if beyond.any():
             first = offsets[np.argmax(beyond)]
-            raise ValueError(f"probe offset {(float(first[0]), float(first[1]))} is beyond the "
-                             f"probe range {self._limit}")
+            raise self._too_far(float(first[0]), float(first[1]))
         return shapely.contains_xy(self._target, self._x + ox, self._y + oy)
+
+    def _beyond(self, ox: float | np.ndarray, oy: float | np.ndarray) -> bool | np.ndarray:
+        """Whether offset (ox, oy), units (floats or arrays), is past the probe's reach."""
+        return ox * ox + oy * oy > self._limit * self._limit * (1 + 1e-9)
+
+    def _too_far(self, ox: float, oy: float) -> ValueError:
+        return ValueError(f"probe offset {(ox, oy)} is beyond the probe range {self._limit}")
 
 
 NEIGHBOURHOOD_CHUNK = 2048
