@@ -51,8 +51,9 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
                    help="a video frame every K ticks (default: max_ticks / 600, at most 50: "
                         "a K run of 18,500 ticks gets ~370 frames)")
-    p.add_argument("--color-by", default="gradient", dest="color_by",
-                   choices=("gradient", "group", "status"), help="robot colouring in videos")
+    p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
+                   help="robot colouring in videos: status, or a field the controller offers "
+                        "(GGC: gradient (default), group)")
     p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something (collision-realism videos)")

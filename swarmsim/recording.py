@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Self
 
+from swarmsim.errors import ConfigError
 from swarmsim.output import write_run
 from swarmsim.sim import RunResult, Simulation
 
@@ -19,8 +20,12 @@ class Recorder:
     """
 
     def __init__(self, sim: Simulation, video: Path | None = None, snapshot: Path | None = None,
-                 fps: int = 30, frame_every: int = 10, color_by: str = "gradient",
+                 fps: int = 30, frame_every: int = 10, color_by: str | None = None,
                  width: int = 800, highlight_contacts: bool = False):
+        offered = ("status", *sim.info.colourings)
+        if color_by is not None and color_by not in offered:
+            raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
+                              f"{', '.join(offered)}; got {color_by!r}", key="--color-by")
         self.sim = sim
         self.video_path = video
         self.snapshot_path = snapshot
@@ -36,7 +41,10 @@ class Recorder:
         if self._renderer is None:
             from swarmsim.render import Renderer
 
-            self._renderer = Renderer(self.sim.world, self.sim.grid, **self._render_kw)
+            self._renderer = Renderer(self.sim.world, self.sim.grid,
+                                      colourings=self.sim.info.colourings,
+                                      leader_field=self.sim.info.leader_field,
+                                      **self._render_kw)
         return self._renderer
 
     def __enter__(self) -> Self:

@@ -5,8 +5,8 @@ import pytest
 
 from controllers.ggc import GGCParams
 from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, INITIAL
+from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError, Simulation
-from swarmsim.controller import INF_GRADIENT
 from swarmsim.world import world_from_dict
 
 
@@ -43,10 +43,10 @@ def test_small_world_is_covered_fully(small_run):
 def test_status_sequences_follow_figure_3(small_run):
     sim, _ = small_run
     full = [INITIAL, DETECTION, COVERAGE, ARRIVE]
-    leaders = [c for c in sim.controllers if c.leader]
+    leaders = [c for c in sim.swarm.robots if c.leader]
     assert len(leaders) == 1 and leaders[0].history == [INITIAL, ARRIVE]
     arrived = 0
-    for c in sim.controllers:
+    for c in sim.swarm.robots:
         if c.leader:
             continue
         assert c.history == full[:len(c.history)], c.history
@@ -56,14 +56,14 @@ def test_status_sequences_follow_figure_3(small_run):
 
 def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
     sim, _ = small_run
-    arrived = np.array([c.status == ARRIVE and not c.leader for c in sim.controllers])
+    arrived = np.array([c.status == ARRIVE and not c.leader for c in sim.swarm.robots])
     on = sim.floor.on_target(sim.positions)
     assert on[arrived].mean() > 0.95
-    moved_far = [c for c in sim.controllers if c.status == ARRIVE and c.grad == INF_GRADIENT]
+    moved_far = [c for c in sim.swarm.robots if c.status == ARRIVE and c.grad == INF_GRADIENT]
     assert not moved_far
     # spacing: each arrived robot's nearest arrived neighbour about d_cover (6) away (rule b
     # stops at d_cover - arrive_tolerance or more; a deadlocked mover may stop a little closer)
-    settled = sim.positions[np.array([c.status == ARRIVE for c in sim.controllers])]
+    settled = sim.positions[np.array([c.status == ARRIVE for c in sim.swarm.robots])]
     gaps = np.hypot(*(settled[:, None] - settled[None]).transpose(2, 0, 1))
     np.fill_diagonal(gaps, np.inf)
     nearest = gaps.min(axis=1)
@@ -76,9 +76,9 @@ def test_gradient_grows_outward_from_the_leader():
     sim = Simulation(small_world(), controller="ggc", robots=60, groups=1, seed=2,
                      max_ticks=40)
     sim.run()
-    leader = next(i for i, c in enumerate(sim.controllers) if c.leader)
+    leader = next(i for i, c in enumerate(sim.swarm.robots) if c.leader)
     d = np.hypot(*(sim.positions - sim.positions[leader]).T)
-    grads = np.array([c.grad for c in sim.controllers])
+    grads = np.array([c.grad for c in sim.swarm.robots])
     assert grads[leader] == 0
     assert (grads < INF_GRADIENT).all()
     assert np.corrcoef(d, grads)[0, 1] > 0.9  # hop count follows distance

@@ -20,7 +20,7 @@ def controller_state(sim: Simulation) -> list[dict]:
     return [{**{name: value.tobytes() if isinstance(value, np.ndarray) else value
                 for name, value in vars(c).items() if name not in skip},
              **{name: getattr(c.book, name)[c.row].tobytes() for name in EdgeBook.__slots__}}
-            for c in sim.controllers]
+            for c in sim.swarm.robots]
 
 
 def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
@@ -35,7 +35,7 @@ def fingerprint_run(batch_decide: bool, robots: int = 120, groups: int = 3,
         sim.step()
         digest.update(sim.positions.tobytes())
         digest.update(sim.messages.tobytes())
-        statuses.update(STATUSES[c.status] for c in sim.controllers)
+        statuses.update(STATUSES[c.status] for c in sim.swarm.robots)
         if until_complete and sim.metrics.completion_tick is not None:
             break
     return digest.hexdigest(), sim, statuses
@@ -53,7 +53,7 @@ def test_batch_decide_changes_nothing_tick_by_tick(both_ways):
     # the run exercised what the fast path decides: movers, Stops, a completed cover
     assert sim.metrics.completion_tick is not None
     assert statuses["Coverage"] > 20_000 and statuses["Stop"] > 20_000
-    assert sum(c.collision_stops for c in sim.controllers) > 100
+    assert sum(c.collision_stops for c in sim.swarm.robots) > 100
 
 
 @pytest.fixture
@@ -91,8 +91,8 @@ def test_one_group_with_the_surplus_lap_changes_nothing(stepped):
                                         until_complete=False)
     assert fast == slow
     assert controller_state(sim) == controller_state(slow_sim)
-    assert sum(c.surplus for c in sim.controllers) >= 10  # the lap ran to its end
-    assert all(c.batch_coverage and c.surplus_rule for c in sim.controllers)
+    assert sum(c.surplus for c in sim.swarm.robots) >= 10  # the lap ran to its end
+    assert all(c.batch_coverage and c.surplus_rule for c in sim.swarm.robots)
     assert movers_stepped < 0.05 * statuses["Coverage"]
 
 
@@ -112,6 +112,6 @@ def test_repeated_broadcasts_are_the_robots_messages(monkeypatch):
                      max_ticks=1500)
     for _ in range(1500):
         sim.step()
-        said = rows_to_array([c.message() for c in sim.controllers], sim.dtype)
+        said = rows_to_array([c.message() for c in sim.swarm.robots], sim.dtype)
         assert said.tobytes() == sim.messages.tobytes(), f"tick {sim.tick}"
     assert repeated[True] > 0.3 * (repeated[True] + repeated[False])

@@ -22,7 +22,8 @@ from controllers.ggc.robot import (
     SURPLUS,
     GGCRobot,
 )
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Perception, RobotSetup, message_dtype
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, Perception, RobotSetup, message_dtype
 
 STATUSES = [INITIAL, DETECTION, COVERAGE, ARRIVE, STOP, SURPLUS]
 

@@ -32,7 +32,7 @@ def scattered(world, robots, groups, seed, **settings):
 
 def leader_spread(sim):
     """Sum of pairwise distances between the current leaders (units)."""
-    pos = [sim.positions[c.id] for c in sim.controllers if c.leader]
+    pos = [sim.positions[c.id] for c in sim.swarm.robots if c.leader]
     return sum(float(np.hypot(*(a - b))) for a, b in itertools.combinations(pos, 2))
 
 
@@ -49,12 +49,12 @@ def wide_band():
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_grouping_gives_k_non_empty_groups_of_every_robot(seed):
     sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
-    selection = sim.controllers[0].selection_ticks
+    selection = sim.swarm.robots[0].selection_ticks
     for _ in range(selection + 60):
         sim.step()
-    leaders = [c for c in sim.controllers if c.leader]
+    leaders = [c for c in sim.swarm.robots if c.leader]
     assert sorted(c.group for c in leaders) == [1, 2, 3]
-    sizes = Counter(c.group for c in sim.controllers)
+    sizes = Counter(c.group for c in sim.swarm.robots)
     assert set(sizes) == {1, 2, 3}, sizes  # every robot has a group, none is empty
     # sizes follow the leaders' nearness cells: not equal, but no group starves or dominates
     assert min(sizes.values()) >= 8 and max(sizes.values()) <= 0.6 * 120, sizes
@@ -65,7 +65,7 @@ def test_leaders_end_farther_apart_than_they_started():
     for seed in range(4):
         sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
         before.append(leader_spread(sim))
-        for _ in range(sim.controllers[0].selection_ticks):
+        for _ in range(sim.swarm.robots[0].selection_ticks):
             sim.step()
         after.append(leader_spread(sim))
         assert after[-1] >= before[-1] - 1.0, (seed, before[-1], after[-1])
@@ -91,9 +91,9 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     assert s["max_overlap"] < 0.05 * 0.4
     # every robot went through aggregation into a formation, then travelled and covered
     assert {FORMED, INITIAL, ARRIVE} <= seen and seen & set(GATHERING)
-    assert all(c.history[0] in (FORMED, *GATHERING) for c in sim.controllers)
-    formed = sum(FORMED in c.history for c in sim.controllers)
-    assert formed >= 0.9 * len(sim.controllers)
+    assert all(c.history[0] in (FORMED, *GATHERING) for c in sim.swarm.robots)
+    formed = sum(FORMED in c.history for c in sim.swarm.robots)
+    assert formed >= 0.9 * len(sim.swarm.robots)
 
 
 def test_two_groups_meeting_head_on_resolve_without_deadlock():
@@ -109,9 +109,9 @@ def test_two_groups_meeting_head_on_resolve_without_deadlock():
     # is part of one: seeds 0-4 end at 0.967 / 0.977 / 0.990 / 0.974 / 0.975 by the plateau.
     assert s["coverage"] >= 0.96, s
     assert s["collision_stops"] > 0  # the groups did meet (Section 4.3 stops happened) ...
-    assert not any(c.status == STOP for c in sim.controllers)  # ... and every stop was lifted
+    assert not any(c.status == STOP for c in sim.swarm.robots)  # ... and every stop was lifted
     assert s["deadlocks_open"] == 0, s  # no deadlock left unreleased (seed 0 detects none)
-    arrived = [(sim.positions[c.id], c.group) for c in sim.controllers
+    arrived = [(sim.positions[c.id], c.group) for c in sim.swarm.robots
                if c.status == ARRIVE and sim.on_target[c.id]]
     pairs = [np.hypot(*(a - b)) for (a, g), (b, h) in itertools.combinations(arrived, 2)
              if g != h]
@@ -162,9 +162,9 @@ def test_every_group_keeps_a_leader_when_two_leaders_pick_the_same_robot(seed):
     """Leaders hand over on the same tick and may pick the same robot, which takes over one
     group only: the other leader must stay (5 groups on tiny lost a group on most seeds)."""
     sim = scattered("tiny", robots=40, groups=5, seed=seed)
-    for _ in range(sim.controllers[0].selection_ticks + 1):
+    for _ in range(sim.swarm.robots[0].selection_ticks + 1):
         sim.step()
-    assert sorted(c.group for c in sim.controllers if c.leader) == [1, 2, 3, 4, 5]
+    assert sorted(c.group for c in sim.swarm.robots if c.leader) == [1, 2, 3, 4, 5]
 
 
 def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monkeypatch):
@@ -179,7 +179,7 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
 
     monkeypatch.setattr(spawn, "random_layout", one_far_away)
     sim = scattered("tiny", robots=40, groups=1, seed=0, aggregation_timeout=300)
-    robot = sim.controllers[0]
+    robot = sim.swarm.robots[0]
     start = sim.positions[0].copy()
     for _ in range(robot.gather_deadline + 100):
         sim.step()

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from controllers.gradient import COLOURINGS, SILENT
 from swarmsim.controller import (
     ChunkActions,
     DecideBatch,
@@ -44,6 +45,12 @@ class GGC(GGCRobot):
     STATUSES = STATUSES
     SETTLED_STATUSES = SETTLED
     MESSAGE_FIELDS = MESSAGE_FIELDS
+    SILENT = SILENT
+    COLOURINGS = COLOURINGS
+    LEADER_FIELD = "leader"
+    INITIAL_STATUSES = ("Initial",)
+    COVERING_STATUSES = ("Coverage",)
+    LAYOUTS = ("formation",)
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True

@@ -16,7 +16,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, NeighbourBatch
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, NeighbourBatch
 
 from .moverrows import mover_rows
 from .statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS

@@ -17,8 +17,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from controllers.gradient import INF_GRADIENT
 from controllers.views import any_of, within
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception
+from swarmsim.controller import NO_SENDER, Action, Perception
 
 from .geometry import unit
 from .statuses import ARRIVE, DETECTION, STOP, SURPLUS

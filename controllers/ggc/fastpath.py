@@ -27,8 +27,9 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from controllers.edges import turn_between
+from controllers.gradient import INF_GRADIENT
 from controllers.views import any_of
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, ChunkActions, DecideBatch
+from swarmsim.controller import NO_SENDER, Action, ChunkActions, DecideBatch
 
 from .batch import (
     BLOCKED_BY_MOVER,

@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, ChunkActions, DecideBatch
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, ChunkActions, DecideBatch
 
 from .moverkernel import mover_geometry
 from .moverrows import gradient_sources

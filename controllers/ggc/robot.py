@@ -26,9 +26,9 @@ from __future__ import annotations
 import numpy as np
 
 from controllers.edges import CirclingWatch, ProgressWatch
+from controllers.gradient import INF_GRADIENT
 from controllers.views import any_of, within
 from swarmsim.controller import (
-    INF_GRADIENT,
     NO_SENDER,
     Action,
     Perception,
@@ -65,7 +65,8 @@ from .statuses import (  # noqa: F401 (re-exported)
 )
 from .surplus import SurplusLap
 
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
+MESSAGE_FIELDS = [("gradient", "i4"), ("group", "i2"), ("leader", "?"), ("cmd", "i1"),
+                  ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                   ("enclosed", "?"), *AGGREGATION_FIELDS]
 """GGC's broadcast fields for up to MAX_GROUPS groups (a run uses :func:`message_fields`)."""
 
@@ -148,8 +149,8 @@ class GGCRobot(BookRow, DetectionRules, CoverageRules, BatchDecisions, Collision
 
     # ------------------------------------------------------------------ messages and status
     def message(self) -> tuple:
-        return (self.id, self.status, self.grad, self.group, self.leader,
-                self.status in MOVING_STATUSES, self.cmd, float(self.travel[0]),
+        return (self.id, self.status, self.status in MOVING_STATUSES, self.grad, self.group,
+                self.leader, self.cmd, float(self.travel[0]),
                 float(self.travel[1]), self.touch, self.stepped_in, self.enclosed,
                 *self.aggregation_message())
 
