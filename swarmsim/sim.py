@@ -39,6 +39,7 @@ from swarmsim.provenance import code_version
 from swarmsim.registry import get_controller
 from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
+from swarmsim.summary import SummaryCollector
 from swarmsim.world import World, load_world
 
 NEVER = np.iinfo(np.int64).max
@@ -226,9 +227,18 @@ class Simulation:
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.fault_hook: Callable[[Simulation], None] | None = None
+        self.summary_sources = SummaryCollector()
+        """Where summary.json's fields come from, in order (add a source to add fields)."""
+        self.summary_sources.add("run", self._run_fields)
+        self.summary_sources.add("metrics",
+                                 lambda: self.metrics.summary(self.positions, self.on_target))
+        self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
         if cfg.failures:
             from swarmsim.faults import FaultPlan, fault_rng, install_faults
-            install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
+            injector = install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
+            self.summary_sources.add("faults", lambda: {
+                "fault_tick": None if injector is None else injector.fired_tick})
+        self.summary_sources.add("controller", lambda: self.swarm.summarize(self.failed))
 
     @property
     def controllers(self) -> list:
@@ -527,9 +537,13 @@ class Simulation:
         return RunResult(self.summary(), list(self.metrics.rows), self.metrics.robot_rows())
 
     def summary(self) -> dict[str, Any]:
-        """The run's summary (the fields of summary.json)."""
+        """The run's summary: the fields of summary.json, from ``summary_sources``."""
+        return self.summary_sources.collect()
+
+    def _run_fields(self) -> dict[str, Any]:
+        """What the run was: world, controller, settings, how and when it ended."""
         d_cover = getattr(self.params, "d_cover", None)
-        out = {
+        return {
             "world": self.world.name,
             "controller": self.controller_name,
             "robots": self.n,
@@ -543,10 +557,6 @@ class Simulation:
             "wall_seconds": round(self.wall_seconds, 3),
             "code_version": code_version(),
         }
-        out.update(self.metrics.summary(self.positions, self.on_target))
-        out["failed_robots"] = int(self.failed.sum())
-        out.update(self.swarm.summarize(self.failed))
-        return out
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""

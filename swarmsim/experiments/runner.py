@@ -50,12 +50,10 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
 
         sim = Simulation(run.world_ref or run.world, controller=run.controller, seed=run.seed,
                          settings=dict(run.settings))
+        sim.summary_sources.add("sweep", lambda: {"run_id": run.run_id})
         result = sim.run(progress=False)
-        summary = {"run_id": run.run_id, **result.summary}
-        fired = getattr(sim.fault_hook, "fired_tick", None)
-        if sim.config.failures:
-            summary["fault_tick"] = fired
-        return {"summary": summary, "timeseries": result.timeseries, "robots": result.robots}
+        return {"summary": result.summary, "timeseries": result.timeseries,
+                "robots": result.robots}
     except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
