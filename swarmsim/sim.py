@@ -593,8 +593,7 @@ def _old_objects_frozen() -> Iterator[None]:
     """Keep the objects that exist now out of Python's full garbage collections for a while.
 
     A run allocates little that lives long, but every full collection walks every object in
-    the process (controllers, world, modules): ~5 % of a K run (seed 0: 15.5 s of 314 s in
-    generation-2 collections; 0.1 s frozen). Frozen objects are unfrozen afterwards, so a
+    the process (controllers, world, modules). Frozen objects are unfrozen afterwards, so a
     discarded Simulation is collected as usual. Left alone if the caller froze objects
     already (their GC, their rules). Changes no result: collection order decides nothing.
     """
@@ -631,8 +630,8 @@ def _bearings(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray 
 
 def rows_to_array(rows: list[tuple], dtype: np.dtype) -> np.ndarray:
     """``np.array(rows, dtype=dtype)`` for broadcast tuples, built field by field (the same
-    values; numpy converts a list of tuples row by row, ~2 us a row with GGC's 17 fields).
-    A field holding an array per row (GGC's per-group fields) is joined with one
+    values; numpy converts a list of tuples row by row, which is slower).
+    A field holding an array per row (e.g. GGC's per-group fields) is joined with one
     ``np.concatenate``. Raises TypeError or ValueError where ``np.array`` would."""
     out = np.empty(len(rows), dtype=dtype)
     for name, column in zip(dtype.names, zip(*rows, strict=True), strict=True):
