@@ -34,7 +34,7 @@ from swarmsim.controller import (
 )
 from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
-from swarmsim.metrics import CoverageGrid, RunMetrics
+from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
 from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
@@ -63,7 +63,8 @@ class RunResult:
     summary: dict[str, Any]
     timeseries: list[dict[str, Any]] = field(default_factory=list)
     robots: list[dict[str, Any]] = field(default_factory=list)
-    """One row per robot: contacts, time in contact, largest push while settled."""
+    """One row per robot (robots.csv): final position, status, group, gradient, distance
+    moved, settle tick, contacts (columns: docs/outputs.md)."""
 
 
 class Simulation:
@@ -501,7 +502,8 @@ class Simulation:
             if bar is not None:
                 bar.close()
         self.metrics.record(self.tick, force=True)
-        return RunResult(self.summary(), list(self.metrics.rows), self.metrics.robot_rows())
+        return RunResult(self.summary(), list(self.metrics.rows),
+                         self.metrics.robot_rows(self.final_state()))
 
     def summary(self) -> dict[str, Any]:
         """The run's summary (the fields of summary.json)."""
@@ -537,6 +539,11 @@ class Simulation:
             counts = {**summarize(working)["status_counts"], "Failed": int(self.failed.sum())}
             summary["status_counts"] = dict(sorted(counts.items()))
         return summary
+
+    def final_state(self) -> FinalState:
+        """The state robots.csv reads (positions, broadcasts, failures): a copy, now."""
+        return FinalState(self.positions.copy(), self.messages.copy(), self.statuses,
+                          self.failed.copy(), INF_GRADIENT)
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""
