@@ -9,6 +9,8 @@ Layout of an output folder::
     DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
     DIR/runs/<run_id>/claim.json       while a sweep process runs it (see claims.py)
     DIR/results.csv                    one row per run (rewritten after each completion)
+    DIR/aggregate/                     per condition over seeds, by run_sweep: conditions.csv,
+                                       curves.csv, coverage.png (see aggregate.py)
 
 Every file is written atomically. Running the same sweep again skips runs that are done (and,
 unless ``retry_failed``, runs that failed), so an interrupted sweep resumes where it stopped
@@ -342,8 +344,13 @@ def run_sweep(runs: Sequence[RunSpec], out_dir: str | Path, *, workers: int | No
         on_result: called as ``on_result(run, "done" | "failed")`` after each run is written.
         runs_dir, table_path: see :class:`Sweep`.
 
-    A KeyboardInterrupt (also raised from ``on_result``) cancels what has not finished; what
-    has finished is on disk and the next call resumes.
+    Then it writes ``out_dir/aggregate/`` from every finished run of ``runs`` (see
+    :mod:`.aggregate`). A KeyboardInterrupt (also raised from ``on_result``) cancels what has
+    not finished; what has finished is on disk and the next call resumes (and aggregates).
     """
+    from swarmsim.experiments.aggregate import AGGREGATE_DIR, write_aggregate
+
     sweep = Sweep(runs, out_dir, runs_dir, table_path)
-    return sweep.run(workers, scheduler, retry_failed, progress, on_result)
+    report = sweep.run(workers, scheduler, retry_failed, progress, on_result)
+    write_aggregate(sweep.store, sweep.runs, sweep.out / AGGREGATE_DIR)
+    return report
