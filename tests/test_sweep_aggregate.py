@@ -67,6 +67,18 @@ def test_an_interrupted_sweep_aggregates_every_run_once_resumed(tmp_path):
     assert (out / "aggregate" / "coverage.png").stat().st_size > 5000
 
 
+def test_every_finished_sweep_run_keeps_its_coverage_grid(tmp_path):
+    runs = spec_from_dict({**TINY, "params": {"max_ticks": 150}, "reps": 2}).runs()
+    run_sweep(runs, tmp_path, workers=1, progress=False)
+    for run in runs:
+        folder = tmp_path / "runs" / run.run_id
+        summary = json.loads((folder / "summary.json").read_text())
+        grid = np.load(folder / "coverage.npz")
+        assert summary["coverage"] > 0
+        assert grid["covered"].sum() / grid["target"].sum() == pytest.approx(
+            summary["coverage"], abs=1e-6)
+
+
 def test_cli_sweep_writes_the_aggregate_with_failed_runs_counted_apart(tmp_path, capsys):
     # tiny's spawn band holds at most ~150 robots: 500 makes that condition fail
     spec = tmp_path / "spec.toml"

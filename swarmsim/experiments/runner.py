@@ -4,7 +4,8 @@ Layout of an output folder::
 
     DIR/runs/<run_id>/run.json         the run's world, controller, settings and seed
     DIR/runs/<run_id>/timeseries.csv   its time series
-    DIR/runs/<run_id>/robots.csv       per robot: contacts, time in contact, pushes when settled
+    DIR/runs/<run_id>/robots.csv       per robot: final state, distance moved, contacts, ...
+    DIR/runs/<run_id>/coverage.npz     the final coverage raster and the target mask
     DIR/runs/<run_id>/summary.json     its summary: written last, it marks the run as done
     DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
     DIR/runs/<run_id>/claim.json       while a sweep process runs it (see claims.py)
@@ -36,7 +37,7 @@ from swarmsim.experiments import claims
 from swarmsim.experiments.executors import open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
-from swarmsim.output import write_csv, write_json
+from swarmsim.output import write_csv, write_json, write_npz
 
 DONE, FAILED = "done", "failed"
 
@@ -57,7 +58,8 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
         fired = getattr(sim.fault_hook, "fired_tick", None)
         if sim.config.failures:
             summary["fault_tick"] = fired
-        return {"summary": summary, "timeseries": result.timeseries, "robots": result.robots}
+        return {"summary": summary, "timeseries": result.timeseries, "robots": result.robots,
+                "coverage": sim.grid.arrays(sim.positions)}
     except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
@@ -95,12 +97,15 @@ class RunStore:
         return read_table(self.path(run_id) / "timeseries.csv")
 
     def write_result(self, run: RunSpec, summary: dict, timeseries: Sequence[dict],
-                     robots: Sequence[dict] = ()) -> None:
+                     robots: Sequence[dict] = (),
+                     coverage: Mapping[str, Any] | None = None) -> None:
         p = self.path(run.run_id)
         write_json(p / "run.json", run.to_json())
         write_csv(p / "timeseries.csv", timeseries)
         if robots:
             write_csv(p / "robots.csv", robots)
+        if coverage:
+            write_npz(p / "coverage.npz", coverage)
         write_json(p / "summary.json", summary)  # last: marks the run done
         (p / "error.txt").unlink(missing_ok=True)
 
@@ -225,7 +230,7 @@ class Sweep:
         self._rows.pop(run.run_id, None)
         if "summary" in outcome:
             self.store.write_result(run, outcome["summary"], outcome["timeseries"],
-                                    outcome.get("robots", ()))
+                                    outcome.get("robots", ()), outcome.get("coverage"))
             status = DONE
         else:
             self.store.write_error(run, outcome["error"], outcome.get("traceback", ""))
