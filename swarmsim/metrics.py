@@ -197,8 +197,7 @@ class RobotTracks:
     """
 
     def __init__(self, n: int, codes: tuple[int, ...], moving_eps: float):
-        self._is_settled = np.zeros(257, dtype=bool)  # status code + 128 -> settled?
-        self._is_settled[np.asarray(codes, dtype=np.int64) + 128] = True
+        self.codes = tuple(int(c) for c in codes)
         self.moving_eps = moving_eps
         self.distance = np.zeros(n)
         self.settle_tick = np.full(n, NOT_YET, dtype=np.int64)
@@ -212,9 +211,12 @@ class RobotTracks:
         if step is not None:
             self.distance += step
             self.moving_now = int(np.count_nonzero(step > self.moving_eps))
-        if messages.dtype.names is None or "status" not in messages.dtype.names:
+        if not self.codes or "status" not in (messages.dtype.names or ()):
             return
-        settled = self._is_settled[messages["status"].astype(np.int16) + 128]
+        status = np.ascontiguousarray(messages["status"])
+        settled = status == self.codes[0]
+        for code in self.codes[1:]:  # one or two codes: cheaper than a lookup table
+            settled |= status == code
         self.settle_tick[settled & ~self._in_settled] = tick
         self._in_settled = settled
 
