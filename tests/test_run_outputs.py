@@ -149,3 +149,19 @@ def test_trajectories_api_refuses_a_bad_interval():
     sim = Simulation("tiny", controller="dispersion", max_ticks=5)
     with pytest.raises(ConfigError, match="trajectories_every"):
         Trajectories(sim, every=0)
+
+
+def test_failed_robots_read_failed_and_stop_adding_distance():
+    sim = Simulation("tiny", controller="dispersion", max_ticks=60,
+                     settings={"failures": 3, "failure_phase": "tick", "failure_tick": 5})
+    tracks = Trajectories(sim, every=5)
+    result = sim.run(on_tick=tracks.on_tick)
+    failed = [r for r in result.robots if r["status"] == "Failed"]
+    assert len(failed) == result.summary["failed_robots"] == 3
+    data = tracks.arrays()
+    stopped = list(data["ticks"]).index(10)  # failed at the end of tick 5, braking in tick 6
+    for row in failed:
+        path = data["positions"][stopped:, row["robot"]]
+        assert np.allclose(path, path[0], atol=1e-4)  # a failed robot stays put (no pushes here)
+        assert row["distance"] > 0
+        assert (row["x"], row["y"]) == pytest.approx(tuple(path[-1]), abs=1e-3)
