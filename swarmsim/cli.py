@@ -80,7 +80,10 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run every run of a TOML sweep spec once; run again with the "
                        "same --out to resume. The same command started in a second terminal, or "
                        "on a machine sharing the folder, shares the runs left (each run is "
-                       "claimed in runs/<id>/claim.json while it runs).")
+                       "claimed in runs/<id>/claim.json while it runs). Writes runs/<id>/ (each "
+                       "run's files), results.csv (a row per run) and aggregate/ (mean and "
+                       "spread per grid point over seeds: conditions.csv, curves.csv, "
+                       "coverage.png); docs/outputs.md describes every file.")
     p.add_argument("spec", type=Path, help="sweep spec (.toml)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     _add_executor_args(p)
@@ -295,6 +298,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
+    print(f"per condition: {args.out / 'aggregate'}")
     return 1 if report.failed else 0
 
 
