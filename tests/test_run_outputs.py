@@ -38,8 +38,9 @@ def test_robots_csv_has_final_state_distance_and_contacts(corridor_run):
     summary = json.loads((corridor_run / "summary.json").read_text())
     rows = rows_of(corridor_run / "robots.csv")
     assert len(rows) == summary["robots"] == 60
-    assert list(rows[0])[:10] == ["robot", "x", "y", "status", "group", "gradient", "leader",
-                                  "distance", "settle_tick", "contacts_robot"]
+    assert list(rows[0])[:4] == ["robot", "x", "y", "status"]
+    assert {"group", "gradient", "leader", "distance", "settle_tick", "contacts_robot",
+            "contacts_wall", "contact_ticks", "settled_max_displacement"} <= set(rows[0])
     from controllers.ggc.statuses import STATUSES
     assert {r["status"] for r in rows} <= set(STATUSES)
     assert {r["group"] for r in rows} == {"1", "2"}  # corridor: two groups
@@ -127,7 +128,7 @@ def test_moving_counts_robots_that_travel_in_formation(tmp_path):
     rows = [r for r in rows_of(out / "timeseries.csv") if 10 <= int(r["tick"]) <= 100]
     assert len(rows) == 10
     assert all(int(r["moving"]) > 500 for r in rows)
-    assert all(int(r["broadcast_moving"]) == 0 for r in rows)
+    assert "broadcast_moving" in rows[0]  # GGC's messages have the flag: its count is kept
 
 
 @pytest.mark.parametrize("value", ["0", "-2", "2.5", "x"])
