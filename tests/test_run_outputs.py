@@ -166,3 +166,19 @@ def test_failed_robots_read_failed_and_stop_adding_distance():
         assert np.allclose(path, path[0], atol=1e-4)  # a failed robot stays put (no pushes here)
         assert row["distance"] > 0
         assert (row["x"], row["y"]) == pytest.approx(tuple(path[-1]), abs=1e-3)
+
+
+def test_robots_csv_agrees_with_the_distance_ledger_of_the_examples():
+    """examples/where_distance_goes.py keeps its own per-robot distance and settle tick (first
+    entry; GGC's settled statuses are for good, so the same as the last)."""
+    from examples.where_distance_goes import Ledger
+
+    sim = Simulation("tiny", seed=2, max_ticks=1500)
+    ledger = Ledger(sim, late_from=0)
+    result = sim.run(on_tick=ledger)
+    distance = np.array([r["distance"] for r in result.robots])
+    assert np.allclose(distance, ledger.distance, atol=1e-3)
+    settle = np.array([-1 if r["settle_tick"] == "" else r["settle_tick"]
+                       for r in result.robots])
+    assert (settle >= 0).sum() > 10
+    assert settle.tolist() == ledger.settled_at.tolist()
