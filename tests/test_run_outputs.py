@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,7 @@ def test_robots_csv_has_final_state_distance_and_contacts(corridor_run):
             "contacts_wall", "contact_ticks", "settled_max_displacement"} <= set(rows[0])
     from controllers.ggc.statuses import STATUSES
     assert {r["status"] for r in rows} <= set(STATUSES)
+    assert Counter(r["status"] for r in rows) == summary["status_counts"]
     assert {r["group"] for r in rows} == {"1", "2"}  # corridor: two groups
     assert sum(r["leader"] == "1" for r in rows) == 2
     # odometry: the robots' distances add up to the run's total distance
