@@ -33,7 +33,7 @@ from swarmsim.controller_info import ControllerInfo, describe
 from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
 from swarmsim.layouts import LAYOUTS, LayoutRequest
-from swarmsim.metrics import CoverageGrid, RunMetrics
+from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
 from swarmsim.registry import get_controller
@@ -67,7 +67,8 @@ class RunResult:
     summary: dict[str, Any]
     timeseries: list[dict[str, Any]] = field(default_factory=list)
     robots: list[dict[str, Any]] = field(default_factory=list)
-    """One row per robot: contacts, time in contact, largest push while settled."""
+    """One row per robot (robots.csv): final position, status, group, gradient, distance
+    moved, settle tick, contacts (columns: docs/outputs.md)."""
 
 
 class Simulation:
@@ -534,7 +535,8 @@ class Simulation:
             if bar is not None:
                 bar.close()
         self.metrics.record(self.tick, force=True)
-        return RunResult(self.summary(), list(self.metrics.rows), self.metrics.robot_rows())
+        return RunResult(self.summary(), list(self.metrics.rows),
+                         self.metrics.robot_rows(self.final_state()))
 
     def summary(self) -> dict[str, Any]:
         """The run's summary: the fields of summary.json, from ``summary_sources``."""
@@ -557,6 +559,13 @@ class Simulation:
             "wall_seconds": round(self.wall_seconds, 3),
             "code_version": code_version(),
         }
+
+    def final_state(self) -> FinalState:
+        """The state robots.csv reads (positions, broadcasts, failures): a copy, now."""
+        info = self.info
+        fields = (*info.colourings, *([info.leader_field] if info.leader_field else []))
+        return FinalState(self.positions.copy(), self.messages.copy(), self.statuses,
+                          self.failed.copy(), fields, info.silent)
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""
