@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import signal
 import sys
 import tempfile
@@ -49,8 +48,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
-                   help="a video frame every K ticks (default: max_ticks / 600, at most 50: "
-                        "a K run of 18,500 ticks gets ~370 frames)")
+                   help="a video frame every K ticks (default: max_ticks / 600, at least 1 "
+                        "and at most 50)")
     p.add_argument("--color-by", default="gradient", dest="color_by",
                    choices=("gradient", "group", "status"), help="robot colouring in videos")
     p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
@@ -163,30 +162,15 @@ def cmd_controllers() -> int:
     return 0
 
 
-def _doc_lines(cls: type) -> dict[str, str]:
-    """Attribute descriptions from a dataclass docstring's 'Attributes:' section."""
-    out, current = {}, None
-    for line in (cls.__doc__ or "").splitlines():
-        stripped = line.strip()
-        if ":" in stripped and stripped.split(":")[0].isidentifier() and line.startswith(" " * 8):
-            current, _, text = stripped.partition(":")
-            out[current] = text.strip()
-        elif current and stripped and line.startswith(" " * 12):
-            out[current] += " " + stripped
-    return out
-
-
 def cmd_params(controller: str) -> int:
     from swarmsim.controller import get_controller
+    from swarmsim.paramhelp import format_params, help_width
     from swarmsim.physics import PhysicsConfig
 
     cls = get_controller(controller)
-    for title, klass in (("engine", SimConfig), ("physics", PhysicsConfig),
-                         (f"controller {controller}", cls.Params)):
-        print(f"[{title}]")
-        docs = _doc_lines(klass)
-        for f in dataclasses.fields(klass):
-            print(f"  {f.name:<20} = {f.default!r:<10} {docs.get(f.name, '')}")
+    sections = (("engine", SimConfig), ("physics", PhysicsConfig),
+                (f"controller {controller}", cls.Params))
+    print("\n".join(format_params(sections, help_width())))
     return 0
 
 
