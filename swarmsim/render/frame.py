@@ -25,6 +25,7 @@ import shapely
 
 from swarmsim.controller import INF_GRADIENT
 from swarmsim.metrics import CoverageGrid
+from swarmsim.render import roles
 from swarmsim.render.legend import legend_panel
 from swarmsim.render.palette import (
     BEACON_EDGE,
@@ -247,12 +248,14 @@ class Renderer:
         if snapshot.n_robots == 0:
             return GRADIENT_PALETTE, np.zeros(0, dtype=np.int64)
         if self.color_by == "gradient":
-            g = msgs["gradient"].astype(np.int64)
+            g = roles.gradients(snapshot)
             pal = np.vstack([GRADIENT_PALETTE, np.uint8(NONE_GREY)])
             idx = np.where((g == INF_GRADIENT) | (g < 0), len(GRADIENT_PALETTE),
                            g % len(GRADIENT_PALETTE))
         elif self.color_by == "group":
-            g = msgs["group"].astype(np.int64)
+            g = roles.groups(snapshot)
+            if g is None:  # the controller broadcasts no group: every robot is "none"
+                g = np.zeros(snapshot.n_robots, dtype=np.int64)
             pal = np.vstack([np.uint8(NONE_GREY), GROUP_PALETTE])
             idx = np.where(g <= 0, 0, (g - 1) % len(GROUP_PALETTE) + 1)
         else:
@@ -274,7 +277,7 @@ class Renderer:
         ri = max(1, round(r))
         pal, idx = self._color_index(snap)
         failed = _mask(snap.failed, n)
-        leader = _mask(snap.messages["leader"], n)
+        leader = roles.leaders(snap)
         contact = _mask(snap.in_contact, n) if self.highlight_contacts else None
 
         circle = pygame.draw.circle
@@ -318,11 +321,12 @@ class Renderer:
         return int(np.count_nonzero(shapely.contains_xy(self._target, pos[:, 0], pos[:, 1])))
 
     def hud_text(self, snapshot: Snapshot) -> str:
-        """The heads-up line: ``tick T  coverage XX.X %  on target N  groups G``."""
-        groups = np.asarray(snapshot.messages["group"]) if snapshot.n_robots else np.zeros(0)
-        n_groups = len(np.unique(groups[groups != 0]))
+        """The heads-up line: ``tick T  coverage XX.X %  on target N  groups G`` (groups only
+        when the broadcasts carry one; at tick 0 the groups the run started with)."""
+        n_groups = roles.group_count(snapshot)
+        tail = "" if n_groups is None else f"  groups {n_groups}"
         return (f"tick {snapshot.tick}  coverage {100.0 * snapshot.coverage:.1f} %  "
-                f"on target {self.robots_on_target(snapshot)}  groups {n_groups}")
+                f"on target {self.robots_on_target(snapshot)}{tail}")
 
     def _draw_hud(self, surf: pygame.Surface, snap: Snapshot) -> None:
         if self._font is None:
@@ -344,7 +348,8 @@ class Renderer:
         if self.color_by == "status":
             return ("status", tuple(snap.statuses))
         if self.color_by == "group":
-            g = np.asarray(snap.messages["group"]) if snap.n_robots else np.zeros(0, int)
+            g = roles.groups(snap)
+            g = np.zeros(0, np.int64) if g is None else g
             return ("group", tuple(int(v) for v in np.unique(g[g > 0])[:11]))
         return ("gradient",)
 
