@@ -16,8 +16,7 @@ from typing import Any
 
 from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError
-
-LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
+from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
 def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
@@ -130,14 +129,57 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run_parser(sub)
     _add_sweep_parsers(sub)
     _add_study_parser(sub)
-    sub.add_parser("worlds", help="list shipped worlds with target area and lattice capacity")
+    wp = sub.add_parser("worlds", help="list shipped worlds, or describe your own world files",
+                        description="Without WORLD: the shipped worlds with their target area "
+                        "and lattice capacity. With WORLD (a .toml path or a shipped name): its "
+                        "free target floor (net of holes and obstacles), lattice capacity per "
+                        "d_cover, spawn room, beacon and warnings.")
+    wp.add_argument("world", nargs="*", help="world file(s) (.toml) or shipped names")
+    wp.add_argument("--preview", type=Path, metavar="FILE.png",
+                    help="draw the world (one WORLD) with its robots at the start, without "
+                    "running it")
+    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800)")
     sub.add_parser("controllers", help="list registered controllers")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning")
     pp.add_argument("--controller", default="ggc")
     return parser
 
 
-def cmd_worlds() -> int:
+def cmd_worlds(args: argparse.Namespace) -> int:
+    if not args.world:
+        if args.preview:
+            raise ConfigError("needs a WORLD to draw (e.g. swarmsim worlds my.toml --preview "
+                              "my.png)", key="--preview")
+        return cmd_list_worlds()
+    return cmd_describe_worlds(args.world, args.preview, args.width)
+
+
+def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) -> int:
+    """Describe each world; with ``preview``, draw the one world into that PNG."""
+    from swarmsim.world import load_world
+    from swarmsim.worldinfo import describe_world, format_report
+
+    if preview is not None:
+        if len(names) != 1:
+            raise ConfigError(f"draws one world, got {len(names)}: {' '.join(names)}",
+                              key="--preview")
+        if preview.suffix.lower() != ".png":
+            raise ConfigError(f"must be a .png file, got {str(preview)!r}", key="--preview")
+        _check_width(width)
+    reports = [describe_world(load_world(name)) for name in names]
+    for k, report in enumerate(reports):
+        if k:
+            print()
+        print("\n".join(format_report(report)))
+    if preview is not None:
+        from swarmsim.render.preview import save_preview
+
+        _make_folder("--preview", preview.parent)
+        print(f"preview: {save_preview(reports[0], preview, width)}")
+    return 0
+
+
+def cmd_list_worlds() -> int:
     from swarmsim.world import available_worlds, load_world
 
     head = f"{'world':<10} {'area':>9} " + " ".join(f"{'cap@' + str(d):>8}"
@@ -335,7 +377,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _main(args: argparse.Namespace) -> int:
     try:
         if args.command == "worlds":
-            return cmd_worlds()
+            return cmd_worlds(args)
         if args.command == "controllers":
             return cmd_controllers()
         if args.command == "params":
