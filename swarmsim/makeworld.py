@@ -27,7 +27,7 @@ from shapely.ops import polylabel
 
 from swarmsim.errors import ConfigError
 from swarmsim.world import World, world_from_dict
-from swarmsim.worldinfo import describe_world, hex_capacity
+from swarmsim.worldinfo import describe_world, hex_capacity, layout_rng
 
 K_AREA = 13_280.0  # the shipped K world's target area, units^2
 CAPACITY_SHARE = 0.7  # lattice capacity / robots, as the shipped worlds are sized
@@ -208,9 +208,7 @@ def _check_start(data: dict, robots: int, groups: int) -> World:
         world = world_from_dict(data, source=f"<{data['name']}>")
         try:
             for seed in range(LAYOUT_SEEDS):
-                layout_seq = np.random.SeedSequence(seed).spawn(4)[0]
-                spawn.formation_layout(world, robots, groups, 1.0,
-                                       np.random.default_rng(layout_seq))
+                spawn.formation_layout(world, robots, groups, 1.0, layout_rng(seed))
             return world
         except ConfigError:
             band = data["spawn"][0]["outline"]

@@ -7,6 +7,7 @@ areas in units^2.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import textwrap
 from dataclasses import dataclass
@@ -114,7 +115,13 @@ def describe_world(world: World) -> WorldReport:
         spawn_area=spawn_area, spawn_capacity=hex_capacity(spawn_area, START_SPACING),
         random_capacity=world.max_random_robots(START_SPACING), beacon_depth=depth,
         warnings=())
-    return WorldReport(**{**report.__dict__, "warnings": tuple(_warnings(report, d_cover))})
+    return dataclasses.replace(report, warnings=tuple(_warnings(report, d_cover)))
+
+
+def layout_rng(seed: int) -> np.random.Generator:
+    """The generator a run with ``seed`` places its robots with (as Simulation derives it),
+    so that a preview shows that run's start."""
+    return np.random.default_rng(np.random.SeedSequence(seed).spawn(4)[0])
 
 
 def _warnings(r: WorldReport, d_cover: float) -> list[str]:
@@ -175,7 +182,7 @@ def _start_check(world: World, robots: int) -> list[str]:
 
     groups = int(world.defaults.get("groups", 1))
     start = world.defaults.get("start", "formation")
-    rng = np.random.default_rng(0)
+    rng = layout_rng(0)
     try:
         if start == "formation":
             spawn.formation_layout(world, robots, groups, START_SPACING, rng)

@@ -123,3 +123,16 @@ def test_worlds_bad_input_is_one_line(argv, needle, capsys, tmp_path, monkeypatc
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and needle in err[0], err
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_the_preview_shows_seed_0s_start() -> None:
+    from swarmsim.render.preview import start_layout
+    from swarmsim.sim import Simulation
+
+    world = load_world("corridor")
+    pos, groups, leaders, note = start_layout(describe_world(world))
+    sim = Simulation(world, controller="ggc", seed=0, settings={"start": "formation"})
+    assert note == ""
+    np.testing.assert_allclose(pos, sim.positions, atol=1e-9)
+    np.testing.assert_array_equal(groups, sim.start_groups)
+    np.testing.assert_array_equal(leaders, sim.start_leaders)

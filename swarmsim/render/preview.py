@@ -23,6 +23,7 @@ from swarmsim.worldinfo import (
     START_SPACING,
     WorldReport,
     free_floor,
+    layout_rng,
     narrow_floor,
 )
 
@@ -40,7 +41,7 @@ def start_layout(report: WorldReport, seed: int = 0) -> tuple[np.ndarray, np.nda
     w = report.world
     robots = int(w.defaults.get("robots", DEFAULT_ROBOTS))
     groups = int(w.defaults.get("groups", 1))
-    rng = np.random.default_rng(seed)
+    rng = layout_rng(seed)
     try:
         if w.defaults.get("start", "formation") == "formation":
             pos, grp, lead = spawn.formation_layout(w, robots, groups, START_SPACING, rng)
