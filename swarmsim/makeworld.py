@@ -171,7 +171,7 @@ def _world_data(target: Polygon, robots: int, groups: int, spec: WorldSpec,
     }
 
 
-def central_deep_point(target: Polygon, share: float = 0.6, samples: int = 80) -> shapely.Point:
+def central_deep_point(target: Polygon, share: float = 0.8, samples: int = 100) -> shapely.Point:
     """A point deep inside ``target`` near its middle: of the points on a grid at least
     ``share`` of the greatest depth (distance to the edge) inside it, the one nearest the
     centre of its bounding box. Deep, so a formation heading there meets the target; central,

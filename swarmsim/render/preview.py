@@ -13,7 +13,7 @@ import shapely
 
 from swarmsim.errors import ConfigError
 from swarmsim.render.frame import Renderer
-from swarmsim.render.palette import PANEL, TEXT
+from swarmsim.render.palette import OUTSIDE, PANEL, TEXT
 from swarmsim.render.video import save_png
 from swarmsim.snapshot import Snapshot
 from swarmsim.worldinfo import (
@@ -68,11 +68,18 @@ def draw_preview(report: WorldReport, width: int = 800) -> np.ndarray:
                     in_contact=np.zeros(n, bool), failed=np.zeros(n, bool),
                     start_groups=grp, start_leaders=lead)
     renderer = Renderer(w, width=width, color_by="group", hud=False)
-    surf = renderer.draw_surface(snap)
-    _draw_narrow(surf, renderer, report)
-    _draw_caption(surf, renderer, report, note)
+    frame = renderer.draw_surface(snap)
+    _draw_narrow(frame, renderer, report)
+    caption = _caption_panel(renderer.width, report, note)
+    extra = caption.get_height() if caption is not None else 0
+    extra += extra % 2  # even sides, like every frame
+    surf = pygame.Surface((renderer.width, renderer.height + extra))
+    surf.fill(OUTSIDE)
+    surf.blit(frame, (0, 0))
+    if caption is not None:  # below the world, so that it hides nothing
+        surf.blit(caption, (0, renderer.height))
     data = pygame.image.tobytes(surf, "RGB")
-    return np.frombuffer(data, dtype=np.uint8).reshape(renderer.height, renderer.width, 3)
+    return np.frombuffer(data, dtype=np.uint8).reshape(surf.get_height(), surf.get_width(), 3)
 
 
 def save_preview(report: WorldReport, path: str | Path, width: int = 800) -> Path:
@@ -114,24 +121,22 @@ def _caption(report: WorldReport, note: str) -> list[tuple[str, tuple[int, int, 
     return lines
 
 
-def _draw_caption(surf: pygame.Surface, renderer: Renderer, report: WorldReport,
-                  note: str) -> None:
+def _caption_panel(width: int, report: WorldReport, note: str) -> pygame.Surface | None:
+    """The caption's lines on a white panel ``width`` pixels wide, or None without fonts."""
     try:
         pygame.font.init()
-        font = pygame.font.Font(None, max(12, round(renderer.width / 38)))
+        font = pygame.font.Font(None, max(12, round(width / 38)))
     except (ImportError, NotImplementedError, OSError, RuntimeError, pygame.error):
-        return  # no fonts: the picture without its caption
+        return None  # no fonts: the picture without its caption
     texts = [font.render(t, True, c) for t, c in _caption(report, note)]
-    margin = max(3, renderer.width // 160)
-    inner = renderer.width - 2 * (renderer.wall_px + 2) - 2 * margin
+    margin = max(3, width // 160)
+    inner = width - 2 * margin
     texts = [pygame.transform.smoothscale_by(t, inner / t.get_width())
              if t.get_width() > inner else t for t in texts]
-    height = sum(t.get_height() for t in texts) + margin
-    panel = pygame.Surface((max(t.get_width() for t in texts) + 2 * margin, height),
-                           pygame.SRCALPHA)
-    panel.fill(PANEL)
+    panel = pygame.Surface((width, sum(t.get_height() for t in texts) + margin))
+    panel.fill(PANEL[:3])
     y = margin // 2
     for t in texts:
         panel.blit(t, (margin, y))
         y += t.get_height()
-    surf.blit(panel, (renderer.wall_px + 2, renderer.wall_px + 2))
+    return panel
