@@ -52,7 +52,7 @@ class WorldReport:
         spawn_capacity: robots a formation start (hexagonal, spacing 1) fits in the spawn areas.
         random_capacity: robots a random start places in the spawn areas (World's safe limit).
         beacon_depth: the beacon's distance inside the free target floor (negative: outside
-            it, by that much), or None without a beacon.
+            it, by that much), or None without a beacon or without free floor.
         warnings: one line each, in the order they were found.
     """
 
@@ -104,7 +104,7 @@ def describe_world(world: World) -> WorldReport:
     capacity = {d: hex_capacity(free_area, d) for d in spacings}
     spawn_area = world.spawn_area
     depth = None
-    if world.beacon is not None:
+    if world.beacon is not None and free_area > 0:
         point = shapely.Point(world.beacon)
         inside = free.contains(point)
         depth = float(free.boundary.distance(point)) * (1 if inside else -1)
@@ -217,6 +217,8 @@ def format_report(r: WorldReport) -> list[str]:
     lines.append(f"              {r.random_capacity:,} at a random start")
     if w.beacon is None:
         lines.append("  beacon      none")
+    elif r.beacon_depth is None:  # no free floor to measure it against
+        lines.append(f"  beacon      ({w.beacon[0]:g}, {w.beacon[1]:g})")
     else:
         side = "inside the free target" if (r.beacon_depth or 0) >= 0 else "OUTSIDE the target"
         lines.append(f"  beacon      ({w.beacon[0]:g}, {w.beacon[1]:g}), {side}, "
