@@ -169,6 +169,7 @@ class FCDFS(FormationTravel):
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
+    GROUP_FIELD = "group"
     LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True

@@ -195,6 +195,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
+    GROUP_FIELD = "group"
     LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True

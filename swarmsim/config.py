@@ -43,7 +43,7 @@ class SimConfig:
         grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
         record_every: a time-series row every this many ticks.
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
-            many ticks (10,000: GGC on house, seed 3, took 7,200 ticks for its last 0.2 %).
+            many ticks (long enough for a slow last stretch: see docs/measurements.md).
         plateau_delta: see plateau_ticks (fraction of the target).
         stall_ticks: stop ("stalled") when no robot moved or changed its message for this long.
         stop_on_complete: stop at the completion tick.

@@ -372,7 +372,7 @@ class ControllerClass(Protocol):
     - ``COLOURINGS`` ({}): message fields a video may colour robots by: "scale" (an ordered
       value, e.g. a hop count) or "category" (e.g. a group id). "status" is always offered.
     - ``LEADER_FIELD`` (None): a bool message field marking leaders (drawn with a ring;
-      faults fail them last).
+      faults fail them last); ``GROUP_FIELD`` (None): the field holding a robot's group.
     - ``LAYOUTS`` (()): names of start layouts it offers beside "random"
       (:data:`swarmsim.layouts.LAYOUTS`, e.g. "formation").
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (1),

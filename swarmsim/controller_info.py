@@ -34,6 +34,7 @@ class ControllerInfo:
         silent: message field values of a neighbour that is not heard.
         colourings: message field -> "scale" or "category" (video colourings).
         leader_field: the bool message field marking leaders, or None.
+        group_field: the message field holding a robot's group, or None.
         layouts: the names of the start layouts it offers ("random" first; see
             swarmsim.layouts).
         default_start: the start layout used unless the run names one.
@@ -52,6 +53,7 @@ class ControllerInfo:
     silent: Mapping[str, Any]
     colourings: Mapping[str, str]
     leader_field: str | None
+    group_field: str | None
     layouts: tuple[str, ...]
     default_start: str
     requires_beacon: bool
@@ -123,6 +125,7 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         silent=MappingProxyType(dict(getattr(cls, "SILENT", {}))),
         colourings=MappingProxyType(colourings),
         leader_field=getattr(cls, "LEADER_FIELD", None),
+        group_field=getattr(cls, "GROUP_FIELD", None),
         layouts=_layouts(cls, name),
         default_start=getattr(cls, "default_start", "random"),
         requires_beacon=bool(getattr(cls, "requires_beacon", False)),

@@ -186,6 +186,8 @@ class Simulation:
         self.start = start
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
+        self.start_groups = np.array([s.group for s in setups], dtype=np.int64)
+        self.start_leaders = np.array([s.leader for s in setups], dtype=bool)
         self.physics = Physics(self.world, positions, self.physics_config)
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
@@ -574,7 +576,9 @@ class Simulation:
         return Snapshot(tick=self.tick, positions=self.positions.copy(),
                         messages=self.messages.copy(), statuses=self.statuses,
                         radius=self.physics_config.radius, coverage=self.metrics.coverage,
-                        covered=covered, in_contact=in_contact, failed=self.failed.copy())
+                        covered=covered, in_contact=in_contact, failed=self.failed.copy(),
+                        start_groups=self.start_groups.copy(),
+                        start_leaders=self.start_leaders.copy())
 
 
     def render(self, color_by: str | None = None, width: int = 800, **options: Any
@@ -592,6 +596,7 @@ class Simulation:
             self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
                                       colourings=self.info.colourings,
                                       leader_field=self.info.leader_field,
+                                      group_field=self.info.group_field,
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())

@@ -48,6 +48,7 @@ class GGC(GGCRobot):
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
+    GROUP_FIELD = "group"
     INITIAL_STATUSES = ("Initial",)
     COVERING_STATUSES = ("Coverage",)
     LAYOUTS = ("formation",)
