@@ -399,6 +399,34 @@ def get_controller(name: str) -> type:
     return _REGISTRY[name]
 
 
+def resolve_controller(controller: str | type) -> tuple[type, str]:
+    """A run's controller class and the name its summary reports, from a registered name, a
+    ``"module:Class"`` string or a class (checked like a ``module:Class`` class). A class is
+    reported by its registered name if it is the class registered under its ``name``, else as
+    ``"module:Class"``."""
+    if isinstance(controller, str):
+        return get_controller(controller), controller
+    if not isinstance(controller, type):
+        raise ConfigError(f"expected a controller name, 'module:Class' or a controller class, "
+                          f"got {controller!r}", key="controller")
+    _load_builtins()
+    name = getattr(controller, "name", None)
+    if not (isinstance(name, str) and _REGISTRY.get(name) is controller):
+        name = f"{controller.__module__}:{controller.__qualname__}"
+    _check_controller_class(controller, name)
+    return controller, name
+
+
+def uses_groups(cls: type, start: str = "") -> bool:
+    """Whether the number of groups means anything to a run of controller class ``cls`` with
+    this ``start`` ("" = the class's ``default_start``, else "random"): the class declares
+    ``max_groups`` (its robots form and keep groups: GGC), or the robots start in formation
+    (one formation per group, its centre robot the group's leader). Otherwise a run has one
+    group."""
+    start = start or getattr(cls, "default_start", "random")
+    return hasattr(cls, "max_groups") or start == "formation"
+
+
 def _importable_from_here() -> None:
     """Let ``module:Class`` name a module in the current folder, as ``python -m swarmsim``
     does (the installed ``swarmsim`` command does not put the current folder on sys.path).

@@ -1,14 +1,17 @@
 """Run metrics, exactly as the paper defines them (pure numpy; no physics).
 
 Coverage P(t): the target's bounding box is rasterised into a ``cols x rows`` pixel grid
-(100 x 100 by default); a pixel belongs to the target when its centre lies inside the target
-polygon, and it is covered when its centre lies within ``r`` (default 4) of some robot.
+(100 x 100 by default); a pixel belongs to the target when its centre lies on free target
+floor (inside the target's outline, outside its holes and outside every obstacle), and it is
+covered when its centre lies within ``r`` (default 4) of some robot.
 P = covered target pixels / target pixels. Completion tick t_dpl = first tick with
 1 - P <= eps0.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -16,6 +19,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
+from swarmsim.errors import ConfigError
 from swarmsim.stamps import restamp
 
 
@@ -23,10 +27,17 @@ from swarmsim.stamps import restamp
 class CoverageGrid:
     """The paper's coverage raster over the target's bounding box.
 
+    Geometry: ``cols x rows`` cells stretch over the bounding box of the target's outline
+    (so a cell is ``dx = width / cols`` by ``dy = height / rows`` units: square only when the
+    box is). A cell counts (is a target pixel) when its centre lies on free target floor:
+    inside the outline, outside the holes and outside every obstacle. A target pixel is
+    covered when a robot's centre is within ``radius`` (r) of the cell's centre (distance
+    <= r). Coverage P = covered target pixels / target pixels.
+
     Attributes:
         x0, y0: lower-left corner of the bounding box, units.
         dx, dy: pixel size, units.
-        inside: (rows, cols) bool, pixel centre inside the target; row index grows with y.
+        inside: (rows, cols) bool, pixel centre on free target floor; row index grows with y.
         centres: (M, 2) centres of the target pixels (the True cells of ``inside``, row-major).
         radius: coverage radius r, units.
     """
@@ -41,15 +52,26 @@ class CoverageGrid:
 
     @classmethod
     def for_target(cls, target: Polygon, radius: float = 4.0, cols: int = 100,
-                   rows: int = 100) -> CoverageGrid:
-        if radius <= 0:
-            raise ValueError(f"coverage radius must be positive, got {radius!r}")
+                   rows: int = 100, obstacles: Sequence[Polygon] = ()) -> CoverageGrid:
+        """The grid over ``target``'s bounding box; cells whose centre is inside one of
+        ``obstacles`` do not count (see the class docstring).
+
+        Raises ConfigError when no cell counts (a target thinner than a cell everywhere)."""
+        if not (math.isfinite(radius) and radius > 0):
+            raise ConfigError(f"must be positive and finite, got {radius!r}",
+                              key="coverage_radius")
         xmin, ymin, xmax, ymax = target.bounds
         dx, dy = (xmax - xmin) / cols, (ymax - ymin) / rows
         xs = xmin + (np.arange(cols) + 0.5) * dx
         ys = ymin + (np.arange(rows) + 0.5) * dy
         gx, gy = np.meshgrid(xs, ys)
         inside = shapely.contains_xy(target, gx, gy)
+        for obstacle in obstacles:
+            inside &= ~shapely.contains_xy(obstacle, gx, gy)
+        if not inside.any():
+            raise ConfigError(f"no cell of the {cols} x {rows} coverage grid has its centre on "
+                              "free target floor: the target is too thin for the grid (more "
+                              "cells: grid_size) or covered by obstacles", key="grid_size")
         centres = np.column_stack([gx[inside], gy[inside]])
         return cls(xmin, ymin, dx, dy, inside, centres, float(radius))
 

@@ -26,11 +26,12 @@ from swarmsim.controller import (
     NeighbourBatch,
     Perception,
     RobotSetup,
-    get_controller,
     make_perception,
     message_dtype,
+    resolve_controller,
     run_message_fields,
     silent_message,
+    uses_groups,
 )
 from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
@@ -73,9 +74,13 @@ class Simulation:
         world: a World or the name/path of a world file.
         controller: registered controller name (default: the world's ``defaults.controller``,
             else "ggc", the paper's method, as on the command line; e.g. "dispersion",
-            "kilobot") or "module:Class".
+            "kilobot"), "module:Class", or a controller class (the summary names it by its
+            registered name, else "module:Class").
         robots: number of robots (default: the world's ``defaults.robots``).
-        groups: number of groups K (default: the world's ``defaults.groups``, else 1).
+        groups: number of groups K (default: the world's ``defaults.groups``, else 1). Only
+            a controller that forms groups (one that declares ``max_groups``: GGC) or a
+            formation start (one formation per group) uses groups; any other run has one
+            group (its summary says groups 1) and asking it for more is an error.
         seed: the one seed that decides the run.
         d_cover: the controller's coverage distance, units (paper Table 2: 6).
         max_ticks: hard tick limit.
@@ -83,7 +88,7 @@ class Simulation:
             ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
     """
 
-    def __init__(self, world: World | str, controller: str | None = None,
+    def __init__(self, world: World | str, controller: str | type | None = None,
                  robots: int | None = None, groups: int | None = None, seed: int = 0,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):
@@ -91,22 +96,23 @@ class Simulation:
         self._setup()
 
     @classmethod
-    def check(cls, world: World | str, controller: str | None = None, robots: int | None = None,
-              groups: int | None = None, seed: int = 0, d_cover: float | None = None,
-              max_ticks: int | None = None, settings: Mapping[str, Any] | None = None) -> None:
+    def check(cls, world: World | str, controller: str | type | None = None,
+              robots: int | None = None, groups: int | None = None, seed: int = 0,
+              d_cover: float | None = None, max_ticks: int | None = None,
+              settings: Mapping[str, Any] | None = None) -> None:
         """Check a run's world, controller and settings as the constructor does, without
         building the run (no layout, no bodies: milliseconds). Raises ConfigError naming the
         key and value. Sweeps and reproductions check every run this way before the first."""
         cls.__new__(cls)._configure(world, controller, robots, groups, seed, d_cover,
                                     max_ticks, settings)
 
-    def _configure(self, world: World | str, controller: str | None, robots: int | None,
+    def _configure(self, world: World | str, controller: str | type | None, robots: int | None,
                    groups: int | None, seed: int, d_cover: float | None,
                    max_ticks: int | None, settings: Mapping[str, Any] | None) -> None:
         """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
         controller = controller or self.world.defaults.get("controller", DEFAULT_CONTROLLER)
-        self.controller_cls = get_controller(controller)
+        self.controller_cls, controller = resolve_controller(controller)
         self.controller_name = controller
         if getattr(self.controller_cls, "requires_beacon", False) and self.world.beacon is None:
             raise ConfigError(f"controller {controller!r} needs a [beacon] in the world file",
@@ -129,12 +135,19 @@ class Simulation:
                 raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "
                                   f"(2 x radius = {body:g}): robots would start overlapping",
                                   key=name)
+        spawn.check_capacity(self.world, self.config.robots, self._start(),
+                             self.config.spawn_spacing, self.config.formation_spacing)
         reach = self._probe_range()
         for name in getattr(self.controller_cls, "probe_params", ()):
             value = getattr(self.params, name)
             if not 0 < value <= reach:
                 raise ConfigError(f"must be in (0, {reach:g}], got {value!r}: a floor probe reaches"
                                   " probe_range at most (set probe_range too)", key=name)
+
+    def _start(self) -> str:
+        """The run's start layout: the setting, else the controller class's default_start,
+        else "random"."""
+        return self.config.start or getattr(self.controller_cls, "default_start", "random")
 
     def _probe_range(self) -> float:
         """How far a robot's floor probe reaches, units: the engine's probe_range, or more if
@@ -159,7 +172,21 @@ class Simulation:
         if "d_cover" in merged and not _has_field(self.controller_cls.Params, "d_cover"):
             raise ConfigError(f"controller {self.controller_name!r} has no d_cover parameter "
                               f"(value {merged['d_cover']!r})", key="d_cover")
+        if "groups" in merged and not uses_groups(self.controller_cls,
+                                                   str(merged.get("start") or "")):
+            self._no_groups(merged, settings.get("groups", groups))
         return merged
+
+    def _no_groups(self, merged: dict[str, Any], explicit: Any) -> None:
+        """A run whose controller and start have no use for groups has one: the world's
+        default is dropped; more than one, asked for, is an error."""
+        if explicit is None:
+            del merged["groups"]
+        elif not (isinstance(explicit, int) and not isinstance(explicit, bool) and explicit <= 1):
+            raise ConfigError(f"controller {self.controller_name!r} has no groups (value "
+                              f"{explicit!r}): only a controller that forms groups (ggc) or a "
+                              "formation start (start=formation: one formation per group) "
+                              "uses them", key="groups")
 
     # ----------------------------------------------------------------------------- setup
     def _setup(self) -> None:
@@ -167,7 +194,7 @@ class Simulation:
         seeds = np.random.SeedSequence(cfg.seed).spawn(4)
         layout_rng, role_rng, order_rng = (np.random.default_rng(s) for s in seeds[:3])
         robot_seeds = seeds[3].spawn(cfg.robots)
-        start = cfg.start or getattr(self.controller_cls, "default_start", "random")
+        start = self._start()
         self.start = start
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
@@ -202,7 +229,7 @@ class Simulation:
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
-                                            cfg.grid_size, cfg.grid_size)
+                                            cfg.grid_size, cfg.grid_size, self.world.obstacles)
         self.metrics = RunMetrics(self.grid, cfg, self.physics, self.settled_codes())
         self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)

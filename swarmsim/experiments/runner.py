@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.experiments import claims
-from swarmsim.experiments.executors import open_pool
+from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
 from swarmsim.output import write_csv, write_json
@@ -235,6 +235,7 @@ class Sweep:
             retry_failed: bool = False, progress: bool = True,
             on_result: Callable[[RunSpec, str], None] | None = None) -> SweepReport:
         """Run every pending run once; see :func:`run_sweep`."""
+        check_workers(workers)  # before anything is written
         todo = self.pending(retry_failed)
         self.out.mkdir(parents=True, exist_ok=True)
         self.write_table()

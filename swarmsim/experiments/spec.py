@@ -335,6 +335,20 @@ def _reraise(fn, source: str, key: str):
         raise ConfigError(text, source=source, key=key) from None
 
 
+def drop_unused_groups(controller: str, settings: Mapping[str, Any]) -> dict[str, Any]:
+    """``settings`` without ``groups`` when ``controller`` (a name or module:Class) with the
+    settings' start has no use for groups (see swarmsim.controller.uses_groups): such a run
+    has one group, and asking it for more is an error. For figures and studies that set the
+    same groups for every controller they compare."""
+    from swarmsim.controller import get_controller, uses_groups
+
+    out = dict(settings)
+    if "groups" in out and not uses_groups(get_controller(controller),
+                                           str(out.get("start") or "")):
+        del out["groups"]
+    return out
+
+
 def unique_runs(runs: Iterable[RunSpec]) -> list[RunSpec]:
     """``runs`` without repeats (same run id), first occurrence kept."""
     seen: set[str] = set()
