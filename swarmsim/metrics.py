@@ -116,8 +116,10 @@ class IncrementalCoverage:
     def __init__(self, grid: CoverageGrid, positions: np.ndarray):
         self.grid = grid
         self.rows, self.cols = grid.shape
-        self._half_i = int(np.ceil(grid.radius / grid.dy)) + 1  # the stencil round a robot
-        self._half_j = int(np.ceil(grid.radius / grid.dx)) + 1
+        self._half_i = _stencil_half(grid.radius, grid.dy)  # the stencil round a robot
+        self._half_j = _stencil_half(grid.radius, grid.dx)
+        # r^2 as before; a radius whose square overflows (> 1e154 units) covers everything
+        self._r2 = grid.radius**2 if grid.radius < 1e150 else math.inf
         self._inside = np.require(grid.inside.ravel(), bool, ("C", "W"))  # one signature
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
@@ -131,11 +133,22 @@ class IncrementalCoverage:
             g = self.grid
             new = np.require(positions, np.float64, ("C", "W"))
             self._covered += restamp(self._count, self._inside, moved, self._positions, new,
-                                     g.x0, g.y0, g.dx, g.dy, g.radius**2, self._half_i,
+                                     g.x0, g.y0, g.dx, g.dy, self._r2, self._half_i,
                                      self._half_j, self.rows, self.cols)
             self._positions = new.copy()
         pixels = self.grid.n_target_pixels
         return float(self._covered / pixels) if pixels else 0.0
+
+
+STENCIL_CAP = 2**31
+"""Largest half-size of a robot's coverage stencil, pixels: a robot is never that far from
+the grid (robots stay inside the arena, a few grid widths across), so a wider radius covers
+the same pixels; the cap keeps a huge (finite) coverage_radius within compiled integers."""
+
+
+def _stencil_half(radius: float, pixel: float) -> int:
+    """Half-size (pixels) of the stencil of pixels within ``radius`` of a robot's pixel."""
+    return int(min(np.ceil(radius / pixel), STENCIL_CAP)) + 1
 
 
 class SettledWatch:

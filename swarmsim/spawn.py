@@ -57,7 +57,7 @@ def max_formation_robots(world: World, spacing: float) -> int:
     """An upper bound on the robots formations at ``spacing`` (units) can place: the area
     where a robot's disc of diameter ``spacing`` may lie (the arena, minus the target shrunk
     by spacing / 2, minus the obstacles) over one disc's area."""
-    return int(_formation_floor(world, spacing).area / (math.pi * (spacing / 2) ** 2))
+    return int(_formation_floor(world, spacing).area / (math.pi * spacing * spacing / 4))
 
 
 def _formation_floor(world: World, spacing: float):

@@ -98,7 +98,7 @@ class World:
         if not (math.isfinite(d_cover) and d_cover > 0):  # also rejects NaN
             raise ConfigError(f"d_cover must be positive and finite, got {d_cover!r}",
                               key="d_cover")
-        return int(self.target_area / (HEX_CELL_FACTOR * d_cover**2))
+        return int(self.target_area / (HEX_CELL_FACTOR * d_cover * d_cover))  # no OverflowError
 
     @property
     def spawn_area(self) -> float:
@@ -114,7 +114,7 @@ class World:
         if not (math.isfinite(spacing) and spacing > 0):
             raise ConfigError(f"spacing must be positive and finite, got {spacing!r}",
                               key="spacing")
-        disc = math.pi * spacing**2 / 4
+        disc = math.pi * spacing * spacing / 4  # (a huge spacing: inf, no OverflowError)
         return int(0.75 * 0.547 * self.spawn_area / disc)
 
 

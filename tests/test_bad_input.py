@@ -345,3 +345,17 @@ def test_figures_and_studies_leave_groups_out_for_controllers_without_them():
 
     assert StudySetup().settings("rigid", 0.0)["groups"] == 3
     assert "groups" not in StudySetup(controller="dispersion").settings("rigid", 0.0)
+
+
+def test_huge_finite_values_are_refused_or_run_never_a_traceback(nothing_built):
+    for key, start in (("spawn_spacing", "random"), ("formation_spacing", "formation")):
+        with pytest.raises(ConfigError, match=r"key 'robots'.*at most 0"):
+            Simulation.check("tiny", settings={key: 1e300, "start": start})
+    assert load_world("tiny").lattice_capacity(1e300) == 0
+
+
+def test_a_huge_coverage_radius_covers_everything_without_overflow():
+    sim = Simulation("tiny", controller="dispersion", max_ticks=2,
+                     settings={"coverage_radius": 1e300})
+    assert sim.run().summary["coverage"] == 1.0
+    assert sim.grid.coverage(sim.positions) == 1.0  # the tree's rule agrees
