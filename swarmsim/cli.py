@@ -302,9 +302,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments.executors import check_workers
 
     check_workers(args.workers)
-    _check_folder("--out", args.out)
+    _check_folder("--out", args.out)  # made by the sweep once the runs and executor are valid
     runs = load_spec(args.spec).runs()
-    _make_folder("--out", args.out)
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())

@@ -359,3 +359,25 @@ def test_a_huge_coverage_radius_covers_everything_without_overflow():
                      settings={"coverage_radius": 1e300})
     assert sim.run().summary["coverage"] == 1.0
     assert sim.grid.coverage(sim.positions) == 1.0  # the tree's rule agrees
+
+
+def test_a_sweep_whose_executor_cannot_start_writes_nothing(tmp_path, monkeypatch, capsys):
+    """A scheduler that cannot be reached (here: no dask.distributed to reach it with) is
+    refused before the sweep writes its folder or results.csv."""
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_dask(name, *args, **kwargs):
+        if name.startswith("dask"):
+            raise ImportError(name)
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_dask)
+    spec = tmp_path / "s.toml"
+    spec.write_text('world = "tiny"\ncontroller = "dispersion"\n[params]\nmax_ticks = 5\n')
+    out = tmp_path / "out"
+    assert main(["sweep", str(spec), "--out", str(out), "--scheduler", "tcp://127.0.0.1:1",
+                 "--quiet"]) == 2
+    assert "key '--scheduler'" in one_error_line(capsys)
+    assert not out.exists()
