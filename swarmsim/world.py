@@ -80,9 +80,10 @@ class World:
     defaults: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
     @cached_property
-    def free_target(self) -> Polygon:
-        """The floor to cover: the target (holes already cut out) minus the obstacles. The
-        target itself (the same object) when no obstacle touches it."""
+    def free_target(self) -> shapely.Geometry:
+        """The floor to cover: the target (holes already cut out) minus the obstacles (a
+        Polygon or MultiPolygon). The target itself (the same object) when no obstacle
+        overlaps it."""
         blocking = [ob for ob in self.obstacles if ob.intersection(self.target).area > 0]
         if not blocking:
             return self.target
