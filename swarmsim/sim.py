@@ -130,6 +130,10 @@ class Simulation:
                               f"{self.controller_name!r} supports at most {most} groups",
                               key="groups")
         body = 2 * self.physics_config.radius
+        if self.world.target_area < np.pi * body * body / 4:
+            raise ConfigError(f"{self.physics_config.radius!r}: one robot's disc is larger than "
+                              f"the target's free floor ({self.world.target_area:.3g} units^2)",
+                              source=self.world.source, key="radius")
         for name in ("spawn_spacing", "formation_spacing"):
             if getattr(self.config, name) < body:
                 raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "

@@ -381,3 +381,13 @@ def test_a_sweep_whose_executor_cannot_start_writes_nothing(tmp_path, monkeypatc
                  "--quiet"]) == 2
     assert "key '--scheduler'" in one_error_line(capsys)
     assert not out.exists()
+
+
+def test_robots_larger_than_the_free_floor_are_refused(nothing_built):
+    world = world_from_dict(world_dict(target=box(0, 0, 2, 2)))  # 4 units^2: fine for 0.4
+    Simulation.check(world, controller="dispersion", robots=1)
+    with pytest.raises(ConfigError, match=r"key 'radius': 1.5: one robot's disc is larger than "
+                                          r"the target's free floor \(4 units\^2\)"):
+        Simulation.check(world, controller="dispersion", robots=1,
+                         settings={"radius": 1.5, "spawn_spacing": 3.0,
+                                   "formation_spacing": 3.0})
