@@ -338,18 +338,46 @@ def _make_folder(key: str, folder: str | Path) -> None:
                           key=key) from None
 
 
+def _check_folder(key: str, folder: str | Path) -> None:
+    """Refuse a folder that cannot be made or written, without making it: the folder is a
+    file, or the nearest folder that exists above it is a file or not writable."""
+    path = Path(folder)
+    above = next(p for p in (path, *path.absolute().parents) if p.exists())
+    if not above.is_dir():
+        raise ConfigError(f"cannot create the folder {str(folder)!r} ({str(above)!r} is a "
+                          "file)", key=key)
+    if not os.access(above, os.W_OK | os.X_OK):
+        verb = "write in" if above == path else "create"
+        raise ConfigError(f"cannot {verb} the folder {str(folder)!r} (permission denied on "
+                          f"{str(above)!r})", key=key)
+
+
+def _output_folders(args: argparse.Namespace) -> list[tuple[str, Path]]:
+    """(option, folder) that run's --out, --video and --snapshot write to."""
+    out = [("--out", Path(args.out))] if args.out else []
+    return out + [(key, Path(path).parent) for key, path in
+                  (("--video", args.video), ("--snapshot", args.snapshot)) if path]
+
+
 def _check_output_paths(args: argparse.Namespace) -> None:
-    """The folders that run's --out, --video and --snapshot write to, made (and found
-    writable) before the run."""
+    """Refuse run's --out, --video and --snapshot paths that cannot be written, before the
+    run and without making anything (the folders are made once the run is valid:
+    _make_output_folders)."""
     if args.snapshot and Path(args.snapshot).suffix.lower() != ".png":
         raise ConfigError(f"must be a .png file, got {str(args.snapshot)!r}", key="--snapshot")
-    if args.out:
-        _make_folder("--out", args.out)
+    if args.video and Path(args.video).suffix.lower() != ".mp4":
+        raise ConfigError(f"must be an .mp4 file, got {str(args.video)!r}", key="--video")
+    for key, folder in _output_folders(args):
+        _check_folder(key, folder)
     for key, path in (("--video", args.video), ("--snapshot", args.snapshot)):
-        if path:
-            _make_folder(key, Path(path).parent)
-            if Path(path).is_dir():
-                raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+        if path and Path(path).is_dir():
+            raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+
+
+def _make_output_folders(args: argparse.Namespace) -> None:
+    """Make the folders run writes to (and find them writable)."""
+    for key, folder in _output_folders(args):
+        _make_folder(key, folder)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -365,6 +393,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,
@@ -386,9 +415,11 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments import load_spec, run_sweep
+    from swarmsim.experiments.executors import check_workers
 
+    check_workers(args.workers)
+    _check_folder("--out", args.out)  # made by the sweep once the runs and executor are valid
     runs = load_spec(args.spec).runs()
-    _make_folder("--out", args.out)
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
@@ -398,13 +429,15 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     from swarmsim.experiments import reproduce as rp
+    from swarmsim.experiments.executors import check_workers
 
+    check_workers(args.workers)
     setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set))
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
                                args.retry_failed))
         return 0
-    _make_folder("--out", args.out)
+    _check_folder("--out", args.out)  # made by the sweep once every run is checked
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
                           args.scheduler, args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")
@@ -413,10 +446,12 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 def cmd_study(args: argparse.Namespace) -> int:
     from swarmsim.experiments.collisions import StudySetup, study_collisions
+    from swarmsim.experiments.executors import check_workers
 
     if args.max_ticks is not None and args.max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
-    _make_folder("--out", args.out)
+    check_workers(args.workers)
+    _check_folder("--out", args.out)  # made by the sweep once every run is checked
     setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
                        groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
                        noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,

@@ -375,7 +375,8 @@ class ControllerClass(Protocol):
       faults fail them last); ``GROUP_FIELD`` (None): the field holding a robot's group.
     - ``LAYOUTS`` (()): names of start layouts it offers beside "random"
       (:data:`swarmsim.layouts.LAYOUTS`, e.g. "formation").
-    - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (1),
+    - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
+      forms no groups of its own),
       ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).
     - Per-robot controllers only: ``create_robots(setups, params, rngs)``,
       ``prepare(robots, batch)``, ``decide_batch(robots, batch)``, ``summarize(robots)``.

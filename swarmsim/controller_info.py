@@ -39,7 +39,8 @@ class ControllerInfo:
             swarmsim.layouts).
         default_start: the start layout used unless the run names one.
         requires_beacon: the world must have a beacon.
-        max_groups: the most groups a run may have (1: the controller has no groups).
+        max_groups: the most groups a run may have, or None: the controller forms no groups
+            of its own (a run has groups only if its start layout makes them).
         probe_params: parameters that are floor-probe lengths, units.
         min_probe_range: the floor probe reach it needs at least, units.
     """
@@ -57,7 +58,7 @@ class ControllerInfo:
     layouts: tuple[str, ...]
     default_start: str
     requires_beacon: bool
-    max_groups: int
+    max_groups: int | None
     probe_params: tuple[str, ...]
     min_probe_range: float
 
@@ -66,9 +67,14 @@ class ControllerInfo:
         """True for a batch controller (``create_swarm``), False for a per-robot one."""
         return hasattr(self.cls, "create_swarm")
 
-    @property
-    def has_groups(self) -> bool:
-        return self.max_groups > 1
+    def uses_groups(self, start: str = "") -> bool:
+        """Whether a run's number of groups means anything with this start ("": the
+        default start): the controller forms groups (it declares ``max_groups``: GGC), or the
+        start layout makes one formation per group (swarmsim.layouts.GROUPED). Otherwise a
+        run has one group."""
+        from swarmsim.layouts import GROUPED
+
+        return self.max_groups is not None or (start or self.default_start) in GROUPED
 
     def codes(self, names: Sequence[str]) -> tuple[int, ...]:
         """The status codes of these status names (names it does not have are left out)."""
@@ -129,7 +135,7 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         layouts=_layouts(cls, name),
         default_start=getattr(cls, "default_start", "random"),
         requires_beacon=bool(getattr(cls, "requires_beacon", False)),
-        max_groups=int(getattr(cls, "max_groups", 1)),
+        max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
         min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
 
