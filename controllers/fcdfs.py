@@ -170,7 +170,6 @@ class FCDFS(FormationTravel):
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
     GROUP_FIELD = "group"
-    LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True
     min_probe_range = MIN_PROBE_RANGE

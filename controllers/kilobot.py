@@ -196,7 +196,6 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
     GROUP_FIELD = "group"
-    LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True
 

@@ -373,8 +373,8 @@ class ControllerClass(Protocol):
       value, e.g. a hop count) or "category" (e.g. a group id). "status" is always offered.
     - ``LEADER_FIELD`` (None): a bool message field marking leaders (drawn with a ring;
       faults fail them last); ``GROUP_FIELD`` (None): the field holding a robot's group.
-    - ``LAYOUTS`` (()): names of start layouts it offers beside "random"
-      (:data:`swarmsim.layouts.LAYOUTS`, e.g. "formation").
+    - ``LAYOUTS`` (every layout of :data:`swarmsim.layouts.LAYOUTS`: "random", "formation"):
+      the start layouts it can start from, if not all; ``default_start`` is one of them.
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
       forms no groups of its own),
       ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).

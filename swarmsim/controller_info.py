@@ -35,7 +35,7 @@ class ControllerInfo:
         colourings: message field -> "scale" or "category" (video colourings).
         leader_field: the bool message field marking leaders, or None.
         group_field: the message field holding a robot's group, or None.
-        layouts: the names of the start layouts it offers ("random" first; see
+        layouts: the names of the start layouts it can start from (default: every one in
             swarmsim.layouts).
         default_start: the start layout used unless the run names one.
         requires_beacon: the world must have a beacon.
@@ -143,7 +143,7 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
 def _layouts(cls: type, name: str) -> tuple[str, ...]:
     from swarmsim.layouts import LAYOUTS
 
-    declared = ("random", *(s for s in getattr(cls, "LAYOUTS", ()) if s != "random"))
+    declared = tuple(getattr(cls, "LAYOUTS", LAYOUTS))
     unknown = [s for s in declared if s not in LAYOUTS]
     if unknown:
         raise ConfigError(f"{name}: LAYOUTS names unknown layouts {unknown}; known: "

@@ -313,12 +313,12 @@ def three_group_world(tmp_path) -> str:
 def test_the_worlds_groups_apply_only_where_they_are_used(three_group_world):
     sim = Simulation(three_group_world, controller="dispersion", max_ticks=2)
     assert sim.config.groups == 1 and sim.run().summary["groups"] == 1
-    assert sum(c.group > 0 for c in sim.controllers) == 1  # one leader, of group 1
+    assert sum(sim.start_groups > 0) == 1  # one leader, of group 1
     assert Simulation(three_group_world, controller="ggc", max_ticks=1).config.groups == 3
     # a formation start makes one formation per group, whatever the controller
     sim = Simulation(three_group_world, controller="dispersion", max_ticks=1,
                      settings={"start": "formation"})
-    assert sim.config.groups == 3 and {c.group for c in sim.controllers} == {1, 2, 3}
+    assert sim.config.groups == 3 and set(sim.start_groups.tolist()) == {1, 2, 3}
 
 
 @pytest.mark.parametrize("how", ["argument", "setting"])

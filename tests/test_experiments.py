@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from controllers.gradient import INF_GRADIENT
+from controllers.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
@@ -448,7 +448,10 @@ class Scripted:
     max_groups = 3  # its leaders, one per group, never fail
     Params = ScriptParams
     STATUSES = ("Initial", "Detection", "Coverage", "Arrive")
-    MESSAGE_FIELDS = ()
+    MESSAGE_FIELDS = GRADIENT_FIELDS
+    SILENT = SILENT
+    LEADER_FIELD, GROUP_FIELD = "leader", "group"
+    INITIAL_STATUSES, COVERING_STATUSES, SETTLED_STATUSES = ("Initial",), ("Coverage",), ("Arrive",)
 
     @classmethod
     def sensing_range(cls, params):
@@ -463,7 +466,7 @@ class Scripted:
         status = 0 if t < self.p.leave_initial else 1 if t < self.p.start_moving else (
             3 if arrived else 2)
         moving = status == 2
-        msg = (s.robot_id, status, 0 if s.leader else INF_GRADIENT, s.group, s.leader, moving)
+        msg = (s.robot_id, status, moving, 0 if s.leader else INF_GRADIENT, s.group, s.leader)
         return Action((0.05, 0.0) if moving else (0.0, 0.0), msg)
 
 

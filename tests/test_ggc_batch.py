@@ -103,7 +103,7 @@ def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Coun
     sim = Simulation(small_world(40.0, 30.0), controller="ggc", robots=90, groups=2, seed=3,
                      max_ticks=ticks, settings={"batch_decide": False})
     used = collections.Counter()
-    prepare = sim._prepare
+    prepare = sim.swarm._prepare
 
     def counting(robots, batch):
         prepare(robots, batch)
@@ -111,7 +111,7 @@ def two_groups(prepared: bool, ticks: int) -> tuple[Simulation, collections.Coun
         used["movers met"] += sum(bool(r.pre and r.pre.movers) for r in robots)
         used["waiting"] += sum(r.pre_wait is not None for r in robots)
 
-    sim._prepare = counting if prepared else None  # None: every robot answers for itself
+    sim.swarm._prepare = counting if prepared else None  # None: every robot answers alone
     for _ in range(ticks):
         sim.step()
     return sim, used

@@ -15,7 +15,7 @@ from swarmsim.snapshot import Snapshot
 
 def renderer(sim: Simulation, **kw) -> Renderer:
     """A renderer with the run's controller's colourings, leader and group fields."""
-    return renderer(sim, colourings=sim.info.colourings, group_field=sim.info.group_field,
+    return Renderer(sim.world, colourings=sim.info.colourings, group_field=sim.info.group_field,
                     leader_field=sim.info.leader_field, **kw)
 
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from swarmsim.cli import main
+from swarmsim.errors import ConfigError
 from swarmsim.world import load_world, world_from_dict
 from swarmsim.worldinfo import describe_world, format_report
 
@@ -72,11 +73,8 @@ def test_free_floor_is_net_of_holes_and_obstacles_with_warnings(tmp_path: Path) 
 
 
 def test_no_free_floor_and_tiny_floor_are_warned() -> None:
-    covered = describe_world(world_from_dict(_square([[-1, -1], [31, -1], [31, 31], [-1, 31]])))
-    assert covered.free_area == 0
-    assert covered.warnings == ("the target has no free floor: obstacles cover all of it",)
-    assert covered.beacon_depth is None
-    assert "nan" not in "\n".join(format_report(covered))
+    with pytest.raises(ConfigError, match="free floor"):  # the loader refuses it outright
+        world_from_dict(_square([[-1, -1], [31, -1], [31, 31], [-1, 31]]))
     tiny = describe_world(world_from_dict(_square([[0, 0], [30, 0], [30, 29], [0, 29]])))
     assert any(w.startswith("tiny free floor") for w in tiny.warnings)
 

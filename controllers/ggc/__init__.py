@@ -51,7 +51,6 @@ class GGC(GGCRobot):
     GROUP_FIELD = "group"
     INITIAL_STATUSES = ("Initial",)
     COVERING_STATUSES = ("Coverage",)
-    LAYOUTS = ("formation",)
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True

@@ -67,7 +67,9 @@ def draw_preview(report: WorldReport, width: int = 800) -> np.ndarray:
                     radius=ROBOT_RADIUS, coverage=0.0, covered=None,
                     in_contact=np.zeros(n, bool), failed=np.zeros(n, bool),
                     start_groups=grp, start_leaders=lead)
-    renderer = Renderer(w, width=width, color_by="group", hud=False)
+    renderer = Renderer(w, width=width, color_by="group", hud=False,
+                        colourings={"group": "category"}, group_field="group",
+                        leader_field="leader")  # the fields of the snapshot made above
     frame = renderer.draw_surface(snap)
     _draw_narrow(frame, renderer, report)
     caption = _caption_panel(renderer.width, report, note)
