@@ -25,6 +25,56 @@ import numpy as np
 import pymunk
 from pymunk._chipmunk_cffi import lib
 
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
+
+
+class IdTable:
+    """Body id -> code, vectorised: an open-addressing hash table (linear probing) in numpy.
+
+    numpy's searchsorted or argsort cost ~0.3 us a lookup on ids like pymunk's (addresses);
+    this costs a few numpy passes over the queried ids.
+
+    Args:
+        ids: the distinct keys (body ids, as pymunk.batch reports them).
+        codes: (same length) the value of each key (e.g. a robot index).
+    """
+
+    def __init__(self, ids: Sequence[int], codes: Sequence[int]):
+        bits = max(4, int(np.ceil(np.log2(8 * max(len(ids), 1)))))
+        self._shift = np.uint64(64 - bits)
+        self._mask = (1 << bits) - 1
+        self._keys = np.zeros(1 << bits, dtype=np.uint64)
+        self._used = np.zeros(1 << bits, dtype=bool)
+        self._codes = np.full(1 << bits, -1, dtype=np.intp)
+        self.probes = 1  # the longest probe sequence of any key
+        keys = np.asarray(ids, dtype=np.uint64)
+        for key, slot, code in zip(keys.tolist(), self._slots(keys).tolist(), codes, strict=True):
+            steps = 1
+            while self._used[slot] and self._keys[slot] != key:
+                slot, steps = (slot + 1) & self._mask, steps + 1
+            if self._used[slot]:
+                raise ValueError(f"body id {key} given twice")
+            self._keys[slot], self._used[slot], self._codes[slot] = key, True, code
+            self.probes = max(self.probes, steps)
+
+    def _slots(self, keys: np.ndarray) -> np.ndarray:
+        return ((keys >> np.uint64(4)) * _GOLDEN >> self._shift).astype(np.intp)
+
+    def lookup(self, ids: np.ndarray) -> np.ndarray:
+        """The code of each id (same shape); -1 for ids not in the table."""
+        keys = np.asarray(ids, dtype=np.uint64).ravel()
+        slots = self._slots(keys)
+        out = self._codes[slots]  # right at once for most keys (the table is 1/8 full)
+        todo = np.flatnonzero(self._keys[slots] != keys)
+        for _ in range(self.probes):
+            todo = todo[self._used[slots[todo]]]  # an empty slot: not in the table (-1)
+            if not len(todo):
+                break
+            at = slots[todo] = (slots[todo] + 1) & self._mask
+            out[todo] = self._codes[at]
+            todo = todo[self._keys[at] != keys[todo]]
+        return out.reshape(np.shape(ids))
+
 
 class BodyRows:
     """Which pymunk.batch row holds which robot body and which control body.
@@ -39,11 +89,9 @@ class BodyRows:
     """
 
     def __init__(self, robot_ids: Sequence[int], control_ids: Sequence[int]):
-        ids = np.array(list(robot_ids) + list(control_ids), dtype=np.uintp)
+        ids = list(robot_ids) + list(control_ids)
         self.n = len(robot_ids)
-        order = np.argsort(ids, kind="stable")
-        self._sorted = ids[order]
-        self._code = order  # index into robots (< n) and then controls (>= n)
+        self._table = IdTable(ids, range(len(ids)))  # robots (< n), then controls (>= n)
         self._row_of = np.full(len(ids), -1, dtype=np.intp)
         self._row_ids: np.ndarray | None = None
 
@@ -54,13 +102,12 @@ class BodyRows:
         else:
             changed = np.arange(len(row_ids))
         if len(changed):
-            ids = row_ids[changed]
-            at = np.searchsorted(self._sorted, ids).clip(0, len(self._sorted) - 1)
-            found = self._sorted[at] == ids
-            self._row_of[self._code[at[found]]] = changed[found]
+            codes = self._table.lookup(row_ids[changed])
+            found = codes >= 0
+            self._row_of[codes[found]] = changed[found]
             self._row_ids = row_ids.copy()
-        if (self._row_of < 0).any():
-            raise RuntimeError("a robot's body is missing from the space's rows")
+            if self._row_of.min() < 0:
+                raise RuntimeError("a robot's body is missing from the space's rows")
 
     @property
     def robot_rows(self) -> np.ndarray:
@@ -110,8 +157,9 @@ class Parking:
 
     def command(self, velocities: np.ndarray) -> None:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
-        v = np.asarray(velocities, dtype=np.float64)
-        zero = ~(v != 0.0).any(axis=1)
+        v = np.ascontiguousarray(velocities, dtype=np.float64)
+        pairs = v.view(np.complex128)[:, 0]  # (vx, vy) as one number: faster than any(axis=1)
+        zero = pairs == 0
         to_park = np.flatnonzero(zero & self._zero_before & ~self.parked)
         to_unpark = np.flatnonzero(~zero & self.parked)
         self._zero_before = zero
@@ -123,7 +171,7 @@ class Parking:
         self.parked[to_unpark] = False
         self.parked[to_park] = True
         self._written[to_park] = 0.0
-        write = np.flatnonzero((v != self._written).any(axis=1))  # parked robots: v == 0
+        write = np.flatnonzero(pairs != self._written.view(np.complex128)[:, 0])
         if len(write):
             set_velocity, ptrs = lib.cpBodySetVelocity, self._control_ptrs
             rows = v[write]

@@ -36,6 +36,10 @@ ROBOT_CATEGORY = 0b01
 WALL_CATEGORY = 0b10
 GHOST_GROUP = 1
 WALL_THICKNESS = 0.5
+IDLE_SPEED = 1e-9
+"""Speed (units per tick) below which pymunk counts a body as resting, for sleeping. Bodies
+held still by contacts keep velocities of ~1e-19 (rounding); with pymunk's default (0 without
+gravity: exactly still) a parked crowd that touches never sleeps."""
 
 
 @dataclass(frozen=True)
@@ -141,9 +145,10 @@ class _Arbiters:
         with at least one robot, all of them flagged."""
         real = self.robots >= 0
         flagged = real & robots[np.where(real, self.robots, 0)]
+        a, b = flagged[:, 0], flagged[:, 1]  # columns: faster than any/all(axis=1)
         if every:
-            return real.any(axis=1) & (flagged | ~real).all(axis=1)
-        return flagged.any(axis=1)
+            return (a | b) & (a | ~real[:, 0]) & (b | ~real[:, 1])
+        return a | b
 
     def keep(self, rows: np.ndarray) -> _Arbiters:
         return _Arbiters(self.robots[rows], self.depth[rows], self.impulse[rows])
@@ -180,6 +185,7 @@ class Physics:
         self._sleep = self.config.physics_sleep
         if self._sleep:
             space.sleep_time_threshold = self.config.physics_sleep_time
+            space.idle_speed_threshold = IDLE_SPEED
             self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
             self._parking = Parking(self._robots, self._controls)
             self._rows_at = -1  # the tick self._rows describes
@@ -346,7 +352,7 @@ class Physics:
             return ContactState(in_contact)
         touched = c.robots[c.robots >= 0]
         in_contact[touched] = True
-        pair = (c.robots >= 0).all(axis=1) & (c.depth > 0)
+        pair = (c.robots[:, 0] >= 0) & (c.robots[:, 1] >= 0) & (c.depth > 0)
         return ContactState(in_contact, float(c.depth.max()), float(c.depth[pair].sum()),
                             int(pair.sum()), float(c.impulse.sum()), float(c.impulse.max()))
 

@@ -1,0 +1,195 @@
+"""Per phase, what a tick costs and what it costs per awake robot; and pymunk sleeping on vs off.
+
+Two measurements:
+
+``sizes`` (default): for each swarm size (600, 2,000, 10,000 robots) in bench_tick.py's
+square world, in a fresh process (its peak resident memory is its own), after --warmup ticks it
+times --ticks ticks per block and prints, as the median of --repeats blocks:
+
+- ms per tick of each phase (sense, decide, physics, metrics) and of the whole tick;
+- microseconds per awake robot of each phase: sense, decide and metrics per robot the engine
+  decided (``awake``), physics per robot body awake in pymunk (``pm-awake``: not asleep);
+- ``bare``: the bare physics step (Physics.step) of the same bodies right after each block;
+- peak RSS of the process, MB;
+- at the end, the log-log slope of the tick cost (and of the bare step) from the second-
+  smallest size to the largest: log(cost ratio) / log(size ratio); 1.0 is linear.
+
+``compare``: one world and seed run twice in ONE process, pymunk sleeping on and off
+(PhysicsConfig.physics_sleep), taking turns in blocks of --block ticks, so that both meet the
+same machine. Prints each run's phases in ms per tick over the ticks both ran, and the ratio
+on / off of the physics phase per tick, block by block (median and quartiles) and whole.
+The two runs are the same physics but part ways after a few hundred ticks (contacts are
+solved in another order), so they compare like two seeds, not tick by tick.
+
+    python bench/bench_phases.py                                   # 600 2000 10000 robots
+    python bench/bench_phases.py sizes --robots 600 2000 --ticks 50
+    python bench/bench_phases.py compare --world house --ticks 3000
+    python bench/bench_phases.py sizes --settings physics_sleep=false    # as before
+
+These machines are noisy (+-30 %): compare within one run of the script, not across runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import multiprocessing
+import resource
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_tick import square_world
+
+from swarmsim import Simulation
+from swarmsim.sim import PHASES
+
+
+def parse_settings(pairs: list[str]) -> dict:
+    """``key=value`` strings to a settings dict (true/false, ints and floats converted)."""
+    out: dict = {}
+    for pair in pairs:
+        key, _, value = pair.partition("=")
+        low = value.lower()
+        if low in ("true", "false"):
+            out[key] = low == "true"
+            continue
+        try:
+            out[key] = int(value)
+        except ValueError:
+            try:
+                out[key] = float(value)
+            except ValueError:
+                out[key] = value
+    return out
+
+
+def pymunk_awake(sim: Simulation) -> int:
+    """Robot bodies not asleep in pymunk."""
+    return int(sim.n - sim.physics.bodies_asleep().sum())
+
+
+def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int,
+            settings: dict) -> dict:
+    """Phase costs (ms per tick), per-awake-robot costs (us) and the bare step, medians."""
+    sim = Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
+                     max_ticks=10**9, settings=settings)
+    for _ in range(warmup):
+        sim.step()
+    blocks = []
+    for _ in range(repeats):
+        before = dict(sim.phase_seconds)
+        awake = pm_awake = 0
+        start = time.perf_counter()
+        for _ in range(ticks):
+            sim.step()
+            awake += sim.metrics.rows[-1]["awake"] if sim.metrics.rows else sim.n
+            pm_awake += pymunk_awake(sim)
+        wall = time.perf_counter() - start
+        ms = {k: (sim.phase_seconds[k] - before[k]) / ticks * 1e3 for k in PHASES}
+        ms["tick"] = wall / ticks * 1e3
+        ms["awake"], ms["pm_awake"] = awake / ticks, pm_awake / ticks
+        bare_start = time.perf_counter()
+        for _ in range(ticks):
+            sim.physics.step()  # the same bodies, the same drive commands
+        ms["bare"] = (time.perf_counter() - bare_start) / ticks * 1e3
+        blocks.append(ms)
+    out = {k: statistics.median(b[k] for b in blocks) for k in blocks[0]}
+    out["robots"] = robots
+    return out
+
+
+def _measure_with_memory(*args) -> dict:
+    out = measure(*args)
+    out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KB on Linux
+    return out
+
+
+def sizes(args: argparse.Namespace) -> None:
+    settings = parse_settings(args.settings)
+    print(f"{args.controller} {settings or ''}: ms per tick per phase, median of {args.repeats}"
+          f" blocks of {args.ticks} ticks after {args.warmup}; us per awake robot (physics: "
+          "per robot awake in pymunk); bare = Physics.step of the same bodies")
+    print(f"{'robots':>7}{'awake':>7}{'pm-awake':>9}" + "".join(f"{p:>8}" for p in PHASES)
+          + f"{'tick':>8}{'bare':>8}  |" + "".join(f"{p[:6] + ' us':>10}" for p in PHASES)
+          + f"{'peak MB':>9}")
+    ctx = multiprocessing.get_context("spawn")
+    results = []
+    for n in sorted(args.robots):
+        with ctx.Pool(1) as pool:
+            r = pool.apply(_measure_with_memory, (n, args.controller, args.warmup, args.ticks,
+                                                  args.repeats, settings))
+        results.append(r)
+        per = [r[p] * 1e3 / max(r["pm_awake" if p == "physics" else "awake"], 1.0)
+               for p in PHASES]
+        print(f"{n:>7}{r['awake']:>7.0f}{r['pm_awake']:>9.0f}"
+              + "".join(f"{r[p]:>8.2f}" for p in PHASES) + f"{r['tick']:>8.2f}{r['bare']:>8.2f}"
+              + "  |" + "".join(f"{u:>10.2f}" for u in per) + f"{r['peak_mb']:>9.0f}",
+              flush=True)
+    if len(results) >= 2:
+        a, b = results[-2] if len(results) > 2 else results[0], results[-1]
+        span = math.log(b["robots"] / a["robots"])
+        slope = {k: math.log(b[k] / a[k]) / span for k in ("tick", "bare", "physics")}
+        print(f"log-log slope {a['robots']} -> {b['robots']} robots: tick {slope['tick']:.2f}, "
+              f"physics phase {slope['physics']:.2f}, bare step {slope['bare']:.2f}")
+
+
+def compare(args: argparse.Namespace) -> None:
+    settings = parse_settings(args.settings)
+    sims = {name: Simulation(args.world, seed=args.seed, max_ticks=args.ticks or None,
+                             settings={**settings, "physics_sleep": name == "on"})
+            for name in ("off", "on")}
+    ratios: list[float] = []
+    while not any(sim.stop_reason is not None for sim in sims.values()):
+        spent = {}
+        for name, sim in sims.items():  # taking turns
+            before, start = sim.phase_seconds["physics"], sim.tick
+            while sim.tick < start + args.block and sim.stop_reason is None:
+                sim.step()
+                sim.stop_reason = sim._should_stop()
+            spent[name] = (sim.phase_seconds["physics"] - before, sim.tick - start)
+        if spent["on"][1] == spent["off"][1] == args.block:
+            ratios.append(spent["on"][0] / spent["off"][0])
+    both = min(sim.tick for sim in sims.values())
+    print(f"{args.world} seed {args.seed}: pymunk sleeping on vs off in one process, blocks of "
+          f"{args.block} ticks taking turns; off ran {sims['off'].tick} ticks"
+          f"{' (ended)' if sims['off'].stop_reason else ''}, on {sims['on'].tick}"
+          f"{' (ended)' if sims['on'].stop_reason else ''}")
+    for name, sim in sims.items():
+        cells = ", ".join(f"{p} {sim.phase_seconds[p] / sim.tick * 1e3:.2f}" for p in PHASES)
+        print(f"  {name:>3}: ms per tick over its {sim.tick} ticks: {cells}; asleep now "
+              f"{int(sim.physics.bodies_asleep().sum())} of {sim.n}")
+    per_tick = {k: sims[k].phase_seconds["physics"] / sims[k].tick for k in sims}
+    q = statistics.quantiles(ratios, n=4) if len(ratios) > 1 else ratios * 3
+    print(f"  physics phase per tick, on / off: {per_tick['on'] / per_tick['off']:.3f} whole;"
+          f" block by block median {statistics.median(ratios):.3f} (quartiles {q[0]:.3f}-"
+          f"{q[2]:.3f}, {len(ratios)} blocks of both runs before tick {both})")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="what")
+    s = sub.add_parser("sizes", help="per-phase costs at several swarm sizes (default)")
+    s.add_argument("--robots", type=int, nargs="+", default=[600, 2000, 10000])
+    s.add_argument("--controller", default="ggc")
+    s.add_argument("--warmup", type=int, default=600, help="ticks before measuring")
+    s.add_argument("--ticks", type=int, default=100, help="ticks per measured block")
+    s.add_argument("--repeats", type=int, default=3, help="measured blocks (median)")
+    s.add_argument("--settings", nargs="*", default=[], help="key=value run settings")
+    c = sub.add_parser("compare", help="pymunk sleeping on vs off, one process, taking turns")
+    c.add_argument("--world", default="house")
+    c.add_argument("--seed", type=int, default=0)
+    c.add_argument("--ticks", type=int, default=3000, help="stop here (0: run to the end)")
+    c.add_argument("--block", type=int, default=250, help="ticks per turn")
+    c.add_argument("--settings", nargs="*", default=[], help="key=value run settings")
+    args = parser.parse_args(sys.argv[1:] or ["sizes"])
+    if args.what == "compare":
+        compare(args)
+    else:
+        sizes(args)
+
+
+if __name__ == "__main__":
+    main()
