@@ -9,7 +9,8 @@ times --ticks ticks per block and prints, as the median of --repeats blocks:
 - ms per tick of each phase (sense, decide, physics, metrics) and of the whole tick;
 - microseconds per awake robot of each phase: sense, decide and metrics per robot the engine
   decided (``awake``), physics per robot body awake in pymunk (``pm-awake``: not asleep);
-- ``bare``: the bare physics step (Physics.step) of the same bodies right after each block;
+- ``bare``: pymunk's bare step (Space.step, substeps a tick) of the same bodies right after
+  each block;
 - peak RSS of the process, MB;
 - at the end, the log-log slope of the tick cost (and of the bare step) from the second-
   smallest size to the largest: log(cost ratio) / log(size ratio); 1.0 is linear.
@@ -91,9 +92,10 @@ def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int,
         ms = {k: (sim.phase_seconds[k] - before[k]) / ticks * 1e3 for k in PHASES}
         ms["tick"] = wall / ticks * 1e3
         ms["awake"], ms["pm_awake"] = awake / ticks, pm_awake / ticks
+        space, substeps = sim.physics.space, sim.physics.config.substeps
         bare_start = time.perf_counter()
-        for _ in range(ticks):
-            sim.physics.step()  # the same bodies, the same drive commands
+        for _ in range(ticks * substeps):
+            space.step(1.0 / substeps)  # the same bodies, the same drive commands
         ms["bare"] = (time.perf_counter() - bare_start) / ticks * 1e3
         blocks.append(ms)
     out = {k: statistics.median(b[k] for b in blocks) for k in blocks[0]}
@@ -111,7 +113,7 @@ def sizes(args: argparse.Namespace) -> None:
     settings = parse_settings(args.settings)
     print(f"{args.controller} {settings or ''}: ms per tick per phase, median of {args.repeats}"
           f" blocks of {args.ticks} ticks after {args.warmup}; us per awake robot (physics: "
-          "per robot awake in pymunk); bare = Physics.step of the same bodies")
+          "per robot awake in pymunk); bare = pymunk's step of the same bodies")
     print(f"{'robots':>7}{'awake':>7}{'pm-awake':>9}" + "".join(f"{p:>8}" for p in PHASES)
           + f"{'tick':>8}{'bare':>8}  |" + "".join(f"{p[:6] + ' us':>10}" for p in PHASES)
           + f"{'peak MB':>9}")
