@@ -93,6 +93,20 @@ def test_reads_map_rows_by_body_id_while_robots_sleep_and_wake():
     assert len(orders) > 10  # ...and pymunk's rows were reordered many times
 
 
+def test_commanding_movers_leaves_the_sleepers_asleep():
+    physics = Physics(square_world(), hex_offsets(10, 3.0) + np.array([20.0, 20.0]), SLEEP)
+    for _ in range(10):
+        tick(physics, np.zeros((10, 2)))
+    assert true_asleep(physics).all()
+    v = np.zeros((10, 2))
+    v[0] = [0.1, 0.0]
+    physics.read()
+    physics.command(v)  # a batch write would wake (or skip) every sleeper
+    assert true_asleep(physics).tolist() == [False] + [True] * 9
+    physics.step()
+    assert physics.bodies_asleep().tolist() == [False] + [True] * 9
+
+
 def resting_crowd(cfg: PhysicsConfig) -> dict:
     """A crowd driven into a corner for 150 ticks, then parked there, touching, 250 ticks."""
     pos = hex_offsets(60, 1.0)
