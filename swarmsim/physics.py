@@ -27,7 +27,7 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
-from swarmsim.bodysleep import BodyRows, Parking
+from swarmsim.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.world import World
 
 ROBOT_TYPE = 1
@@ -262,9 +262,7 @@ class Physics:
         self.robot_rows = np.array([row_of[b.id] for b in self._robots], dtype=np.intp)
         self.control_rows = np.array([row_of[b.id] for b in self._controls], dtype=np.intp)
         self._robot_of_body = {b.id: i for i, b in enumerate(self._robots)}
-        ids = np.array([b.id for b in self._robots], dtype=np.uintp)
-        self._sorted_body_ids = np.sort(ids)
-        self._robot_by_sorted_id = np.argsort(ids, kind="stable")
+        self._robot_ids = IdTable([b.id for b in self._robots], range(self.n))
         self._cmd = np.zeros((self.n_rows, 2))
 
     def read(self) -> tuple[np.ndarray, np.ndarray]:
@@ -321,6 +319,7 @@ class Physics:
         """
         if self._sleep:
             self._parking.command(velocities)
+            self._rows_at = -1  # parking and waking reorder the rows
             return
         cmd = self._cmd
         cmd[:] = self._velocity_rows  # leave every other body's velocity as it is
@@ -386,9 +385,7 @@ class Physics:
 
     def _robots_of(self, body_ids: np.ndarray) -> np.ndarray:
         """Robot index of each body id (same shape), -1 for bodies that are not robots."""
-        at = np.searchsorted(self._sorted_body_ids, body_ids).clip(0, self.n - 1)
-        found = self._sorted_body_ids[at] == body_ids
-        return np.where(found, self._robot_by_sorted_id[at], -1)
+        return self._robot_ids.lookup(body_ids)
 
     def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
         """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.
