@@ -15,6 +15,10 @@ times --ticks ticks per block and prints, as the median of --repeats blocks:
 - at the end, the log-log slope of the tick cost (and of the bare step) from the second-
   smallest size to the largest: log(cost ratio) / log(size ratio); 1.0 is linear.
 
+With --pair, each size's process runs two simulations, pymunk sleeping on and off, taking
+turns block by block (warm-up too), prints both and the ratios on / off; the peak memory is
+then that of both runs together.
+
 ``compare``: one world and seed run twice in ONE process, pymunk sleeping on and off
 (PhysicsConfig.physics_sleep), taking turns in blocks of --block ticks, so that both meet the
 same machine. Prints each run's phases in ms per tick over the ticks both ran, and the ratio
@@ -26,6 +30,7 @@ solved in another order), so they compare like two seeds, not tick by tick.
     python bench/bench_phases.py sizes --robots 600 2000 --ticks 50
     python bench/bench_phases.py compare --world house --ticks 3000
     python bench/bench_phases.py sizes --settings physics_sleep=false    # as before
+    python bench/bench_phases.py sizes --pair        # sleeping on and off, taking turns
 
 These machines are noisy (+-30 %): compare within one run of the script, not across runs.
 """
@@ -73,38 +78,55 @@ def pymunk_awake(sim: Simulation) -> int:
 
 
 def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int,
-            settings: dict) -> dict:
-    """Phase costs (ms per tick), per-awake-robot costs (us) and the bare step, medians."""
-    sim = Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
-                     max_ticks=10**9, settings=settings)
-    for _ in range(warmup):
-        sim.step()
-    blocks = []
+            settings: dict, pair: bool = False) -> dict:
+    """Phase costs (ms per tick), per-awake-robot costs (us) and the bare step, medians.
+
+    With ``pair``, two runs in this process, pymunk sleeping on and off, take turns block by
+    block (warm-up too); the result holds both, under "on" and "off".
+    """
+    variants = {"on": True, "off": False} if pair else {"": settings.get("physics_sleep", True)}
+    sims = {name: Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
+                             max_ticks=10**9, settings={**settings, "physics_sleep": sleep})
+            for name, sleep in variants.items()}
+    for _ in range(0, warmup, ticks):
+        for sim in sims.values():
+            for _ in range(min(ticks, warmup - sim.tick)):
+                sim.step()
+    blocks: dict[str, list[dict]] = {name: [] for name in sims}
     for _ in range(repeats):
-        before = dict(sim.phase_seconds)
-        awake = pm_awake = 0
-        start = time.perf_counter()
-        for _ in range(ticks):
-            sim.step()
-            awake += sim.metrics.rows[-1]["awake"] if sim.metrics.rows else sim.n
-            pm_awake += pymunk_awake(sim)
-        wall = time.perf_counter() - start
-        ms = {k: (sim.phase_seconds[k] - before[k]) / ticks * 1e3 for k in PHASES}
-        ms["tick"] = wall / ticks * 1e3
-        ms["awake"], ms["pm_awake"] = awake / ticks, pm_awake / ticks
-        space, substeps = sim.physics.space, sim.physics.config.substeps
-        bare_start = time.perf_counter()
-        for _ in range(ticks * substeps):
-            space.step(1.0 / substeps)  # the same bodies, the same drive commands
-        ms["bare"] = (time.perf_counter() - bare_start) / ticks * 1e3
-        blocks.append(ms)
-    out = {k: statistics.median(b[k] for b in blocks) for k in blocks[0]}
-    out["robots"] = robots
-    return out
+        for name, sim in sims.items():
+            blocks[name].append(_block(sim, ticks))
+    out = {name: {k: statistics.median(b[k] for b in blocks[name]) for k in blocks[name][0]}
+           for name in sims}
+    for r in out.values():
+        r["robots"] = robots
+    return out if pair else out[""]
+
+
+def _block(sim: Simulation, ticks: int) -> dict:
+    """One measured block of ``ticks`` ticks, then as many bare steps."""
+    before = dict(sim.phase_seconds)
+    awake = pm_awake = 0
+    start = time.perf_counter()
+    for _ in range(ticks):
+        sim.step()
+        awake += sim.metrics.rows[-1]["awake"] if sim.metrics.rows else sim.n
+        pm_awake += pymunk_awake(sim)
+    wall = time.perf_counter() - start
+    ms = {k: (sim.phase_seconds[k] - before[k]) / ticks * 1e3 for k in PHASES}
+    ms["tick"] = wall / ticks * 1e3
+    ms["awake"], ms["pm_awake"] = awake / ticks, pm_awake / ticks
+    space, substeps = sim.physics.space, sim.physics.config.substeps
+    bare_start = time.perf_counter()
+    for _ in range(ticks * substeps):
+        space.step(1.0 / substeps)  # the same bodies, the same drive commands
+    ms["bare"] = (time.perf_counter() - bare_start) / ticks * 1e3
+    return ms
 
 
 def _measure_with_memory(*args) -> dict:
     out = measure(*args)
+    out = {"runs": out} if "on" in out else out
     out["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # KB on Linux
     return out
 
@@ -113,29 +135,41 @@ def sizes(args: argparse.Namespace) -> None:
     settings = parse_settings(args.settings)
     print(f"{args.controller} {settings or ''}: ms per tick per phase, median of {args.repeats}"
           f" blocks of {args.ticks} ticks after {args.warmup}; us per awake robot (physics: "
-          "per robot awake in pymunk); bare = pymunk's step of the same bodies")
-    print(f"{'robots':>7}{'awake':>7}{'pm-awake':>9}" + "".join(f"{p:>8}" for p in PHASES)
+          "per robot awake in pymunk); bare = pymunk's step of the same bodies"
+          + ("; pymunk sleeping on and off, two runs in one process taking turns"
+             if args.pair else ""))
+    print(f"{'robots':>9}{'awake':>7}{'pm-awake':>9}" + "".join(f"{p:>8}" for p in PHASES)
           + f"{'tick':>8}{'bare':>8}  |" + "".join(f"{p[:6] + ' us':>10}" for p in PHASES)
           + f"{'peak MB':>9}")
     ctx = multiprocessing.get_context("spawn")
-    results = []
+    results: dict[str, list[dict]] = {}
     for n in sorted(args.robots):
         with ctx.Pool(1) as pool:
-            r = pool.apply(_measure_with_memory, (n, args.controller, args.warmup, args.ticks,
-                                                  args.repeats, settings))
-        results.append(r)
-        per = [r[p] * 1e3 / max(r["pm_awake" if p == "physics" else "awake"], 1.0)
-               for p in PHASES]
-        print(f"{n:>7}{r['awake']:>7.0f}{r['pm_awake']:>9.0f}"
-              + "".join(f"{r[p]:>8.2f}" for p in PHASES) + f"{r['tick']:>8.2f}{r['bare']:>8.2f}"
-              + "  |" + "".join(f"{u:>10.2f}" for u in per) + f"{r['peak_mb']:>9.0f}",
-              flush=True)
-    if len(results) >= 2:
-        a, b = results[-2] if len(results) > 2 else results[0], results[-1]
-        span = math.log(b["robots"] / a["robots"])
-        slope = {k: math.log(b[k] / a[k]) / span for k in ("tick", "bare", "physics")}
-        print(f"log-log slope {a['robots']} -> {b['robots']} robots: tick {slope['tick']:.2f}, "
-              f"physics phase {slope['physics']:.2f}, bare step {slope['bare']:.2f}")
+            out = pool.apply(_measure_with_memory, (n, args.controller, args.warmup, args.ticks,
+                                                    args.repeats, settings, args.pair))
+        for name, r in (out["runs"].items() if args.pair else [("", out)]):
+            r["peak_mb"] = out["peak_mb"]
+            results.setdefault(name, []).append(r)
+            _print_row(r, f"{n} {name}".strip())
+        if args.pair:
+            on, off = out["runs"]["on"], out["runs"]["off"]
+            print(f"{'':>9}physics phase on / off {on['physics'] / off['physics']:.2f}, tick "
+                  f"{on['tick'] / off['tick']:.2f}, bare step {on['bare'] / off['bare']:.2f}")
+    for name, rows in results.items():
+        if len(rows) >= 2:
+            a, b = rows[-2] if len(rows) > 2 else rows[0], rows[-1]
+            span = math.log(b["robots"] / a["robots"])
+            slope = {k: math.log(b[k] / a[k]) / span for k in ("tick", "bare", "physics")}
+            print(f"log-log slope {a['robots']} -> {b['robots']} robots{' ' + name if name else ''}"
+                  f": tick {slope['tick']:.2f}, physics phase {slope['physics']:.2f}, "
+                  f"bare step {slope['bare']:.2f}")
+
+
+def _print_row(r: dict, label: str) -> None:
+    per = [r[p] * 1e3 / max(r["pm_awake" if p == "physics" else "awake"], 1.0) for p in PHASES]
+    print(f"{label:>9}{r['awake']:>7.0f}{r['pm_awake']:>9.0f}"
+          + "".join(f"{r[p]:>8.2f}" for p in PHASES) + f"{r['tick']:>8.2f}{r['bare']:>8.2f}"
+          + "  |" + "".join(f"{u:>10.2f}" for u in per) + f"{r['peak_mb']:>9.0f}", flush=True)
 
 
 def compare(args: argparse.Namespace) -> None:
@@ -180,6 +214,8 @@ def main() -> None:
     s.add_argument("--ticks", type=int, default=100, help="ticks per measured block")
     s.add_argument("--repeats", type=int, default=3, help="measured blocks (median)")
     s.add_argument("--settings", nargs="*", default=[], help="key=value run settings")
+    s.add_argument("--pair", action="store_true",
+                   help="pymunk sleeping on and off: two runs in one process taking turns")
     c = sub.add_parser("compare", help="pymunk sleeping on vs off, one process, taking turns")
     c.add_argument("--world", default="house")
     c.add_argument("--seed", type=int, default=0)
