@@ -22,6 +22,7 @@ from swarmsim.controller import (
     register,
 )
 
+from . import ggcnext  # noqa: F401  (registers "ggc-next")
 from .aggregation import MAX_GROUPS
 from .batch import prepare_chunk
 from .book import EdgeBook

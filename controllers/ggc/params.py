@@ -226,6 +226,7 @@ class GGCParams:
     spaced_deadlock_arrive: bool = False
     lattice_reach: float = 6.93
     junction_stop: str = "lattice"
+    ruleset: str = "paper"
 
     def __post_init__(self) -> None:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",

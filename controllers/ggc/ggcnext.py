@@ -1,0 +1,99 @@
+"""GGC on state arrays and compiled rules (issue 47), registered as "ggc-next" while the
+engine's create_swarm protocol is not in: adapted to create_robots / decide_batch."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from swarmsim.controller import (
+    BASE_MESSAGE_FIELDS,
+    ChunkActions,
+    DecideBatch,
+    RobotSetup,
+    make_action,
+    register,
+)
+
+from .params import GGCParams
+from .state import MAX_GROUPS, message_fields
+from .statuses import SETTLED, STATUSES
+from .swarm import GGCSwarm
+
+_BASE = tuple(f[0] for f in BASE_MESSAGE_FIELDS)
+
+
+class RobotRow:
+    """A robot as the engine holds it: its swarm and its row there."""
+
+    __slots__ = ("row", "swarm")
+
+    def __init__(self, swarm: GGCSwarm, row: int):
+        self.swarm, self.row = swarm, row
+
+    def step(self, p):  # pragma: no cover - never called: decide_batch decides every robot
+        raise NotImplementedError("GGC robots are decided a chunk at a time")
+
+
+@register
+class GGCNext:
+    """Gradient-and-grouping coverage (paper Sections 3-4), rules compiled over state rows."""
+
+    name = "ggc-next"
+    Params = GGCParams
+    STATUSES = STATUSES
+    SETTLED_STATUSES = SETTLED
+    MESSAGE_FIELDS = message_fields(MAX_GROUPS, _BASE)
+    default_start = "formation"
+    max_groups = MAX_GROUPS
+    requires_beacon = True
+    probe_params = ("probe_distance", "boundary_probe")
+
+    @classmethod
+    def message_fields_for(cls, groups: int) -> list[tuple]:
+        return message_fields(groups, _BASE)
+
+    @classmethod
+    def sensing_range(cls, params: GGCParams) -> float:
+        return max(params.R_c, params.gradient_reach * params.d_cover, params.d_cover + 2)
+
+    @classmethod
+    def create_robots(cls, setups: Sequence[RobotSetup], params: GGCParams,
+                      rngs: Sequence[np.random.Generator]) -> list[RobotRow]:
+        swarm = GGCSwarm(setups, params, rngs)
+        swarm.sent = None
+        return [RobotRow(swarm, i) for i in range(len(setups))]
+
+    @classmethod
+    def decide_batch(cls, robots: list[RobotRow], batch: DecideBatch) -> ChunkActions:
+        swarm = robots[0].swarm
+        rows = np.fromiter((r.row for r in robots), dtype=np.intp, count=len(robots))
+        d = swarm.decide(rows, batch)
+        if swarm.sent is None:
+            swarm.sent = np.zeros(len(swarm.state), dtype=d.broadcast.dtype)
+            swarm.sent["id"] = -1
+        old = swarm.sent[rows]
+        changed = np.flatnonzero((old.view(np.uint8).reshape(len(rows), -1)
+                                  != d.broadcast.view(np.uint8).reshape(len(rows), -1))
+                                 .any(axis=1))
+        swarm.sent[rows[changed]] = d.broadcast[changed]
+        messages = dict(zip(changed.tolist(), d.broadcast[changed].tolist(), strict=True))
+        sleepers = {}
+        for k in np.flatnonzero(d.sleep).tolist():
+            wake = float(d.wake_range[k])
+            tick = int(d.wake_tick[k])
+            sleepers[k] = make_action(sleep=True, wake_range=None if math.isnan(wake) else wake,
+                                      wake_on_motion=bool(d.wake_on_motion[k]),
+                                      wake_tick=None if tick < 0 else tick)
+        return ChunkActions(d.velocities, d.listen, messages, sleepers)
+
+    @classmethod
+    def summarize(cls, robots: Sequence[RobotRow]) -> dict:
+        if not robots:
+            return {"status_counts": {}}
+        swarm = robots[0].swarm
+        keep = np.zeros(len(swarm.state), dtype=bool)
+        keep[[r.row for r in robots]] = True
+        return swarm.summarize(~keep)
