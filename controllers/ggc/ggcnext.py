@@ -60,6 +60,11 @@ class GGCNext:
         return max(params.R_c, params.gradient_reach * params.d_cover, params.d_cover + 2)
 
     @classmethod
+    def warm_up(cls) -> None:
+        """Compile (first time on a machine, about a minute) or load the rules."""
+        warm_up_rules(cls)
+
+    @classmethod
     def create_robots(cls, setups: Sequence[RobotSetup], params: GGCParams,
                       rngs: Sequence[np.random.Generator]) -> list[RobotRow]:
         swarm = GGCSwarm(setups, params, rngs)
@@ -97,3 +102,20 @@ class GGCNext:
         keep = np.zeros(len(swarm.state), dtype=bool)
         keep[[r.row for r in robots]] = True
         return swarm.summarize(~keep)
+
+
+def warm_up_rules(cls: type) -> None:
+    """Compile (first time on a machine) or load the driver for the run's types: decide two
+    robots of a made-up chunk."""
+    from swarmsim.controller import NeighbourBatch, message_dtype, run_message_fields
+
+    setups = [RobotSetup(0, leader=True, group=1), RobotSetup(1, group=1)]
+    rngs = [np.random.default_rng(0), np.random.default_rng(1)]
+    swarm = GGCSwarm(setups, cls.Params(), rngs)
+    messages = np.zeros(2, dtype=message_dtype(run_message_fields(cls, 1)))
+    messages["id"] = [1, 0]
+    offsets = np.array([[1.0, 0.0], [-1.0, 0.0]])
+    batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
+                        offsets, [False, False], np.zeros((2, 2)), np.zeros((2, 2)),
+                        lambda k: (lambda offset: False), None)
+    swarm.decide(np.arange(2), batch)
