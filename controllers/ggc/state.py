@@ -23,7 +23,8 @@ MAX_GROUPS = 16
 
 STATE_DTYPE = np.dtype([
     # who I am, what I broadcast
-    ("id", "i4"), ("group", "i2"), ("leader", "?"), ("status", "i1"), ("grad", "i4"),
+    ("id", "i4"), ("group", "i2"), ("leader", "?"), ("status", "i1"), ("visited", "u2"),
+    ("grad", "i4"),
     ("cmd", "i1"), ("travel_x", "f8"), ("travel_y", "f8"), ("touch", "?"), ("stepped", "?"),
     ("enclosed", "?"),
     # travel: the route my formation took (it decides my group's orbit sense)
@@ -46,7 +47,8 @@ STATE_DTYPE = np.dtype([
     # my own random stream (xorshift64*)
     ("rng", "u8"),
 ])
-"""One robot's state (units: lengths, ticks, radians)."""
+"""One robot's state (units: lengths, ticks, radians). ``visited``: bit s set once the robot
+has had status s."""
 
 ALL_MESSAGE_FIELDS = [("gradient", "i4"), ("group", "i2"), ("leader", "?"), ("cmd", "i1"),
                       ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
@@ -82,6 +84,7 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
     scattered = np.array([u.scattered for u in setups], dtype=bool)
     s["leader"] = leader
     s["status"] = np.where(scattered, np.where(leader, FORMED, APPROACH), INITIAL)
+    s["visited"] = 1 << s["status"].astype(np.uint16)
     s["grad"] = np.where(leader, 0, INF_GRADIENT)
     s["sense"] = float(orbit)
     s["no_way"] = NO_SENDER

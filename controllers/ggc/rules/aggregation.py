@@ -76,7 +76,7 @@ def take_over(view, me):  # pragma: no cover - compiled
     for r in range(len(view.dist)):
         if view.handover[r] == me.id and view.id[r] != NO:
             me.leader, me.group, me.h = True, view.group[r], view.h[r]
-            me.status = FORMED
+            set_status(me, FORMED)
             k = me.group - 1
             me.lepoch[k] = view.lepoch[r, k] + 1
             me.ldist[k] = 0.0
@@ -92,7 +92,7 @@ def settle_handover(view, me, sense):  # pragma: no cover - compiled
     for r in range(len(view.dist)):
         if view.id[r] == me.handover and view.leader[r] and view.group[r] == me.group:
             me.leader, me.group, me.handover = False, 0, NO
-            me.status = APPROACH
+            set_status(me, APPROACH)
             return
     me.handover = NO
 

@@ -84,6 +84,7 @@ def set_status(me, status):  # pragma: no cover - compiled
     """Change my status; settling ends an open deadlock episode."""
     if status != me.status:
         me.status = status
+        me.visited |= 1 << status
         if status == ARRIVE or status == SURPLUS:
             me.in_deadlock = False
 
