@@ -98,3 +98,35 @@ def test_every_controller_is_declared_properly():
         assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
         assert isinstance(cls.MESSAGE_FIELDS, list)
         np.dtype(cls.MESSAGE_FIELDS) if cls.MESSAGE_FIELDS else None
+
+
+RULE_PARAMETERS = {
+    "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
+    "nearest", "a", "b", "r", "reach", "status", "whole", "sender",  # rows, numbers, codes
+    "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
+    "dist", "wake_range", "wake_on_motion", "wake_tick"}
+"""Every parameter name a GGC rule function may take: none is anyone's position."""
+
+
+def test_ggc_rules_take_only_local_arguments():
+    """Locality by signature: the rules (controllers/ggc/rules) get one robot's view, state
+    row, sensors and probe, and import nothing but numerics and the controller API."""
+    import importlib
+    import inspect
+
+    rules = sorted((CONTROLLERS / "ggc" / "rules").glob("*.py"))
+    seen = set()
+    for f in rules:
+        allowed = {"__future__", "math", "numpy", "numba", "collections",
+                   "swarmsim.controller"}
+        assert imported_modules(f) <= allowed, f.name
+        module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
+        for name, fn in vars(module).items():
+            py = getattr(fn, "py_func", None)
+            if py is None or py.__module__ != module.__name__:
+                continue
+            params = set(inspect.signature(py).parameters)
+            assert params <= RULE_PARAMETERS, (f.name, name, params - RULE_PARAMETERS)
+            seen.add(name)
+    assert {"coverage", "detection", "initial", "gather", "stops", "should_arrive", "stuck",
+            "is_surplus", "formation_gradient"} <= seen
