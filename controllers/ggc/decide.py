@@ -78,15 +78,22 @@ def listen_range(status, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def decide_chunk(todo, state, c, tick, on_target, moved, beacons, has_beacon, req, ans, calls,
-                 pending, P, velocity, sleep, wake_range, wake_on_motion, wake_tick,
-                 listen):  # pragma: no cover - compiled
-    """Decide the chunk's robots ``todo`` (indices j: rows of ``state`` and of the sensor
-    arrays; ``c`` the chunk's neighbour columns, a View; robot j's rows
-    ``c.starts[j]:c.starts[j+1]``) into the action arrays; ``pending[j]``: decide it again
-    once its probe questions ``req[j, :calls[j]]`` are answered in ``ans``."""
+def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, beacons,
+                 has_beacon, req, ans, calls, pending, P, velocity, sleep, wake_range,
+                 wake_on_motion, wake_tick, listen):  # pragma: no cover - compiled
+    """Decide the chunk's robots ``todo`` (indices j into the chunk: robot j's state row is
+    ``state[rows[j]]``, its sensors row j of the sensor arrays, its neighbours rows
+    ``c[0][j]:c[0][j+1]`` of the chunk's columns ``c``: starts, then View's fields) into row
+    j of the action arrays. ``pending[j]``: decide it again (``again``: its row is put back
+    from ``saved[j]`` first) once its probe questions ``req[j, :calls[j]]`` are answered in
+    ``ans``."""
     starts = c[0]
     for j in todo:
+        i = rows[j]
+        if again:
+            state[i] = saved[j]
+        else:
+            saved[j] = state[i]
         a, b = starts[j], starts[j + 1]
         view = View(c[1][a:b], c[2][a:b], c[3][a:b], c[4][a:b], c[5][a:b], c[6][a:b],
                     c[7][a:b], c[8][a:b], c[9][a:b], c[10][a:b], c[11][a:b], c[12][a:b],
@@ -97,7 +104,7 @@ def decide_chunk(todo, state, c, tick, on_target, moved, beacons, has_beacon, re
         calls[j] = 0
         pending[j] = False
         pb = Probe(req[j], ans[j], calls[j:j + 1], pending[j:j + 1])
-        me = state[j]
+        me = state[i]
         vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
         velocity[j, 0], velocity[j, 1] = vx, vy
         sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until

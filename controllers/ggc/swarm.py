@@ -27,6 +27,8 @@ from .statuses import STATUSES
 COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
            "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch")
 """The broadcast columns a rule's view holds, in View's order (after off, dist)."""
+SCATTERED_COLUMNS = ("h", "handover", "quiet", "ldist", "lepoch")
+"""Columns only the scattered start's rules read (left empty in a formation start)."""
 
 
 class Decisions(NamedTuple):
@@ -87,13 +89,14 @@ class GGCSwarm:
         """The actions of the chunk's robots (``robots``: their rows, in the batch's order)."""
         robots = np.asarray(robots, dtype=np.intp)
         n = len(robots)
-        work = self.state[robots]
-        before = work.copy()
+        saved = np.empty(n, dtype=self.state.dtype)
         m = batch.neighbours.messages
         columns = (np.require(batch.neighbours.starts, np.int64, "C"),
                    np.require(batch.offsets, np.float64, "C"),
                    np.require(batch.neighbours.distances, np.float64, "C"),
-                   *(np.ascontiguousarray(m[name]) for name in COLUMNS))
+                   *(np.ascontiguousarray(m[name]) if self.rules.scattered
+                     or name not in SCATTERED_COLUMNS else m[name][:0].copy()
+                     for name in COLUMNS))
         on_target = np.asarray(batch.on_target, dtype=bool)
         moved = np.require(batch.moved, np.float64, "C")
         has_beacon = batch.beacons is not None
@@ -106,16 +109,15 @@ class GGCSwarm:
         velocity, listen = np.zeros((n, 2)), np.zeros(n)
         sleep, wake_on_motion = np.zeros(n, dtype=bool), np.ones(n, dtype=bool)
         wake_range, wake_tick = np.full(n, np.nan), np.full(n, -1, dtype=np.int64)
-        todo = np.arange(n)
+        todo, again = np.arange(n), False
         while len(todo):
-            decide_chunk(todo, work, columns, batch.tick, on_target, moved, beacons,
-                         has_beacon, req, ans, calls, pending, self.rules, velocity, sleep,
-                         wake_range, wake_on_motion, wake_tick, listen)
-            todo = np.flatnonzero(pending)
+            decide_chunk(todo, robots, self.state, saved, again, columns, batch.tick,
+                         on_target, moved, beacons, has_beacon, req, ans, calls, pending,
+                         self.rules, velocity, sleep, wake_range, wake_on_motion, wake_tick,
+                         listen)
+            todo, again = np.flatnonzero(pending), True
             if len(todo):
                 self._answer(batch, todo, req, ans, calls)
-                work[todo] = before[todo]
-        self.state[robots] = work
         broadcast = broadcast_rows(self.state, robots, m.dtype)
         return Decisions(velocity, listen, broadcast, sleep, wake_range, wake_on_motion,
                          wake_tick)
