@@ -250,8 +250,6 @@ class CVT:
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.group = setup.group
-        self.leader = setup.leader
         self.p = params
         self.map = LocalMap(params.cell_radius, params.map_cell)
         self.status = SEEKING
@@ -263,7 +261,7 @@ class CVT:
         self.disc = DISC
 
     def message(self, moving: bool) -> tuple:
-        return (self.id, self.status, 0, self.group, self.leader, moving)
+        return (self.id, self.status, moving)
 
     def cell(self, p: Perception) -> np.ndarray:
         """Sample points of this robot's cell: target floor nearer to it than to any neighbour.

@@ -124,8 +124,6 @@ class Dash:
 
     def __init__(self, setup: RobotSetup, params: DashParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.group = setup.group
-        self.leader = setup.leader
         self.p = params
         self.level = 0
         self.max_level = math.floor((params.d_cover - params.s_start) / params.adapt_rate)
@@ -133,7 +131,7 @@ class Dash:
         self.status = SEEKING
 
     def message(self, moving: bool) -> tuple:
-        return (self.id, self.status, 0, self.group, self.leader, moving, float(self.s))
+        return (self.id, self.status, moving, float(self.s))
 
     def act(self, v=(0.0, 0.0), moving: bool = False, sleep: bool = False) -> Action:
         """The action, listening only as far as the next decision needs (cheaper)."""

@@ -59,7 +59,6 @@ class Dispersion:
 
     def __init__(self, setup: RobotSetup, params: DispersionParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.group = setup.group
         self.p = params
 
     def step(self, p: Perception) -> Action:
@@ -80,7 +79,7 @@ class Dispersion:
                 v[:] = 0.0
                 speed = 0.0
         status = SPREADING if speed > self.p.deadband else (SEEKING if not p.on_target else IDLE)
-        msg = (self.id, status, 0, self.group, False, speed > self.p.deadband)
+        msg = (self.id, status, speed > self.p.deadband)
         if speed <= self.p.deadband:
             return Action((0.0, 0.0), msg, sleep=True)
         return Action((float(v[0]), float(v[1])), msg)

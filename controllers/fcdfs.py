@@ -63,13 +63,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup, register
+from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from swarmsim.controller import Action, Perception, RobotSetup, register
 
 from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
 
 TRAVEL, QUEUE, DOOR, MOVING, SETTLED = range(5)
 STATUSES = ("Travel", "Queue", "Door", "Moving", "Settled")
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("door", "i4"), ("pdir", "i1"),
+MESSAGE_FIELDS = [*GRADIENT_FIELDS, ("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("door", "i4"), ("pdir", "i1"),
                   ("touch", "?"), ("hops", "i4"), ("ci", "i4"), ("cj", "i4")]
 AXES = ((1, 0), (0, 1), (-1, 0), (0, -1))
 MIN_PROBE_RANGE = 9.0
@@ -165,6 +166,10 @@ class FCDFS(FormationTravel):
     STATUSES = STATUSES
     SETTLED_STATUSES = ("Settled",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
+    SILENT = SILENT
+    COLOURINGS = COLOURINGS
+    LEADER_FIELD = "leader"
+    LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True
     min_probe_range = MIN_PROBE_RANGE
@@ -202,7 +207,7 @@ class FCDFS(FormationTravel):
         # robots on the lattice show their lattice distance from the door instead
         grad = self.grad if self.status in (TRAVEL, QUEUE, DOOR) else abs(c[0]) + abs(c[1])
         moving = self.status == MOVING or (self.status in (QUEUE, DOOR) and bool(np.any(velocity)))
-        msg = (self.id, self.status, grad, self.group, self.leader, moving, self.cmd,
+        msg = (self.id, self.status, moving, grad, self.group, self.leader, self.cmd,
                float(self.travel[0]), float(self.travel[1]), self.door, self.pdir, self.touch,
                self.hops, c[0], c[1])
         return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,

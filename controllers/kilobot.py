@@ -48,13 +48,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.edges import CirclingWatch, ProgressWatch
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, Action, Perception, RobotSetup, register
+from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
 STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
 MOVING = (OUTSIDE, INSIDE)
 CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
-MESSAGE_FIELDS = [("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
+MESSAGE_FIELDS = [*GRADIENT_FIELDS, ("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
 
 
 def unit(v: np.ndarray) -> np.ndarray:
@@ -191,6 +192,10 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     STATUSES = STATUSES
     SETTLED_STATUSES = ("Joined",)  # done, standing still (collision instruments)
     MESSAGE_FIELDS = MESSAGE_FIELDS
+    SILENT = SILENT
+    COLOURINGS = COLOURINGS
+    LEADER_FIELD = "leader"
+    LAYOUTS = ("formation",)
     default_start = "formation"
     requires_beacon = True
 
@@ -220,8 +225,8 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     # ------------------------------------------------------------------ messages
     def act(self, velocity=(0.0, 0.0), sleep: bool = False,
             wake_range: float | None = None, wake_tick: int | None = None) -> Action:
-        msg = (self.id, self.status, self.grad, self.group, self.leader,
-               self.status in MOVING, self.cmd, float(self.travel[0]), float(self.travel[1]))
+        msg = (self.id, self.status, self.status in MOVING, self.grad, self.group, self.leader,
+               self.cmd, float(self.travel[0]), float(self.travel[1]))
         return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
                       self.listen_range(), wake_tick=wake_tick)
 

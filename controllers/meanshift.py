@@ -129,16 +129,14 @@ class MeanShift:
 
     def __init__(self, setup: RobotSetup, params: MeanShiftParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.group = setup.group
-        self.leader = setup.leader
         self.p = params
         self.map = LocalMap(params.r_sense, params.map_cell)
         self.velocity = np.zeros(2)
         self.status = SEEKING
 
     def message(self) -> tuple:
-        return (self.id, self.status, 0, self.group, self.leader, self.status != RESTING,
-                float(self.velocity[0]), float(self.velocity[1]))
+        return (self.id, self.status, self.status != RESTING, float(self.velocity[0]),
+                float(self.velocity[1]))
 
     def entering(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
         if p.on_target:

@@ -7,11 +7,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 
 from swarmsim.controller import Action, Perception, RobotSetup
+
+MOVING, ARRIVED = 0, 1  # status codes: indices into STATUSES
 
 
 @dataclass(frozen=True)
@@ -28,18 +29,18 @@ class GoToLight:
 
     name = "go-to-light"
     Params = GoToLightParams
-    STATUSES = ("Moving", "Arrived")
-    MESSAGE_FIELDS: ClassVar[list] = []
+    STATUSES = ("Moving", "Arrived")  # what its status codes mean (videos, summaries)
+    SETTLED_STATUSES = ("Arrived",)  # done, standing still (metrics watch them being pushed)
 
     @classmethod
     def sensing_range(cls, params: GoToLightParams) -> float:
         return 2.0
 
     def __init__(self, setup: RobotSetup, params: GoToLightParams, rng: np.random.Generator):
-        self.id, self.p = setup.robot_id, params
+        self.p = params
 
     def step(self, p: Perception) -> Action:
         if p.on_target or p.beacon is None:
-            return Action((0.0, 0.0), (self.id, 1, 0, 0, False, False), sleep=True)
+            return Action((0.0, 0.0), {"status": ARRIVED, "moving": False}, sleep=True)
         v = p.beacon * self.p.v
-        return Action((float(v[0]), float(v[1])), (self.id, 0, 0, 0, False, True))
+        return Action((float(v[0]), float(v[1])), {"status": MOVING, "moving": True})

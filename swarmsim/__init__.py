@@ -6,11 +6,25 @@ Quick start::
     sim = Simulation(load_world("K"), controller="ggc", seed=1)
     result = sim.run()
     print(result.summary["coverage"], result.summary["completion_tick"])
+
+The names below are loaded on first use, so that importing the controller API
+(``swarmsim.controller``) loads neither pymunk nor pygame.
 """
 
-from swarmsim.errors import ConfigError
-from swarmsim.sim import RunResult, Simulation
-from swarmsim.world import World, available_worlds, load_world
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.sim",
+         "Simulation": "swarmsim.sim", "World": "swarmsim.world",
+         "available_worlds": "swarmsim.world", "load_world": "swarmsim.world"}
 
 __all__ = ["ConfigError", "RunResult", "Simulation", "World", "available_worlds", "load_world"]
 __version__ = "0.1.0"
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'swarmsim' has no attribute {name!r}")

@@ -6,10 +6,11 @@ products added (numba keeps IEEE arithmetic: no fast-math, no fused multiply-add
 own radius is compared with the same ``r * r``, and each robot's neighbours are ordered by
 (squared distance, index), the total order the numpy path sorts by. Why compiled code: a
 robot's view is ~5-40 rows, so numpy spends its time in per-call overhead and in five 16-bit
-radix passes over the whole chunk (~0.6 ms a tick on K); here it is one loop.
+radix passes over the whole chunk; here it is one loop (docs/performance-log.md has the
+figures).
 
-The first call compiles the kernel (~10 s); ``cache=True`` keeps the machine code in
-``__pycache__``, so later processes (sweep workers, the next run) load it in milliseconds.
+The first call compiles the kernel (seconds); ``cache=True`` keeps the machine code in
+``__pycache__``, so later processes (sweep workers, the next run) load it at once.
 """
 
 from __future__ import annotations
@@ -57,8 +58,8 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
 
 
 def warm_up() -> None:
-    """Compile (first time on a machine, ~10 s) or load (from the cache, milliseconds) the
-    kernels now, so that a run's clock does not count it."""
+    """Compile (first time on a machine) or load (from the cache) the kernels now, so that a
+    run's clock does not count it."""
     cell_views(np.zeros((2, 2)), np.zeros(1, dtype=np.int64), np.ones(1))
 
 

@@ -45,14 +45,20 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit (default 100000)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="any other parameter; see 'swarmsim params'")
-    p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, coverage.png")
+    p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
+                   "coverage.npz and coverage.png there (see docs/outputs.md)")
+    p.add_argument("--trajectories", metavar="K",
+                   help="also write OUT/trajectories.npz: every robot's position (and status) "
+                        "every K ticks, compressed; kept in memory until the run ends: "
+                        "N x 9 bytes per sample, (ticks / K + 2) samples (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
                    help="a video frame every K ticks (default: max_ticks / 600, at most 50: "
                         "a K run of 18,500 ticks gets ~370 frames)")
-    p.add_argument("--color-by", default="gradient", dest="color_by",
-                   choices=("gradient", "group", "status"), help="robot colouring in videos")
+    p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
+                   help="robot colouring in videos: status, or a field the controller offers "
+                        "(GGC: gradient (default), group)")
     p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something (collision-realism videos)")
@@ -75,7 +81,10 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run every run of a TOML sweep spec once; run again with the "
                        "same --out to resume. The same command started in a second terminal, or "
                        "on a machine sharing the folder, shares the runs left (each run is "
-                       "claimed in runs/<id>/claim.json while it runs).")
+                       "claimed in runs/<id>/claim.json while it runs). Writes runs/<id>/ (each "
+                       "run's files), results.csv (a row per run) and aggregate/ (mean and "
+                       "spread per grid point over seeds: conditions.csv, curves.csv, "
+                       "coverage.png); docs/outputs.md describes every file.")
     p.add_argument("spec", type=Path, help="sweep spec (.toml)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     _add_executor_args(p)
@@ -196,6 +205,19 @@ def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
     return args.frame_every or max(1, min(50, max_ticks // 600))
 
 
+def _trajectories_every(args: argparse.Namespace) -> int:
+    """--trajectories K as ticks (0 when not given); it needs --out."""
+    if args.trajectories is None:
+        return 0
+    from swarmsim.trajectories import check_every
+
+    every = check_every(args.trajectories, key="--trajectories")
+    if not args.out:
+        raise ConfigError(f"{args.trajectories!r} needs --out (the folder for "
+                          "trajectories.npz)", key="--trajectories")
+    return every
+
+
 def _check_width(width: int) -> None:
     """Refuse a frame width the renderer cannot draw, before the run rather than at its first
     frame."""
@@ -245,6 +267,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
     if args.video or args.snapshot:
         _check_width(args.width)
+    every = _trajectories_every(args)
     _check_output_paths(args)
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
@@ -252,7 +275,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,
-                        highlight_contacts=args.highlight_contacts)
+                        highlight_contacts=args.highlight_contacts,
+                        trajectories_every=every)
     with recorder:
         result = sim.run(progress=not args.quiet,
                          on_tick=recorder.on_tick)
@@ -275,6 +299,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
+    print(f"per condition: {args.out / 'aggregate'}")
     return 1 if report.failed else 0
 
 

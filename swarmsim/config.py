@@ -32,7 +32,8 @@ class SimConfig:
         groups: number of groups K (paper Section 4).
         seed: the one seed that decides the run.
         max_ticks: hard limit on ticks.
-        start: "random" (uniform in the spawn areas) or "formation" (one hexagonal formation
+        start: "random" (uniform in the spawn areas) or a layout the controller offers, e.g.
+            GGC's "formation" (one hexagonal formation
             per group around its leader); "" lets the controller choose.
         spawn_spacing: minimum centre distance at a random start, units (d_safe = 1).
         formation_spacing: lattice spacing of a formation start, units (d_min = d_safe = 1).
@@ -122,8 +123,8 @@ class SimConfig:
         if self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots "
                               f"(robots = {self.robots})", key="groups")
-        if self.start not in ("", "random", "formation"):
-            raise ConfigError(f"must be 'random' or 'formation', got {self.start!r}", key="start")
+        if not isinstance(self.start, str):
+            raise ConfigError(f"must be a start layout's name, got {self.start!r}", key="start")
         if self.decide_order not in ("index", "shuffled"):
             raise ConfigError(f"must be 'index' or 'shuffled', got {self.decide_order!r}",
                               key="decide_order")

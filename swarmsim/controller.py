@@ -1,79 +1,46 @@
-"""The controller interface: what a robot perceives, what it may do, and the registry.
+"""The controller API: what a robot perceives, what it may do, and the protocol it follows.
 
 A controller is one robot's brain. Each tick the engine hands it a :class:`Perception`
 (its own local view: neighbours' relative positions and last broadcasts, a floor sensor and a
-short-range floor probe, the beacon's bearing) and it returns an :class:`Action` (a desired
-velocity, a message to broadcast, and whether it may sleep). Controllers never see pymunk, the
-Space, other robots' objects or any global position: that is what makes "local only" true.
+short-range floor probe, the beacon's bearing, its odometry) and it returns an :class:`Action`
+(a desired velocity, a message to broadcast, and whether it may sleep). Controllers never see
+pymunk, the Space, other robots' objects or any global position: that is what makes "local
+only" true. Importing this module loads neither pymunk nor pygame.
 
 Frames and units: offsets are in the world-aligned frame (robots share a compass but have no
 global position), lengths in the paper's units, velocities in units per tick.
 
-Writing a controller::
+A controller class is one of two kinds (the whole contract: :class:`ControllerClass`):
 
-    class MyController:
-        name = "mine"
-        Params = MyParams                     # frozen dataclass: every field has a default
-        STATUSES = ("Idle", "Moving")         # names for the status codes it broadcasts
-        MESSAGE_FIELDS = [("hops", "i4")]     # extra broadcast fields (numpy dtype spec)
-        SETTLED_STATUSES = ("Idle",)          # optional: statuses meaning "done, standing
-                                              # still" (default: "Arrive", "Arrived"); the
-                                              # engine counts robots pushed out of place there
+- per-robot: ``cls(setup, params, rng)`` makes one robot's controller, whose
+  ``step(perception) -> Action`` the engine calls for every awake robot (examples/my_controller.py);
+- batch: ``cls.create_swarm(setups, params, rngs)`` makes a :class:`Swarm` holding every robot's
+  state as arrays, whose ``decide(robots, batch) -> ChunkActions`` decides a chunk of awake
+  robots from their perceptions laid end to end (:class:`DecideBatch`).
 
-        @classmethod
-        def message_fields_for(cls, groups) -> list: ...  # optional: MESSAGE_FIELDS for a
-                                                          # run with this many groups
-        @classmethod
-        def prepare(cls, robots, batch: NeighbourBatch) -> None: ...  # optional: called
-                    # before the robots of a chunk step, with their perceptions end to end
-        @classmethod
-        def decide_batch(cls, robots, batch: DecideBatch) -> list[Action]: ...  # optional:
-                    # decides a chunk itself (in place of prepare and step); must give the
-                    # same actions as step would (run setting batch_decide=false to compare);
-                    # may return a ChunkActions (the same actions as columns) instead
-        @classmethod
-        def create_robots(cls, setups, params, rngs) -> list: ...  # optional: makes the
-                    # run's robots together (default: cls(setup, params, rng) for each)
-        @classmethod
-        def warm_up(cls) -> None: ...  # optional: compile or load its kernels; the engine
-                    # calls it as a run is set up, so its run clock does not count that
-
-        @classmethod
-        def sensing_range(cls, params) -> float: ...   # how far it listens, in units
-
-        def __init__(self, setup: RobotSetup, params, rng: numpy.random.Generator): ...
-        def step(self, p: Perception) -> Action: ...
-
-Register it with ``@register`` (built-ins) or use ``module:Class`` on the command line.
-A controller that steps many robots a tick may return ``make_action(...)`` instead of
-``Action(...)``: the same object, made in about half the time.
+A broadcast is a tuple in the order of the run's message dtype: ``id``, ``status``, ``moving``,
+then the controller's ``MESSAGE_FIELDS``; or a dict by field name (missing fields are zero,
+``id`` is the robot's). Register a class with ``@register`` in an imported module, with an
+entry point in the ``swarmsim.controllers`` group, or name it as ``module:Class``.
 """
 
 from __future__ import annotations
 
-import importlib
-import os
-import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from swarmsim.errors import ConfigError
-
-INF_GRADIENT = np.iinfo(np.int32).max
-"""Gradient value that means "no gradient yet" (the paper's INFINITE)."""
+from swarmsim.registry import available_controllers, get_controller, register
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
     ("id", "i4"),  # the sender's own id (robots know their id, like a Kilobot's UID)
     ("status", "i1"),  # index into the controller's STATUSES
-    ("gradient", "i4"),  # hop gradient, INF_GRADIENT when unknown
-    ("group", "i2"),  # group id, 0 = none
-    ("leader", "?"),
-    ("moving", "?"),  # the sender is moving on purpose (not waiting or arrived)
+    ("moving", "?"),  # the sender is moving on purpose (not waiting or settled)
 ]
-"""Fields every broadcast carries; observers (metrics, render) read these."""
+"""Fields every broadcast carries; the engine and its observers (metrics, faults, render) read
+only these. A controller declares any other field it broadcasts in ``MESSAGE_FIELDS``."""
 
 
 NO_SENDER = -1
@@ -94,15 +61,17 @@ def message_dtype(extra_fields: list[tuple[str, Any]] | None = None) -> np.dtype
     return np.dtype(BASE_MESSAGE_FIELDS + list(extra_fields or []))
 
 
-def silent_message(dtype: np.dtype) -> np.void:
+def silent_message(dtype: np.dtype, values: Mapping[str, Any] | None = None) -> np.void:
     """The row a robot sees for a neighbour it senses but hears nothing from.
 
-    ``id`` is NO_SENDER, ``status`` -1, ``gradient`` INF_GRADIENT, everything else zero.
+    ``id`` is NO_SENDER, ``status`` -1, the controller's declared ``SILENT`` values (e.g. an
+    "unknown" gradient), everything else zero.
     """
     row = np.zeros((), dtype=dtype)
     row["id"] = NO_SENDER
     row["status"] = -1
-    row["gradient"] = INF_GRADIENT
+    for name, value in (values or {}).items():
+        row[name] = value
     return row[()]
 
 
@@ -194,6 +163,8 @@ class DecideBatch:
         probe: ``probe(k)`` is robot k's floor probe (see Perception.probe).
         perceive: ``perceive(k)`` is robot k's whole Perception (for robots the batch
             does not decide itself: ``robot.step(perceive(k))``).
+        probe_many: ``probe_many(ks, offsets)`` asks many probes at once: (M,) bool, entry j
+            is robot ``ks[j]``'s probe at ``offsets[j]`` (units, each within the probe range).
     """
 
     tick: int
@@ -204,6 +175,7 @@ class DecideBatch:
     beacons: np.ndarray | None
     probe: Callable[[int], Callable[[np.ndarray], bool]]
     perceive: Callable[[int], Perception]
+    probe_many: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -239,10 +211,14 @@ class Action:
 
 
 class ChunkActions:
-    """A chunk's actions as columns: what ``decide_batch`` may return in place of a list of
-    :class:`Action` (the same meaning, robot k's in row k), so that robots decided together
-    need no Action objects. Start from :meth:`empty` (every robot standing still, listening
-    its full range, repeating its broadcast, awake) and fill it in.
+    """A chunk's actions as columns: what a swarm's ``decide`` returns (robot k's in row k),
+    so that robots decided together need no Action objects.
+
+    Two forms, one meaning. Sparse (from :meth:`empty`, filled by :meth:`put`): ``messages``
+    holds only the robots with a new broadcast and ``sleepers`` only the robots that ask to
+    sleep. Dense (:meth:`columns`, for compiled controllers): ``broadcast`` holds every robot's
+    broadcast row and ``sleep``, ``wake_range``, ``wake_on_motion`` and ``wake_tick`` every
+    robot's sleep request.
 
     Attributes:
         velocities: (R, 2) desired velocities, units per tick.
@@ -250,21 +226,42 @@ class ChunkActions:
         messages: {k: robot k's new broadcast tuple} (the others repeat theirs).
         sleepers: {k: Action} the robots that ask to sleep, with their promises
             (``Action.sleep`` and its fields; honoured only where the velocity is zero).
+        broadcast: (R,) structured rows in the run's message dtype, or None (sparse form).
+        sleep: (R,) bool, or None (sparse form); honoured only where the velocity is zero.
+        wake_range: (R,) units, NaN = the sensing range (see Action.wake_range).
+        wake_on_motion: (R,) bool (see Action.wake_on_motion).
+        wake_tick: (R,) int64, -1 = no timeout (see Action.wake_tick).
     """
 
-    __slots__ = ("listen", "messages", "sleepers", "velocities")
+    __slots__ = ("broadcast", "listen", "messages", "sleep", "sleepers", "velocities",
+                 "wake_on_motion", "wake_range", "wake_tick")
 
     def __init__(self, velocities: np.ndarray, listen: np.ndarray,
-                 messages: dict[int, tuple], sleepers: dict[int, Action]):
+                 messages: dict[int, tuple] | None = None,
+                 sleepers: dict[int, Action] | None = None):
         self.velocities, self.listen = velocities, listen
-        self.messages, self.sleepers = messages, sleepers
+        self.messages = {} if messages is None else messages
+        self.sleepers = {} if sleepers is None else sleepers
+        self.broadcast = self.sleep = self.wake_range = None
+        self.wake_on_motion = self.wake_tick = None
 
     @classmethod
     def empty(cls, robots: int) -> ChunkActions:
-        return cls(np.zeros((robots, 2)), np.full(robots, np.nan), {}, {})
+        """Every robot standing still, listening its full range, repeating its broadcast."""
+        return cls(np.zeros((robots, 2)), np.full(robots, np.nan))
+
+    @classmethod
+    def columns(cls, velocities: np.ndarray, listen: np.ndarray, broadcast: np.ndarray,
+                sleep: np.ndarray, wake_range: np.ndarray, wake_on_motion: np.ndarray,
+                wake_tick: np.ndarray) -> ChunkActions:
+        """The dense form: every robot's broadcast and sleep request as columns."""
+        out = cls(velocities, listen)
+        out.broadcast, out.sleep, out.wake_range = broadcast, sleep, wake_range
+        out.wake_on_motion, out.wake_tick = wake_on_motion, wake_tick
+        return out
 
     def put(self, k: int, action: Action) -> None:
-        """Row k from a whole Action."""
+        """Row k from a whole Action (sparse form)."""
         self.velocities[k] = action.velocity
         if action.listen is not None:
             self.listen[k] = action.listen
@@ -284,12 +281,10 @@ class ChunkActions:
                    {k: a for k, a in enumerate(actions) if a.sleep})
 
 
-# Fast makers for the two objects made once per awake robot per tick (K with 3 groups: about
-# 4.6 million of each in a run). Calling a frozen dataclass costs 1.0-1.3 us for these: the
-# class call, then one object.__setattr__ per field to get past the frozen check. These set
-# each slot through its descriptor (what object.__setattr__ ends up doing) at about half the
-# cost: the same objects, still frozen. tests/test_controller_makers.py holds them to the
-# classes' fields.
+# Fast makers for the two objects made once per awake robot per tick. Calling a frozen
+# dataclass runs one object.__setattr__ per field to get past the frozen check; these set each
+# slot through its descriptor (what object.__setattr__ ends up doing) directly: the same
+# objects, still frozen. tests/test_controller_makers.py holds them to the classes' fields.
 _new = object.__new__
 (_p_tick, _p_offsets, _p_distances, _p_messages, _p_on_target, _p_probe, _p_beacon,
  _p_moved) = (vars(Perception)[name].__set__ for name in Perception.__slots__)
@@ -329,6 +324,7 @@ def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: tuple | Non
     return a
 
 
+# ----------------------------------------------------------------------------- the protocol
 @runtime_checkable
 class Controller(Protocol):
     """One robot's controller: ``step(perception) -> action``."""
@@ -336,80 +332,65 @@ class Controller(Protocol):
     def step(self, p: Perception) -> Action: ...
 
 
+@runtime_checkable
+class Swarm(Protocol):
+    """All robots' controllers of one run, deciding a chunk of awake robots at a time.
+
+    A batch controller class makes one with ``create_swarm``; per-robot controllers are driven
+    through :class:`swarmsim.swarm.RobotSwarm`, which calls each robot's ``step``.
+    """
+
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions | list[Action]:
+        """The actions of the chunk's robots (their indices, ascending; row k of the batch is
+        robot ``robots[k]``). A robot's action may depend on its own rows only."""
+        ...
+
+    def summarize(self, failed: np.ndarray) -> dict[str, Any]:
+        """The controller's own summary figures (failed: (N,) bool, robots failed by the run:
+        counted as "Failed" in any status count)."""
+        ...
+
+
 class ControllerClass(Protocol):
-    """What the engine needs from a controller class."""
+    """What a controller class declares. Only the first five are required.
+
+    Required: ``name``, ``Params`` (a frozen dataclass whose fields all have defaults),
+    ``STATUSES`` (names of the status codes it broadcasts), ``sensing_range(params)`` (units),
+    and either ``step`` (a per-robot controller: ``cls(setup, params, rng).step(perception)``)
+    or ``create_swarm(setups, params, rngs) -> Swarm`` (a batch controller).
+
+    Optional declarations (defaults in brackets), read once by
+    :func:`swarmsim.controller_info.describe`:
+
+    - ``MESSAGE_FIELDS`` ([]): broadcast fields beyond ``id``, ``status``, ``moving``
+      (numpy dtype spec); ``message_fields_for(groups)`` if they depend on the group count.
+    - ``SILENT`` ({}): values of those fields in the row of a neighbour that is not heard.
+    - ``SETTLED_STATUSES`` (()): statuses meaning "done, standing still" (metrics count robots
+      pushed out of place there; faults fail them last).
+    - ``INITIAL_STATUSES`` / ``COVERING_STATUSES`` (()): statuses before any robot starts
+      covering, and while covering (the fault phases "gradient" and "coverage").
+    - ``COLOURINGS`` ({}): message fields a video may colour robots by: "scale" (an ordered
+      value, e.g. a hop count) or "category" (e.g. a group id). "status" is always offered.
+    - ``LEADER_FIELD`` (None): a bool message field marking leaders (drawn with a ring;
+      faults fail them last).
+    - ``LAYOUTS`` (()): names of start layouts it offers beside "random"
+      (:data:`swarmsim.layouts.LAYOUTS`, e.g. "formation").
+    - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (1),
+      ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).
+    - Per-robot controllers only: ``create_robots(setups, params, rngs)``,
+      ``prepare(robots, batch)``, ``decide_batch(robots, batch)``, ``summarize(robots)``.
+    """
 
     name: ClassVar[str]
     Params: ClassVar[type]
     STATUSES: ClassVar[tuple[str, ...]]
-    MESSAGE_FIELDS: ClassVar[list[tuple[str, Any]]]
 
     @classmethod
     def sensing_range(cls, params: Any) -> float: ...
 
-    def __call__(self, setup: RobotSetup, params: Any, rng: np.random.Generator) -> Controller: ...
 
-
-_REGISTRY: dict[str, type] = {}
-_BUILTIN_MODULES = ("controllers.dispersion", "controllers.ggc", "controllers.kilobot",
-                    "controllers.cvt", "controllers.meanshift", "controllers.dash",
-                    "controllers.fcdfs")
-
-
-def register(cls: type) -> type:
-    """Class decorator: make a controller available by its ``name``."""
-    _REGISTRY[cls.name] = cls
-    return cls
-
-
-def _load_builtins() -> None:
-    for mod in _BUILTIN_MODULES:
-        try:
-            importlib.import_module(mod)
-        except ModuleNotFoundError as exc:
-            if exc.name != mod:
-                raise
-
-
-def available_controllers() -> list[str]:
-    """Names of the registered controllers."""
-    _load_builtins()
-    return sorted(_REGISTRY)
-
-
-def get_controller(name: str) -> type:
-    """A controller class by registered name or ``module:Class``."""
-    if ":" in name:
-        mod_name, _, cls_name = name.partition(":")
-        _importable_from_here()
-        try:
-            mod = importlib.import_module(mod_name)
-        except ImportError as exc:
-            raise ConfigError(f"cannot import module {mod_name!r}: {exc}",
-                              key="controller") from None
-        cls = getattr(mod, cls_name, None)
-        if cls is None:
-            raise ConfigError(f"module {mod_name!r} has no {cls_name!r}", key="controller")
-        _check_controller_class(cls, name)
-        return cls
-    _load_builtins()
-    if name not in _REGISTRY:
-        raise ConfigError(f"unknown controller {name!r}; available: {', '.join(sorted(_REGISTRY))}"
-                          " (or module:Class)", key="controller")
-    return _REGISTRY[name]
-
-
-def _importable_from_here() -> None:
-    """Let ``module:Class`` name a module in the current folder, as ``python -m swarmsim``
-    does (the installed ``swarmsim`` command does not put the current folder on sys.path).
-    Appended, so that it never shadows an installed module."""
-    here = os.getcwd()
-    if here not in sys.path and "" not in sys.path:
-        sys.path.append(here)
-
-
-def _check_controller_class(cls: Any, name: str) -> None:
-    missing = [a for a in ("Params", "STATUSES", "sensing_range", "step") if not hasattr(cls, a)]
-    if missing:
-        raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
-                          key="controller")
+__all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Controller",
+           "ControllerClass", "DecideBatch", "NeighbourBatch", "Perception", "RobotSetup",
+           "Swarm", "available_controllers", "get_controller", "make_action",
+           "make_perception", "message_dtype", "register", "run_message_fields",
+           "silent_message"]

@@ -5,15 +5,15 @@ around (:meth:`swarmsim.sim.Simulation.fail`). A :class:`FaultPlan` says how man
 and when:
 
 * ``"gradient"``: during gradient formation: at the end of the first tick on which some robot
-  has left its ``Initial`` status (GGC: the formation has reached the target and the gradient
-  is being (re)built). Controllers without an ``Initial`` status fail robots at tick 1.
+  has left the controller's ``INITIAL_STATUSES`` (GGC: the formation has reached the target
+  and the gradient is being (re)built). Controllers that declare none fail robots at tick 1.
 * ``"coverage"``: at the end of the first tick on which some robot broadcasts ``moving = True``
-  or a ``Coverage`` status (the first robot sets off to cover).
+  or one of the controller's ``COVERING_STATUSES`` (the first robot sets off to cover).
 * ``"tick"``: at the end of the given tick.
 
 Which robots fail (the rule): ``count`` robots drawn uniformly at random, without replacement,
-from the robots that are still working, are not a (group) leader and have not already arrived
-(status ``Arrive``/``Arrived``): those are the robots whose failure the paper studies (a robot
+from the robots that are still working, are not a (group) leader (the controller's
+``LEADER_FIELD``) and have not already settled (its ``SETTLED_STATUSES``): those are the robots whose failure the paper studies (a robot
 that cannot get its gradient, or that stops on its way). Failing a leader would remove its whole
 group, and failing an arrived robot only silences a robot that is done. If fewer eligible robots
 are left than ``count``, the rest are drawn from the arrived robots, and leaders only last.
@@ -29,19 +29,14 @@ Run settings ``failures``, ``failure_phase`` and ``failure_tick`` (see
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
+from swarmsim.controller_info import ControllerInfo
 from swarmsim.errors import ConfigError
 
-if TYPE_CHECKING:
-    from swarmsim.sim import Simulation
-
 PHASES = ("gradient", "coverage", "tick")
-INITIAL_STATUS = "Initial"
-COVERAGE_STATUSES = ("Coverage",)
-ARRIVED_STATUSES = ("Arrive", "Arrived")
 FAULT_STREAM = 0xFA17
 """Spawn key of the fault Generator's SeedSequence (distinct from the run's other streams)."""
 
@@ -83,6 +78,19 @@ def fault_rng(seed: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(FAULT_STREAM,)))
 
 
+class FaultTarget(Protocol):
+    """What a fault hook sees of a run (a Simulation is one)."""
+
+    n: int
+    tick: int
+    info: ControllerInfo
+    messages: np.ndarray
+    failed: np.ndarray
+    fault_hook: Any
+
+    def fail(self, robots: np.ndarray) -> None: ...
+
+
 class FaultInjector:
     """A ``Simulation.fault_hook``: fails the plan's robots once, when its phase starts.
 
@@ -96,7 +104,7 @@ class FaultInjector:
         self.fired_tick: int | None = None
         self.robots: np.ndarray = np.zeros(0, dtype=np.intp)
 
-    def __call__(self, sim: Simulation) -> None:
+    def __call__(self, sim: FaultTarget) -> None:
         if self.chained is not None:
             self.chained(sim)
         if self.fired_tick is None and self.plan.count > 0 and self.due(sim):
@@ -104,29 +112,30 @@ class FaultInjector:
             sim.fail(self.robots)
             self.fired_tick = sim.tick
 
-    def due(self, sim: Simulation) -> bool:
+    def due(self, sim: FaultTarget) -> bool:
         """Has the plan's phase begun (at the end of the current tick)?"""
         if self.plan.phase == "tick":
             return sim.tick >= (self.plan.tick or 1)
-        statuses = tuple(sim.statuses)
+        info = sim.info
         msgs = sim.messages[~sim.failed]
         heard = msgs["status"] >= 0  # silent rows (nothing broadcast yet) have status -1
         if self.plan.phase == "gradient":
-            if INITIAL_STATUS not in statuses:
+            initial = info.codes(info.initial)
+            if not initial:
                 return True
-            return bool((heard & (msgs["status"] != statuses.index(INITIAL_STATUS))).any())
+            return bool((heard & ~np.isin(msgs["status"], initial)).any())
         moving = msgs["moving"] & heard
-        codes = [statuses.index(s) for s in COVERAGE_STATUSES if s in statuses]
-        return bool(moving.any() or np.isin(msgs["status"][heard], codes).any())
+        return bool(moving.any()
+                    or np.isin(msgs["status"][heard], info.codes(info.covering)).any())
 
-    def choose(self, sim: Simulation) -> np.ndarray:
+    def choose(self, sim: FaultTarget) -> np.ndarray:
         """Indices of the robots that fail (the rule of the module docstring), sorted."""
-        statuses = tuple(sim.statuses)
+        info = sim.info
         msgs = sim.messages
         working = ~sim.failed
-        leader = msgs["leader"].astype(bool)
-        arrived_codes = [statuses.index(s) for s in ARRIVED_STATUSES if s in statuses]
-        arrived = np.isin(msgs["status"], arrived_codes)
+        leader = (msgs[info.leader_field].astype(bool) if info.leader_field
+                  else np.zeros(len(msgs), dtype=bool))
+        arrived = np.isin(msgs["status"], info.codes(info.settled))
         tiers = (working & ~leader & ~arrived, working & ~leader & arrived, working & leader)
         chosen: list[np.ndarray] = []
         need = self.plan.count
@@ -143,7 +152,7 @@ class FaultInjector:
         return np.sort(np.concatenate(chosen)).astype(np.intp)
 
 
-def install_faults(sim: Simulation, plan: FaultPlan, rng: np.random.Generator
+def install_faults(sim: FaultTarget, plan: FaultPlan, rng: np.random.Generator
                    ) -> FaultInjector | None:
     """Make ``plan.count`` robots of ``sim`` fail when the plan's phase begins.
 

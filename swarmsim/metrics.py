@@ -9,7 +9,9 @@ P = covered target pixels / target pixels. Completion tick t_dpl = first tick wi
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -17,6 +19,12 @@ from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
 from swarmsim.stamps import restamp
+
+MOVING_FRACTION = 0.01
+"""A robot counts as moving in a tick (time series column ``moving``) when it moved more
+than this fraction of the top speed v_max during that tick."""
+NOT_YET = -1
+"""RobotTracks.settle_tick of a robot that never entered a settled status."""
 
 
 @dataclass(frozen=True)
@@ -81,6 +89,18 @@ class CoverageGrid:
         grid = np.zeros(self.shape, dtype=bool)
         grid[self.inside] = self.covered_pixels(positions)
         return grid
+
+    def arrays(self, positions: np.ndarray) -> dict[str, np.ndarray]:
+        """The raster for robots at ``positions``, as coverage.npz stores it.
+
+        ``covered`` and ``target`` are (rows, cols) bool (row index grows with y); cell (i, j)
+        has its centre at (x0 + (j + 0.5) dx, y0 + (i + 0.5) dy). Coverage P is
+        ``covered.sum() / target.sum()``. ``x0, y0, dx, dy, r`` are float scalars, units.
+        """
+        return {"covered": self.covered_grid(positions), "target": self.inside.copy(),
+                "x0": np.float64(self.x0), "y0": np.float64(self.y0),
+                "dx": np.float64(self.dx), "dy": np.float64(self.dy),
+                "r": np.float64(self.radius)}
 
 
 class IncrementalCoverage:
@@ -161,6 +181,48 @@ class SettledWatch:
         return self.max_shift > self.threshold
 
 
+class RobotTracks:
+    """Per-robot odometry and settle ticks, updated once a tick with whole-swarm arrays.
+
+    Attributes:
+        distance: (N,) each robot's path length so far: the sum over ticks of the length of
+            its displacement in that tick, units.
+        settle_tick: (N,) the tick at which each robot last entered one of the controller's
+            settled statuses (NOT_YET if it never did); read with its status at the end: a
+            robot that left a settled status again keeps the tick of its last entry.
+        moving_now: robots that moved more than ``moving_eps`` units in the last tick.
+
+    Args:
+        n: number of robots.
+        codes: status codes that mean "settled" (index into the controller's STATUSES).
+        moving_eps: displacement in one tick above which a robot counts as moving, units.
+    """
+
+    def __init__(self, n: int, codes: tuple[int, ...], moving_eps: float):
+        self.codes = tuple(int(c) for c in codes)
+        self.moving_eps = moving_eps
+        self.distance = np.zeros(n)
+        self.settle_tick = np.full(n, NOT_YET, dtype=np.int64)
+        self._in_settled = np.zeros(n, dtype=bool)
+        self.moving_now = 0
+
+    def observe(self, tick: int, step: np.ndarray | None, messages: np.ndarray) -> None:
+        """Account for ``tick``: ``step`` (N,) is each robot's displacement length during it
+        (None for the first observed state), ``messages`` the broadcasts at its end (a status
+        is read only if their dtype has a ``status`` field)."""
+        if step is not None:
+            self.distance += step
+            self.moving_now = int(np.count_nonzero(step > self.moving_eps))
+        if not self.codes or "status" not in (messages.dtype.names or ()):
+            return
+        status = np.ascontiguousarray(messages["status"])
+        settled = status == self.codes[0]
+        for code in self.codes[1:]:  # one or two codes: cheaper than a lookup table
+            settled |= status == code
+        self.settle_tick[settled & ~self._in_settled] = tick
+        self._in_settled = settled
+
+
 class RunMetrics:
     """Accumulates a run's metrics tick by tick and keeps the time series.
 
@@ -176,6 +238,7 @@ class RunMetrics:
         self.config = config
         self.physics = physics
         self.settled = SettledWatch(physics.n, settled_codes, config.displaced_threshold)
+        self.tracks = RobotTracks(physics.n, settled_codes, MOVING_FRACTION * config.v_max)
         self.peak_impulse = 0.0
         self.overlap_sum = 0.0
         self.overlap_contacts = 0
@@ -200,12 +263,14 @@ class RunMetrics:
     def observe(self, tick: int, positions: np.ndarray, on_target: np.ndarray,
                 messages: np.ndarray, awake: int, changed: bool = False) -> None:
         """Account for the state at the end of ``tick``."""
+        step = None
         if self._prev is not None:
             step = np.hypot(*(positions - self._prev).T)
             self.total_distance += float(step.sum())
             if changed or (step.size and step.max() > self.config.wake_eps):
                 self.last_change_tick = tick
         self._prev = positions
+        self.tracks.observe(tick, step, messages)
         if self._coverage is None:
             self._coverage = IncrementalCoverage(self.grid, positions)
         self.coverage = self._coverage.update(positions)
@@ -220,8 +285,10 @@ class RunMetrics:
         self._observe_contacts()
         self.settled.observe(positions, messages)
         self._state.update({"on_target": int(on_target.sum()),
-                            "moving": int(messages["moving"].sum()), "awake": awake,
+                            "moving": self.tracks.moving_now, "awake": awake,
                             "displaced": self.settled.displaced_now})
+        if messages.dtype.names is not None and "moving" in messages.dtype.names:
+            self._state["broadcast_moving"] = int(np.count_nonzero(messages["moving"]))
         self.record(tick)
 
     def _observe_contacts(self) -> None:
@@ -246,6 +313,8 @@ class RunMetrics:
                           "total_distance": round(self.total_distance, 4),
                           "robots_on_target": self._state.get("on_target", 0),
                           "moving": self._state.get("moving", 0),
+                          **({"broadcast_moving": self._state["broadcast_moving"]}
+                             if "broadcast_moving" in self._state else {}),
                           "awake": self._state.get("awake", 0),
                           "in_contact": self._state.get("in_contact", 0),
                           "contacts_robot_robot": c.robot_robot,
@@ -299,14 +368,80 @@ class RunMetrics:
                 "settled_max_displacement": round(float(self.settled.max_shift.max()), 4)
                 if per_robot.size else 0.0}
 
-    def robot_rows(self) -> list[dict]:
-        """One row per robot: its contacts, time in contact and largest push while settled."""
+    def robot_rows(self, final: FinalState | None = None) -> list[dict]:
+        """One row per robot (robots.csv; docs/outputs.md lists the columns).
+
+        Without ``final`` (the run's end state), only the columns the metrics know: distance
+        moved, settle tick, contacts, time in contact and largest push while settled.
+        """
         c = self.physics.contacts
-        return [{"robot": i, "contacts_robot": int(c.per_robot[i]),
-                 "contacts_wall": int(c.per_robot_wall[i]),
-                 "contact_ticks": int(self.contact_ticks[i]),
-                 "settled_max_displacement": round(float(self.settled.max_shift[i]), 4)}
-                for i in range(len(c.per_robot))]
+        n = len(c.per_robot)
+        lead = final.columns() if final is not None else [{} for _ in range(n)]
+        distance = np.round(self.tracks.distance, 4).tolist()
+        settle = self.tracks.settle_tick.tolist()
+        per_robot, per_wall = c.per_robot.tolist(), c.per_robot_wall.tolist()
+        ticks = self.contact_ticks.tolist()
+        shift = np.round(self.settled.max_shift, 4).tolist()
+        return [{"robot": i, **lead[i], "distance": distance[i],
+                 "settle_tick": "" if settle[i] == NOT_YET else settle[i],
+                 "contacts_robot": per_robot[i], "contacts_wall": per_wall[i],
+                 "contact_ticks": ticks[i], "settled_max_displacement": shift[i]}
+                for i in range(n)]
+
+
+
+
+@dataclass(frozen=True)
+class FinalState:
+    """What robots.csv reads from the end of a run.
+
+    Attributes:
+        positions: (N, 2) final positions, units.
+        messages: (N,) the final broadcasts (structured array; any controller's dtype).
+        statuses: the controller's status names, indexed by the ``status`` field.
+        failed: (N,) bool, robots that failed during the run.
+        fields: the broadcast fields copied into robots.csv (a controller's colourings and
+            leader field: GGC's group, gradient, leader), each only if the messages have it.
+        unknown: field values that mean "none" (the controller's SILENT values, e.g. an
+            unknown gradient): written as an empty cell.
+    """
+
+    positions: np.ndarray
+    messages: np.ndarray
+    statuses: tuple[str, ...]
+    failed: np.ndarray
+    fields: tuple[str, ...] = ()
+    unknown: Mapping[str, Any] = field(default_factory=dict)
+
+    def columns(self) -> list[dict]:
+        """Per robot: x, y, and status, group, gradient, leader as far as the broadcasts
+        carry them. A failed robot's status reads "Failed"; a status code the controller
+        does not name reads as an empty cell."""
+        n = len(self.positions)
+        xy = np.round(self.positions, 4).tolist()
+        cols: dict[str, list] = {}
+        names = self.messages.dtype.names or ()
+        if "status" in names:
+            codes = self.messages["status"].tolist()
+            failed = self.failed.tolist()
+            cols["status"] = ["Failed" if failed[i] else
+                              self.statuses[code] if 0 <= code < len(self.statuses) else ""
+                              for i, code in enumerate(codes)]
+        for name in self.fields:
+            if name not in names:
+                continue
+            values = self.messages[name]
+            if values.ndim != 1:  # a field holding an array per robot: not a column
+                continue
+            out = values.tolist()
+            if name in self.unknown:
+                none = self.unknown[name]
+                out = ["" if v == none else v for v in out]
+            elif values.dtype == bool:
+                out = [int(v) for v in out]
+            cols[name] = out
+        return [{"x": xy[i][0], "y": xy[i][1], **{k: v[i] for k, v in cols.items()}}
+                for i in range(n)]
 
 
 def nearest_neighbour_spacing(positions: np.ndarray) -> tuple[float | None, ...]:

@@ -11,6 +11,8 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 
 def _read_umask() -> int:
     mask = os.umask(0o022)  # the only way to read it is to set it: once, at import
@@ -44,6 +46,13 @@ def atomic_write_bytes(path: str | Path, data: bytes) -> None:
 
 def atomic_write_text(path: str | Path, text: str) -> None:
     atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def write_npz(path: str | Path, arrays: Mapping[str, Any]) -> None:
+    """Write numpy arrays as one compressed ``.npz`` file (``np.load`` reads it), atomically."""
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **{k: np.asarray(v) for k, v in arrays.items()})
+    atomic_write_bytes(path, buf.getvalue())
 
 
 def write_json(path: str | Path, data: Mapping[str, Any]) -> None:

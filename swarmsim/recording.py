@@ -1,4 +1,5 @@
-"""Observers of a run: video frames, the last-frame snapshot, and the output folder.
+"""Observers of a run: video frames, the last-frame snapshot, trajectories and the output
+folder.
 
 Rendering only reads snapshots; turning it on never changes a run's results.
 """
@@ -8,20 +9,32 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Self
 
-from swarmsim.output import write_run
+from swarmsim.errors import ConfigError
+from swarmsim.output import write_npz, write_run
 from swarmsim.sim import RunResult, Simulation
+from swarmsim.trajectories import FILE_NAME as TRAJECTORIES_FILE
+from swarmsim.trajectories import Trajectories
 
 
 class Recorder:
-    """Streams frames of ``sim`` to an MP4 every ``frame_every`` ticks and saves the last frame.
+    """Streams frames of ``sim`` to an MP4 every ``frame_every`` ticks and saves the last frame;
+    with ``trajectories_every`` K > 0 it also samples positions every K ticks (see
+    swarmsim.trajectories), which :meth:`write_outputs` saves.
 
     Use as a context manager around ``sim.run(on_tick=recorder.on_tick)``.
     """
 
     def __init__(self, sim: Simulation, video: Path | None = None, snapshot: Path | None = None,
-                 fps: int = 30, frame_every: int = 10, color_by: str = "gradient",
-                 width: int = 800, highlight_contacts: bool = False):
+                 fps: int = 30, frame_every: int = 10, color_by: str | None = None,
+                 width: int = 800, highlight_contacts: bool = False,
+                 trajectories_every: int = 0):
+        offered = ("status", *sim.info.colourings)
+        if color_by is not None and color_by not in offered:
+            raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
+                              f"{', '.join(offered)}; got {color_by!r}", key="--color-by")
         self.sim = sim
+        self.trajectories = (Trajectories(sim, trajectories_every) if trajectories_every
+                             else None)
         self.video_path = video
         self.snapshot_path = snapshot
         self.fps = fps
@@ -36,7 +49,10 @@ class Recorder:
         if self._renderer is None:
             from swarmsim.render import Renderer
 
-            self._renderer = Renderer(self.sim.world, self.sim.grid, **self._render_kw)
+            self._renderer = Renderer(self.sim.world, self.sim.grid,
+                                      colourings=self.sim.info.colourings,
+                                      leader_field=self.sim.info.leader_field,
+                                      **self._render_kw)
         return self._renderer
 
     def __enter__(self) -> Self:
@@ -54,6 +70,8 @@ class Recorder:
         return self
 
     def on_tick(self, sim: Simulation) -> None:
+        if self.trajectories is not None:
+            self.trajectories.on_tick(sim)
         if self._writer is not None and sim.tick % self.frame_every == 0:
             self._writer.write(self.renderer.draw(sim.snapshot()))
 
@@ -69,8 +87,12 @@ class Recorder:
             save_png(self.renderer.draw(self.sim.snapshot()), self.snapshot_path)
 
     def write_outputs(self, out_dir: Path, result: RunResult) -> Path:
-        """summary.json, timeseries.csv, robots.csv and coverage.png in ``out_dir``."""
+        """summary.json, timeseries.csv, robots.csv, coverage.npz, coverage.png and (if
+        sampled) trajectories.npz in ``out_dir`` (docs/outputs.md describes each)."""
         out = write_run(out_dir, result.summary, result.timeseries, result.robots)
+        write_npz(out / "coverage.npz", self.sim.grid.arrays(self.sim.positions))
+        if self.trajectories is not None:
+            self.trajectories.save(out / TRAJECTORIES_FILE)
         from swarmsim.plots import plot_timeseries
 
         title = (f"{result.summary['world']} / {result.summary['controller']} / "

@@ -39,6 +39,25 @@ class FloorSensor:
         """(N,) bool: is each robot's centre over the target?"""
         return shapely.contains_xy(self.target, positions[:, 0], positions[:, 1])
 
+    def probes(self, at: np.ndarray) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
+        """Many robots' probes in one query, for robots at ``at`` (R, 2), units:
+        ``probes(at)(ks, offsets)`` is (M,) bool, entry j the floor at robot ``ks[j]``'s
+        position plus ``offsets[j]`` (each within the probe range)."""
+        limit2 = self.probe_range * self.probe_range * (1 + 1e-9)
+
+        def probe_many(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+            offsets = np.asarray(offsets, dtype=float).reshape(-1, 2)
+            ox, oy = offsets[:, 0], offsets[:, 1]
+            beyond = ox * ox + oy * oy > limit2
+            if beyond.any():
+                first = offsets[np.argmax(beyond)]
+                raise ValueError(f"probe offset {tuple(first.tolist())} is beyond the probe "
+                                 f"range {self.probe_range}")
+            here = at[np.asarray(ks, dtype=np.intp)]
+            return shapely.contains_xy(self.target, here[:, 0] + ox, here[:, 1] + oy)
+
+        return probe_many
+
     def probe_at(self, x: float, y: float) -> FloorProbe:
         """A probe for a robot at (x, y): ``probe(offset)`` tells if floor at +offset is target."""
         return FloorProbe(self.target, self.probe_range, x, y)

@@ -16,37 +16,41 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, spawn, wakes
+from swarmsim import cellsearch, wakes
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
-    INF_GRADIENT,
     Action,
     ChunkActions,
     DecideBatch,
     NeighbourBatch,
     Perception,
     RobotSetup,
-    get_controller,
     make_perception,
     message_dtype,
-    run_message_fields,
     silent_message,
 )
+from swarmsim.controller_info import ControllerInfo, describe
 from swarmsim.errors import ConfigError
 from swarmsim.imperfections import Imperfections
-from swarmsim.metrics import CoverageGrid, RunMetrics
+from swarmsim.layouts import LAYOUTS, LayoutRequest
+from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
+from swarmsim.registry import get_controller
 from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
+from swarmsim.summary import SummaryCollector
 from swarmsim.world import World, load_world
 
 NEVER = np.iinfo(np.int64).max
 """wake_tick of a sleeping robot that set no timeout."""
 DEFAULT_CONTROLLER = "ggc"
 """The controller of a run that names none, in a world that names none (the paper's GGC)."""
-DEFAULT_SETTLED = ("Arrive", "Arrived")
-"""Status names that mean "done, standing still" unless a controller says SETTLED_STATUSES."""
+
+LEGACY_FIELDS = ("gradient", "group", "leader")
+"""Base broadcast fields of earlier versions, third to fifth in a tuple: a controller that
+still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps working, and
+they are dropped."""
 
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
@@ -63,7 +67,8 @@ class RunResult:
     summary: dict[str, Any]
     timeseries: list[dict[str, Any]] = field(default_factory=list)
     robots: list[dict[str, Any]] = field(default_factory=list)
-    """One row per robot: contacts, time in contact, largest push while settled."""
+    """One row per robot (robots.csv): final position, status, group, gradient, distance
+    moved, settle tick, contacts (columns: docs/outputs.md)."""
 
 
 class Simulation:
@@ -73,7 +78,7 @@ class Simulation:
         world: a World or the name/path of a world file.
         controller: registered controller name (default: the world's ``defaults.controller``,
             else "ggc", the paper's method, as on the command line; e.g. "dispersion",
-            "kilobot") or "module:Class".
+            "kilobot"), "module:Class", or a controller class.
         robots: number of robots (default: the world's ``defaults.robots``).
         groups: number of groups K (default: the world's ``defaults.groups``, else 1).
         seed: the one seed that decides the run.
@@ -83,7 +88,7 @@ class Simulation:
             ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
     """
 
-    def __init__(self, world: World | str, controller: str | None = None,
+    def __init__(self, world: World | str, controller: str | type | None = None,
                  robots: int | None = None, groups: int | None = None, seed: int = 0,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):
@@ -91,7 +96,8 @@ class Simulation:
         self._setup()
 
     @classmethod
-    def check(cls, world: World | str, controller: str | None = None, robots: int | None = None,
+    def check(cls, world: World | str, controller: str | type | None = None,
+              robots: int | None = None,
               groups: int | None = None, seed: int = 0, d_cover: float | None = None,
               max_ticks: int | None = None, settings: Mapping[str, Any] | None = None) -> None:
         """Check a run's world, controller and settings as the constructor does, without
@@ -100,15 +106,17 @@ class Simulation:
         cls.__new__(cls)._configure(world, controller, robots, groups, seed, d_cover,
                                     max_ticks, settings)
 
-    def _configure(self, world: World | str, controller: str | None, robots: int | None,
+    def _configure(self, world: World | str, controller: str | type | None, robots: int | None,
                    groups: int | None, seed: int, d_cover: float | None,
                    max_ticks: int | None, settings: Mapping[str, Any] | None) -> None:
         """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
         controller = controller or self.world.defaults.get("controller", DEFAULT_CONTROLLER)
         self.controller_cls = get_controller(controller)
-        self.controller_name = controller
-        if getattr(self.controller_cls, "requires_beacon", False) and self.world.beacon is None:
+        self.controller_name = (controller if isinstance(controller, str)
+                                else str(getattr(controller, "name", controller.__name__)))
+        self.info: ControllerInfo = describe(self.controller_cls, self.controller_name)
+        if self.info.requires_beacon and self.world.beacon is None:
             raise ConfigError(f"controller {controller!r} needs a [beacon] in the world file",
                               source=self.world.source, key="beacon")
         merged = self._merge_settings(robots, groups, seed, d_cover, max_ticks, settings or {})
@@ -118,11 +126,16 @@ class Simulation:
 
     def _check_configs(self) -> None:
         """Checks that span the engine's, the physics' and the controller's settings."""
-        most = getattr(self.controller_cls, "max_groups", None)
-        if most is not None and self.config.groups > most:
+        most = self.info.max_groups
+        if self.config.groups > most:
             raise ConfigError(f"value {self.config.groups}: controller "
-                              f"{self.controller_name!r} supports at most {most} groups",
-                              key="groups")
+                              f"{self.controller_name!r} supports at most {most} "
+                              f"group{'s' if most > 1 else ''}", key="groups")
+        start = self.config.start or self.info.default_start
+        if start not in self.info.layouts:
+            offered = ", ".join(self.info.layouts)
+            raise ConfigError(f"controller {self.controller_name!r} offers the starts {offered}; "
+                              f"got {start!r}", key="start")
         body = 2 * self.physics_config.radius
         for name in ("spawn_spacing", "formation_spacing"):
             if getattr(self.config, name) < body:
@@ -130,7 +143,7 @@ class Simulation:
                                   f"(2 x radius = {body:g}): robots would start overlapping",
                                   key=name)
         reach = self._probe_range()
-        for name in getattr(self.controller_cls, "probe_params", ()):
+        for name in self.info.probe_params:
             value = getattr(self.params, name)
             if not 0 < value <= reach:
                 raise ConfigError(f"must be in (0, {reach:g}], got {value!r}: a floor probe reaches"
@@ -139,15 +152,17 @@ class Simulation:
     def _probe_range(self) -> float:
         """How far a robot's floor probe reaches, units: the engine's probe_range, or more if
         the controller class needs it (``min_probe_range``)."""
-        return max(self.config.probe_range, getattr(self.controller_cls, "min_probe_range", 0.0))
+        return max(self.config.probe_range, self.info.min_probe_range)
 
     def _merge_settings(self, robots, groups, seed, d_cover, max_ticks,
                         settings: Mapping[str, Any]) -> dict[str, Any]:
         merged: dict[str, Any] = {}
         defaults = self.world.defaults
-        for key in ("robots", "groups", "max_ticks", "start"):
+        for key in ("robots", "max_ticks", "start"):
             if key in defaults:
                 merged[key] = defaults[key]
+        if "groups" in defaults and self.info.has_groups:  # a world's groups mean GGC's
+            merged["groups"] = defaults["groups"]
         if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):
             merged["d_cover"] = defaults["d_cover"]
         explicit = {"robots": robots, "groups": groups, "seed": seed, "d_cover": d_cover,
@@ -167,29 +182,28 @@ class Simulation:
         seeds = np.random.SeedSequence(cfg.seed).spawn(4)
         layout_rng, role_rng, order_rng = (np.random.default_rng(s) for s in seeds[:3])
         robot_seeds = seeds[3].spawn(cfg.robots)
-        start = cfg.start or getattr(self.controller_cls, "default_start", "random")
+        start = cfg.start or self.info.default_start
         self.start = start
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
         self.physics = Physics(self.world, positions, self.physics_config)
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
-        self.sensing_range = float(self.controller_cls.sensing_range(self.params))
+        self.sensing_range = self.info.sensing_range(self.params)
         if cfg.sensing_limit > 0:
             self.sensing_range = min(self.sensing_range, cfg.sensing_limit)
         if not self.sensing_range > 0:
             raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
                               key="sensing_range")
-        self.controllers = self._create_robots(setups, robot_seeds)
-        self.statuses = tuple(self.controller_cls.STATUSES)
-        self.dtype = message_dtype(run_message_fields(self.controller_cls, cfg.groups))
-        self._prepare = getattr(self.controller_cls, "prepare", None)
-        self._decide_batch = (getattr(self.controller_cls, "decide_batch", None)
-                              if cfg.batch_decide and cfg.decide_order == "index" else None)
-        self.silent = silent_message(self.dtype)
+        self.swarm = self.info.create_swarm(
+            setups, self.params, [np.random.default_rng(s) for s in robot_seeds],
+            shuffled=cfg.decide_order == "shuffled", order_rng=order_rng,
+            batch=cfg.batch_decide)
+        self.statuses = self.info.statuses
+        self.dtype = message_dtype(self.info.message_fields(cfg.groups))
+        self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
-        self._order_rng = order_rng
         self.tick = 0
         self.positions, _ = self.physics.read()
         self._prev_positions = self.positions.copy()
@@ -203,45 +217,52 @@ class Simulation:
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size)
-        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.settled_codes())
+        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.info.codes(self.info.settled))
         self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
         cellsearch.warm_up()  # compiled or loaded before the run's clock starts
         wakes.warm_up()
-        if hasattr(self.controller_cls, "warm_up"):
-            self.controller_cls.warm_up()  # its kernels too
+        self.info.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.fault_hook: Callable[[Simulation], None] | None = None
+        self.summary_sources = SummaryCollector()
+        """Where summary.json's fields come from, in order (add a source to add fields)."""
+        self.summary_sources.add("run", self._run_fields)
+        self.summary_sources.add("metrics",
+                                 lambda: self.metrics.summary(self.positions, self.on_target))
+        self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
         if cfg.failures:
             from swarmsim.faults import FaultPlan, fault_rng, install_faults
-            install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
+            injector = install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
+            self.summary_sources.add("faults", lambda: {
+                "fault_tick": None if injector is None else injector.fired_tick})
+        self.summary_sources.add("controller", lambda: self.swarm.summarize(self.failed))
+
+    @property
+    def controllers(self) -> list:
+        """The robots' controller objects, one per robot (per-robot controllers only; a batch
+        controller keeps its robots' state in its ``swarm``)."""
+        robots = getattr(self.swarm, "robots", None)
+        if robots is None:
+            raise AttributeError(f"controller {self.controller_name!r} keeps its robots' state "
+                                 "in sim.swarm, not in per-robot objects")
+        return robots
 
     def settled_codes(self) -> tuple[int, ...]:
-        """Status codes in which the controller's robots are done (GGC: Arrive)."""
-        names = getattr(self.controller_cls, "SETTLED_STATUSES", DEFAULT_SETTLED)
-        return tuple(i for i, s in enumerate(self.statuses) if s in names)
+        """Status codes in which the controller's robots are done (its SETTLED_STATUSES)."""
+        return self.info.codes(self.info.settled)
 
     def _initial_layout(self, start: str, layout_rng: np.random.Generator,
                         role_rng: np.random.Generator) -> tuple[np.ndarray, list[RobotSetup]]:
+        """Where the robots start and what each is told (a layout the controller offers:
+        checked in _check_configs)."""
         cfg = self.config
-        if start == "formation":
-            positions, groups, leaders = spawn.formation_layout(
-                self.world, cfg.robots, cfg.groups, cfg.formation_spacing, layout_rng)
-            lead = set(leaders.tolist())
-            setups = [RobotSetup(i, leader=i in lead, group=int(g), groups=cfg.groups)
-                      for i, g in enumerate(groups)]
-            return positions, setups
-        positions = spawn.random_layout(self.world, cfg.robots, cfg.spawn_spacing, layout_rng,
-                                        clearance=self.physics_config.radius)
-        leaders = role_rng.choice(cfg.robots, size=cfg.groups, replace=False)
-        group_of = {int(r): k + 1 for k, r in enumerate(leaders)}
-        setups = [RobotSetup(i, leader=i in group_of, group=group_of.get(i, 0), groups=cfg.groups,
-                             scattered=True)
-                  for i in range(cfg.robots)]
-        return positions, setups
+        request = LayoutRequest(cfg.robots, cfg.groups, cfg.spawn_spacing,
+                                cfg.formation_spacing, self.physics_config.radius)
+        return LAYOUTS[start](self.world, request, layout_rng, role_rng)
 
     # ----------------------------------------------------------------------------- loop
     def step(self) -> None:
@@ -368,9 +389,8 @@ class Simulation:
         offsets, distances = views.offsets, views.distances
         here = self.positions[awake]
         bearings = _bearings(self.world.beacon, here)
-        probe_at, tick, controllers = self.floor.probe_at, self.tick, self.controllers
+        probe_at, tick = self.floor.probe_at, self.tick
         at, on, shift = here.tolist(), self.on_target[awake].tolist(), moved[awake]
-        deciding = [controllers[i] for i in awake.tolist()]
 
         def perceive(k: int) -> Perception:
             a, b = first[k], last[k]
@@ -379,26 +399,10 @@ class Simulation:
                                    probe_at(x, y), None if bearings is None else bearings[k],
                                    shift[k])
 
-        batch = NeighbourBatch(heard, distances, starts)
-        if self._decide_batch is not None:  # it does the prepare part itself
-            actions = self._decide_batch(deciding, DecideBatch(
-                tick, batch, offsets, on, shift, bearings, lambda k: probe_at(*at[k]),
-                perceive))
-        else:
-            if self._prepare is not None:
-                self._prepare(deciding, batch)
-            actions = self._step_all(deciding, [perceive(k) for k in range(len(deciding))])
-        self._apply(awake, actions, new_messages, velocities)
-
-    def _create_robots(self, setups: list[RobotSetup], seeds: list) -> list:
-        """One controller per robot, each with its own Generator; through the class's
-        ``create_robots`` if it has one (to make them together)."""
-        rngs = [np.random.default_rng(seed) for seed in seeds]
-        create = getattr(self.controller_cls, "create_robots", None)
-        if create is not None:
-            return list(create(setups, self.params, rngs))
-        return [self.controller_cls(s, self.params, rng)
-                for s, rng in zip(setups, rngs, strict=True)]
+        batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
+                            bearings, lambda k: probe_at(*at[k]), perceive,
+                            self.floor.probes(here))
+        self._apply(awake, self.swarm.decide(awake, batch), new_messages, velocities)
 
     def _heard(self, senders: np.ndarray) -> np.ndarray:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
@@ -413,17 +417,6 @@ class Simulation:
         heard.flags.writeable = False  # every robot gets a read-only view of its part
         return heard
 
-    def _step_all(self, robots: list, perceptions: list[Perception]) -> list[Action]:
-        """Each robot's action, its controller called in index order or, with decide_order
-        "shuffled", in a random order (a check: no controller may depend on another's call).
-        Sensing, noise and message loss are drawn in index order either way."""
-        if self.config.decide_order != "shuffled":
-            return [robot.step(p) for robot, p in zip(robots, perceptions, strict=True)]
-        actions: list[Action] = [None] * len(robots)  # type: ignore[list-item]
-        for k in self._order_rng.permutation(len(robots)).tolist():
-            actions[k] = robots[k].step(perceptions[k])
-        return actions
-
     def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
                new_messages: np.ndarray, velocities: np.ndarray) -> None:
         """Write the awake robots' actions: velocities, broadcasts, listening and sleep."""
@@ -433,12 +426,17 @@ class Simulation:
             actions = ChunkActions.of(actions)
         vel = actions.velocities
         velocities[awake] = vel
-        if actions.messages:
+        if actions.broadcast is not None:
+            new_messages[awake] = actions.broadcast
+        elif actions.messages:
             self._send(awake, actions.messages, new_messages)
         reach = self.sensing_range
         listen = actions.listen
         self.listen[awake] = np.minimum(np.where(np.isnan(listen), reach, listen), reach)
-        if not self.config.allow_sleep or not actions.sleepers:
+        if not self.config.allow_sleep:
+            return
+        if actions.sleep is not None:
+            self._sleep_columns(awake, actions)
             return
         for k, action in actions.sleepers.items():
             if vel[k, 0] == 0 and vel[k, 1] == 0:
@@ -449,15 +447,51 @@ class Simulation:
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 
-    def _send(self, awake: np.ndarray, messages: dict[int, tuple],
+    def _sleep_columns(self, awake: np.ndarray, actions: ChunkActions) -> None:
+        """Sleep requests in the dense form (see ChunkActions.columns)."""
+        vel = actions.velocities
+        ok = actions.sleep & (vel[:, 0] == 0) & (vel[:, 1] == 0)
+        if not ok.any():
+            return
+        i = awake[ok]
+        reach = self.sensing_range
+        self.asleep[i] = True
+        self.wake_on_motion[i] = actions.wake_on_motion[ok]
+        tick = actions.wake_tick[ok]
+        self.wake_tick[i] = np.where(tick < 0, NEVER, tick)
+        wake = actions.wake_range[ok]
+        self.wake_range[i] = np.minimum(np.where(np.isnan(wake), reach, wake), reach)
+
+    def _send(self, awake: np.ndarray, messages: dict[int, tuple | dict],
               new_messages: np.ndarray) -> None:
-        """Write the new broadcasts ({k: row} of the chunk's robots)."""
+        """Write the new broadcasts ({k: row} of the chunk's robots; a row is a tuple in the
+        dtype's order or a dict by field name)."""
         sent, rows = list(messages), list(messages.values())
-        try:
-            new_messages[awake[sent]] = rows_to_array(rows, self.dtype)
-        except (TypeError, ValueError):  # not plain tuples: assign row by row
-            for k, row in zip(sent, rows, strict=True):
-                new_messages[awake[k]] = row
+        if not any(isinstance(row, dict) for row in rows):
+            try:
+                new_messages[awake[sent]] = rows_to_array(rows, self.dtype)
+                return
+            except (TypeError, ValueError):  # not plain tuples: assign row by row
+                pass
+        width = len(self.dtype.names)
+        for k, row in zip(sent, rows, strict=True):
+            if isinstance(row, dict):
+                row = self._named_row(awake[k], row)
+            elif len(row) == width + len(LEGACY_FIELDS):
+                row = (*row[:2], *row[5:])  # the old base fields: gradient, group, leader
+            new_messages[awake[k]] = row
+
+    def _named_row(self, robot: int, fields: dict) -> np.void:
+        """A broadcast given by field name: missing fields zero, ``id`` the robot's."""
+        unknown = set(fields) - set(self.dtype.names)
+        if unknown:
+            raise ConfigError(f"broadcast names unknown fields {sorted(unknown)}; the run's "
+                              f"fields are {list(self.dtype.names)}", key="controller")
+        row = np.zeros((), dtype=self.dtype)
+        row["id"] = robot
+        for name, value in fields.items():
+            row[name] = value
+        return row[()]
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""
@@ -501,12 +535,17 @@ class Simulation:
             if bar is not None:
                 bar.close()
         self.metrics.record(self.tick, force=True)
-        return RunResult(self.summary(), list(self.metrics.rows), self.metrics.robot_rows())
+        return RunResult(self.summary(), list(self.metrics.rows),
+                         self.metrics.robot_rows(self.final_state()))
 
     def summary(self) -> dict[str, Any]:
-        """The run's summary (the fields of summary.json)."""
+        """The run's summary: the fields of summary.json, from ``summary_sources``."""
+        return self.summary_sources.collect()
+
+    def _run_fields(self) -> dict[str, Any]:
+        """What the run was: world, controller, settings, how and when it ended."""
         d_cover = getattr(self.params, "d_cover", None)
-        out = {
+        return {
             "world": self.world.name,
             "controller": self.controller_name,
             "robots": self.n,
@@ -520,23 +559,13 @@ class Simulation:
             "wall_seconds": round(self.wall_seconds, 3),
             "code_version": code_version(),
         }
-        out.update(self.metrics.summary(self.positions, self.on_target))
-        out["failed_robots"] = int(self.failed.sum())
-        extra = getattr(self.controller_cls, "summarize", None)
-        if extra is not None:
-            out.update(self._controller_summary(extra))
-        return out
 
-    def _controller_summary(self, summarize: Callable[[list], dict]) -> dict:
-        """The controller class's own summary figures; its ``status_counts`` count failed
-        robots as "Failed", not under the status they had when they failed."""
-        summary = summarize(self.controllers)
-        if "status_counts" in summary and self.failed.any():
-            working = [c for c, failed in zip(self.controllers, self.failed.tolist(),
-                                              strict=True) if not failed]
-            counts = {**summarize(working)["status_counts"], "Failed": int(self.failed.sum())}
-            summary["status_counts"] = dict(sorted(counts.items()))
-        return summary
+    def final_state(self) -> FinalState:
+        """The state robots.csv reads (positions, broadcasts, failures): a copy, now."""
+        info = self.info
+        fields = (*info.colourings, *([info.leader_field] if info.leader_field else []))
+        return FinalState(self.positions.copy(), self.messages.copy(), self.statuses,
+                          self.failed.copy(), fields, info.silent)
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:
         """A read-only copy of the current state, for observers (render, analysis)."""
@@ -548,10 +577,12 @@ class Simulation:
                         covered=covered, in_contact=in_contact, failed=self.failed.copy())
 
 
-    def render(self, color_by: str = "gradient", width: int = 800, **options: Any) -> np.ndarray:
+    def render(self, color_by: str | None = None, width: int = 800, **options: Any
+               ) -> np.ndarray:
         """The current state drawn off-screen: an (H, W, 3) uint8 frame (no window needed).
 
-        ``color_by`` is "gradient", "group" or "status"; other options go to
+        ``color_by`` is "status" or a message field the controller declares in COLOURINGS
+        (None: its first, GGC's "gradient"); other options go to
         swarmsim.render.Renderer. Drawing never changes the run.
         """
         key = (color_by, width, tuple(sorted(options.items())))
@@ -559,6 +590,8 @@ class Simulation:
             from swarmsim.render import Renderer
 
             self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
+                                      colourings=self.info.colourings,
+                                      leader_field=self.info.leader_field,
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
@@ -569,8 +602,7 @@ def _old_objects_frozen() -> Iterator[None]:
     """Keep the objects that exist now out of Python's full garbage collections for a while.
 
     A run allocates little that lives long, but every full collection walks every object in
-    the process (controllers, world, modules): ~5 % of a K run (seed 0: 15.5 s of 314 s in
-    generation-2 collections; 0.1 s frozen). Frozen objects are unfrozen afterwards, so a
+    the process (controllers, world, modules). Frozen objects are unfrozen afterwards, so a
     discarded Simulation is collected as usual. Left alone if the caller froze objects
     already (their GC, their rules). Changes no result: collection order decides nothing.
     """
@@ -607,8 +639,8 @@ def _bearings(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray 
 
 def rows_to_array(rows: list[tuple], dtype: np.dtype) -> np.ndarray:
     """``np.array(rows, dtype=dtype)`` for broadcast tuples, built field by field (the same
-    values; numpy converts a list of tuples row by row, ~2 us a row with GGC's 17 fields).
-    A field holding an array per row (GGC's per-group fields) is joined with one
+    values; numpy converts a list of tuples row by row, which is slower).
+    A field holding an array per row (e.g. GGC's per-group fields) is joined with one
     ``np.concatenate``. Raises TypeError or ValueError where ``np.array`` would."""
     out = np.empty(len(rows), dtype=dtype)
     for name, column in zip(dtype.names, zip(*rows, strict=True), strict=True):
@@ -643,4 +675,4 @@ def _progress_bar(total: int, enabled: bool):
                 bar_format=fmt)
 
 
-__all__ = ["INF_GRADIENT", "PhysicsConfig", "RunResult", "SimConfig", "Simulation"]
+__all__ = ["PhysicsConfig", "RunResult", "SimConfig", "Simulation"]

@@ -1,5 +1,5 @@
 """One GGC robot decided on hand-made neighbourhoods (no simulation), through the same
-driver as a run: its state row is ``bot.me``, what it did ``bot.step(...)``'s Decisions."""
+driver as a run: its state row is ``bot.me``, what it did ``bot.step(...)``'s ChunkActions."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ import numpy as np
 from controllers.ggc import GGC, GGCParams, GGCSwarm
 from controllers.ggc.rules.common import View
 from controllers.ggc.statuses import COVERAGE
-from controllers.ggc.swarm import COLUMNS, Decisions
+from controllers.ggc.swarm import COLUMNS
 from swarmsim.controller import (
+    ChunkActions,
     DecideBatch,
     NeighbourBatch,
     RobotSetup,
@@ -51,7 +52,7 @@ class Bot:
 
     def step(self, rows, on_target: bool = False, probe=lambda offset: False,
              moved=(0.1, 0.0), beacon_deg: float | None = None, tick: int | None = None,
-             **fields) -> Decisions:
+             **fields) -> ChunkActions:
         """Decide one tick with these neighbours (see :func:`messages`)."""
         offsets, m = messages(rows, self.groups, **fields)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
@@ -74,7 +75,4 @@ def view(rows, groups: int = 3, **fields) -> View:
 
 def ggc_state(sim) -> np.ndarray:
     """A GGC run's state rows (row i: robot i)."""
-    swarm = getattr(sim, "swarm", None)
-    if swarm is None:
-        swarm = sim.controllers[0].swarm
-    return swarm.state
+    return sim.swarm.state

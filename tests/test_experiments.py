@@ -15,9 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError
 from swarmsim.cli import main
-from swarmsim.controller import INF_GRADIENT, Action, Perception, RobotSetup
+from swarmsim.controller import Action, Perception, RobotSetup
 from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
 from swarmsim.experiments.runner import Sweep
@@ -477,7 +478,7 @@ def test_failures_fire_when_their_phase_starts(phase, tick, fired):
     res = sim.run()
     assert hook.fired_tick == fired and len(hook.robots) == 5
     assert res.summary["failed_robots"] == 5
-    leaders = {i for i, c in enumerate(sim.controllers) if c.setup.leader}
+    leaders = {i for i, c in enumerate(sim.swarm.robots) if c.setup.leader}
     assert leaders.isdisjoint(hook.robots.tolist())
     if phase == "tick":  # after tick 31 the even robots have arrived: only odd ones may fail
         assert all(i % 2 == 1 for i in hook.robots)

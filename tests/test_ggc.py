@@ -5,8 +5,8 @@ import pytest
 
 from controllers.ggc import GGCParams
 from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STATUSES
+from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError, Simulation
-from swarmsim.controller import INF_GRADIENT
 from swarmsim.world import world_from_dict
 
 from .ggc_bot import ggc_state

@@ -11,7 +11,8 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from swarmsim.controller import INF_GRADIENT, message_dtype
+from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT
+from swarmsim.controller import message_dtype
 from swarmsim.metrics import CoverageGrid
 from swarmsim.plots import plot_timeseries
 from swarmsim.render import Renderer, VideoWriter, save_png
@@ -35,7 +36,7 @@ def make_snapshot(positions, tick=0, gradient=0, group=0, status=0, leader=False
                   in_contact=None, radius=0.4, covered=None, coverage=0.0):
     pos = np.asarray(positions, dtype=float).reshape(-1, 2)
     n = len(pos)
-    msgs = np.zeros(n, dtype=message_dtype())
+    msgs = np.zeros(n, dtype=message_dtype(GRADIENT_FIELDS))
     msgs["id"] = np.arange(n)
     msgs["gradient"] = gradient
     msgs["group"] = group
@@ -47,9 +48,16 @@ def make_snapshot(positions, tick=0, gradient=0, group=0, status=0, leader=False
                     failed=np.zeros(n, bool) if failed is None else failed)
 
 
+def make_renderer(*args, **kw):
+    """A renderer for GGC-like broadcasts (gradient and group colourings, leaders)."""
+    kw.setdefault("colourings", COLOURINGS)
+    kw.setdefault("leader_field", "leader")
+    return Renderer(*args, **kw)
+
+
 def bare(world, **kw):
     """A renderer without text overlays, so pixel differences come from robots only."""
-    return Renderer(world, hud=False, legend=False, **kw)
+    return make_renderer(world, hud=False, legend=False, **kw)
 
 
 def changed(a: np.ndarray, b: np.ndarray, tol: int = 0) -> np.ndarray:
@@ -60,7 +68,7 @@ def changed(a: np.ndarray, b: np.ndarray, tol: int = 0) -> np.ndarray:
 
 def test_frame_shape_dtype_default_width():
     w = make_world()  # arena (-5, -5, 20, 15): 25 x 20 units
-    r = Renderer(w)
+    r = make_renderer(w)
     f = r.draw(make_snapshot([[5, 5]], gradient=3))
     assert f.dtype == np.uint8 and f.ndim == 3 and f.shape[2] == 3
     h, wd = f.shape[:2]
@@ -71,7 +79,7 @@ def test_frame_shape_dtype_default_width():
 
 def test_even_sizes_for_odd_aspect_and_non_multiple_of_16_width():
     w = make_world(margin=3.3)
-    r = Renderer(w, width=202)
+    r = make_renderer(w, width=202)
     f = r.draw(make_snapshot([[1, 1]]))
     assert f.shape[1] == 202 and f.shape[0] % 2 == 0
 
@@ -153,11 +161,11 @@ def test_failed_robot_drawn_dark_and_leader_ring():
 
 def test_invalid_arguments():
     w = make_world()
-    with pytest.raises(ValueError, match="gradient.*group.*status"):
-        Renderer(w, color_by="colour")
+    with pytest.raises(ValueError, match="status.*gradient.*group"):
+        make_renderer(w, color_by="colour")
     for bad in (801, 62, 0, 800.0):
         with pytest.raises(ValueError, match="width"):
-            Renderer(w, width=bad)
+            make_renderer(w, width=bad)
 
 
 def test_hud_text_and_coverage_overlay():
@@ -166,11 +174,11 @@ def test_hud_text_and_coverage_overlay():
     pos = np.array([[2.0, 2.0], [3.0, 3.0], [13.0, 1.0]])  # the last one is off target
     snap = make_snapshot(pos, tick=42, group=np.array([1, 2, 0]),
                          covered=grid.covered_grid(pos), coverage=grid.coverage(pos))
-    r = Renderer(w, grid)
+    r = make_renderer(w, grid)
     text = r.hud_text(snap)
     assert re.fullmatch(r"tick 42  coverage \d+\.\d %  on target 2  groups 2", text)
     with_cov = r.draw(snap)
-    no_cov = Renderer(w, grid, show_coverage=False).draw(snap)
+    no_cov = make_renderer(w, grid, show_coverage=False).draw(snap)
     assert changed(with_cov, no_cov).sum() > 100
 
 
@@ -251,7 +259,7 @@ def test_video_writer_validation(tmp_path):
 
 def test_save_png(tmp_path):
     w = make_world(beacon=True)
-    f = Renderer(w, width=256).draw(make_snapshot([[5, 5], [1, 9]], gradient=np.array([0, 5])))
+    f = make_renderer(w, width=256).draw(make_snapshot([[5, 5], [1, 9]], gradient=np.array([0, 5])))
     out = save_png(f, tmp_path / "frame.png")
     back = iio.imread(out)
     assert np.array_equal(back[..., :3], f)
@@ -292,5 +300,5 @@ def test_renders_without_fonts(monkeypatch):
 
     monkeypatch.setattr(pygame.font, "Font", no_font)
     w = make_world()
-    f = Renderer(w, width=128).draw(make_snapshot([[5, 5]]))
-    assert f.shape == (Renderer(w, width=128, hud=False, legend=False).shape)
+    f = make_renderer(w, width=128).draw(make_snapshot([[5, 5]]))
+    assert f.shape == (make_renderer(w, width=128, hud=False, legend=False).shape)

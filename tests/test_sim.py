@@ -122,7 +122,7 @@ def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
     sim.run(on_tick=lambda s: seen.append(gc.get_freeze_count()))
     assert min(seen) > 0  # the objects from before the run sat out full collections
     assert gc.get_freeze_count() == 0  # and were handed back afterwards
-    gone = weakref.ref(sim.controllers[0])
+    gone = weakref.ref(sim.swarm.robots[0])
     del sim
     gc.collect()
     assert gone() is None  # a finished run's robots are collected as usual
@@ -307,7 +307,7 @@ def test_the_python_api_and_the_command_line_run_the_same_controller_by_default(
     cli_default = build_parser().parse_args(["run", "tiny"]).controller
     sim = Simulation("tiny", controller=cli_default, max_ticks=1)
     assert sim.controller_name == Simulation("tiny", max_ticks=1).controller_name == "ggc"
-    assert type(sim.controllers[0]).__module__.startswith("controllers.ggc")
+    assert type(sim.swarm.robots[0]).__module__.startswith("controllers.ggc")
 
 
 def test_a_world_file_may_name_the_controller_and_the_start(tmp_path):

@@ -12,7 +12,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER, RobotSetup
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, RobotSetup
 
 from .rules.aggregation import FAR
 from .rules.coverage import NO_WAY_SLOTS
@@ -62,13 +63,10 @@ SOURCES = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y"}
 """Broadcast field -> state field, where the names differ."""
 
 
-def message_fields(groups: int, base: Sequence[str] = ()) -> list[tuple]:
-    """GGC's broadcast fields for a run with ``groups`` groups, without those in ``base``
-    (fields the engine's own broadcast already has)."""
+def message_fields(groups: int) -> list[tuple]:
+    """GGC's broadcast fields for a run with ``groups`` groups."""
     out = []
     for field in ALL_MESSAGE_FIELDS:
-        if field[0] in base:
-            continue
         out.append((field[0], field[1], (groups,)) if len(field) == 3 else field)
     return out
 

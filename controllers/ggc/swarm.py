@@ -11,11 +11,10 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from typing import NamedTuple
 
 import numpy as np
 
-from swarmsim.controller import DecideBatch, RobotSetup
+from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
@@ -29,25 +28,6 @@ COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx",
 """The broadcast columns a rule's view holds, in View's order (after off, dist)."""
 SCATTERED_COLUMNS = ("h", "handover", "quiet", "ldist", "lepoch")
 """Columns only the scattered start's rules read (left empty in a formation start)."""
-
-
-class Decisions(NamedTuple):
-    """A chunk's actions, row j robot j's (see swarmsim.controller.Action for meanings)."""
-
-    velocities: np.ndarray
-    """(R, 2) units per tick."""
-    listen: np.ndarray
-    """(R,) units."""
-    broadcast: np.ndarray
-    """(R,) every robot's new broadcast, in the run's message dtype."""
-    sleep: np.ndarray
-    """(R,) bool."""
-    wake_range: np.ndarray
-    """(R,) units, NaN: the full sensing range."""
-    wake_on_motion: np.ndarray
-    """(R,) bool."""
-    wake_tick: np.ndarray
-    """(R,) int64, -1: none."""
 
 
 def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
@@ -85,8 +65,9 @@ class GGCSwarm:
         self.rules = rule_params(params, groups, scattered)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
 
-    def decide(self, robots: np.ndarray, batch: DecideBatch) -> Decisions:
-        """The actions of the chunk's robots (``robots``: their rows, in the batch's order)."""
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
+        """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
+        in the dense column form (every robot's broadcast and sleep request)."""
         robots = np.asarray(robots, dtype=np.intp)
         n = len(robots)
         saved = np.empty(n, dtype=self.state.dtype)
@@ -119,29 +100,23 @@ class GGCSwarm:
             if len(todo):
                 self._answer(batch, todo, req, ans, calls)
         broadcast = broadcast_rows(self.state, robots, m.dtype)
-        return Decisions(velocity, listen, broadcast, sleep, wake_range, wake_on_motion,
-                         wake_tick)
+        return ChunkActions.columns(velocity, listen, broadcast, sleep, wake_range,
+                                    wake_on_motion, wake_tick)
 
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, req: np.ndarray, ans: np.ndarray,
                 calls: np.ndarray) -> None:
         """Answer the open probe questions of the robots ``todo`` (in place, in ``ans``)."""
-        asked = np.minimum(calls[todo], MAX_PROBES)
-        ks, cs = [], []
-        for j, count in zip(todo.tolist(), asked.tolist(), strict=True):
-            for slot in range(count):
-                if ans[j, slot] < 0:
-                    ks.append(j)
-                    cs.append(slot)
-        if not ks:
+        asked = np.arange(MAX_PROBES) < calls[todo, None]
+        rows, c = np.nonzero(asked & (ans[todo] < 0))
+        if len(rows) == 0:
             return
-        k, c = np.array(ks), np.array(cs)
-        many = getattr(batch, "probe_many", None)
-        if many is not None:
-            answers = many(k, req[k, c])
+        k = todo[rows]
+        if batch.probe_many is not None:
+            answers = batch.probe_many(k, req[k, c])
         else:
-            answers = np.array([batch.probe(j)(req[j, s]) for j, s in zip(ks, cs, strict=True)],
-                               dtype=bool)
+            answers = [batch.probe(j)(offset) for j, offset in zip(k.tolist(), req[k, c],
+                                                                     strict=True)]
         ans[k, c] = answers
 
     def summarize(self, failed: np.ndarray | None = None) -> dict:

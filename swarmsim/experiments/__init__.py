@@ -9,8 +9,9 @@ Python API::
     report = run_sweep(load_spec("sweep.toml").runs(), "out/", workers=4)
 """
 
-from swarmsim.experiments.runner import RunStore, Sweep, SweepReport, execute_run, run_sweep
+from swarmsim.experiments.runner import RunStore, Sweep, SweepReport, execute_run
 from swarmsim.experiments.spec import RunSpec, SweepSpec, load_spec, run_id, spec_from_dict
+from swarmsim.experiments.sweep import run_sweep
 
 __all__ = ["RunSpec", "RunStore", "Sweep", "SweepReport", "SweepSpec", "execute_run",
            "load_spec", "run_id", "run_sweep", "spec_from_dict"]

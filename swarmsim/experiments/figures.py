@@ -9,13 +9,13 @@ per condition). The registry itself is in :mod:`.reproduce`, the claims in :mod:
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from swarmsim.experiments.runner import DONE, FAILED, Sweep
+from swarmsim.experiments.runner import DONE, FAILED, RunStore, Sweep
 from swarmsim.experiments.spec import RunSpec
 from swarmsim.experiments.table import Band, mean_band, series, settle_tick, stats
 
@@ -241,28 +241,33 @@ class Context:
         return out
 
     def _cond(self, cond: Condition, runs: list[RunSpec]) -> CondStats:
-        store = self.sweep.store
-        summaries, curves, errors = [], {"coverage": [], "total_distance": []}, []
-        settle: dict[str, list[float | None]] = {m: [] for m in curves}
-        for run in runs:
-            status = store.status(run.run_id)
-            if status == FAILED:
-                errors.append(store.error(run.run_id))
-            if status != DONE:
-                continue
-            summary = store.summary(run.run_id)
-            summaries.append(summary)
-            rows = store.timeseries(run.run_id)
-            for metric, found in curves.items():
-                t, v = series(rows, metric)
-                found.append((t, v))
-                flat = summary.get("stop_reason") != "max_ticks"
-                settle[metric].append(settle_tick(t, v) if flat else None)
-        stops = Counter(str(s.get("stop_reason")) for s in summaries)
-        return CondStats(
-            cond, len(runs), len(summaries), len(errors),
-            stats(s.get("coverage") for s in summaries),
-            stats(s.get("total_distance") for s in summaries),
-            stats(s.get("completion_tick") for s in summaries),
-            stats(settle["coverage"]), stats(settle["total_distance"]), dict(stops), curves,
-            errors, distance_at_settle=stats(s.get("distance_at_settle") for s in summaries))
+        return condition_stats(self.sweep.store, cond, runs)
+
+
+def condition_stats(store: RunStore, cond: Condition, runs: Sequence[RunSpec]) -> CondStats:
+    """What the finished runs of one condition measured (curves, means, sds), read from the
+    run ``store``; failed runs count apart, runs not run yet not at all."""
+    summaries, curves, errors = [], {"coverage": [], "total_distance": []}, []
+    settle: dict[str, list[float | None]] = {m: [] for m in curves}
+    for run in runs:
+        status = store.status(run.run_id)
+        if status == FAILED:
+            errors.append(store.error(run.run_id))
+        if status != DONE:
+            continue
+        summary = store.summary(run.run_id)
+        summaries.append(summary)
+        rows = store.timeseries(run.run_id)
+        for metric, found in curves.items():
+            t, v = series(rows, metric)
+            found.append((t, v))
+            flat = summary.get("stop_reason") != "max_ticks"
+            settle[metric].append(settle_tick(t, v) if flat else None)
+    stops = Counter(str(s.get("stop_reason")) for s in summaries)
+    return CondStats(
+        cond, len(runs), len(summaries), len(errors),
+        stats(s.get("coverage") for s in summaries),
+        stats(s.get("total_distance") for s in summaries),
+        stats(s.get("completion_tick") for s in summaries),
+        stats(settle["coverage"]), stats(settle["total_distance"]), dict(stops), curves,
+        errors, distance_at_settle=stats(s.get("distance_at_settle") for s in summaries))

@@ -29,6 +29,13 @@ from swarmsim.output import atomic_write_text, write_csv
 def plot_figure(fig: Figure, panels: Sequence[Panel], stats_by_panel: Sequence[list[CondStats]],
                 out_png: Path) -> Path:
     """Mean curves with a min-max band per condition, one axes per panel (PNG, atomic)."""
+    return plot_bands(fig.title, panels, stats_by_panel, out_png)
+
+
+def plot_bands(title: str, panels: Sequence[Panel], stats_by_panel: Sequence[list[CondStats]],
+               out_png: Path) -> Path:
+    """Mean curves with a min-max band per condition (their ``bands``), one axes per panel,
+    under ``title`` (PNG, atomic)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure as MplFigure
 
@@ -55,7 +62,7 @@ def plot_figure(fig: Figure, panels: Sequence[Panel], stats_by_panel: Sequence[l
         ax.grid(True, alpha=0.3)
         if ax.get_legend_handles_labels()[0]:
             ax.legend(fontsize=8, loc="lower right" if panel.metric == "coverage" else "best")
-    mfig.suptitle(f"{fig.title}\n(mean, band = min-max over runs)")  # one panel: too wide for a line
+    mfig.suptitle(f"{title}\n(mean, band = min-max over runs)")  # one panel: too wide for a line
     out_png.parent.mkdir(parents=True, exist_ok=True)
     tmp = out_png.with_name(f".{out_png.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp.png")
     try:

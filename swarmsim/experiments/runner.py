@@ -4,11 +4,14 @@ Layout of an output folder::
 
     DIR/runs/<run_id>/run.json         the run's world, controller, settings and seed
     DIR/runs/<run_id>/timeseries.csv   its time series
-    DIR/runs/<run_id>/robots.csv       per robot: contacts, time in contact, pushes when settled
+    DIR/runs/<run_id>/robots.csv       per robot: final state, distance moved, contacts, ...
+    DIR/runs/<run_id>/coverage.npz     the final coverage raster and the target mask
     DIR/runs/<run_id>/summary.json     its summary: written last, it marks the run as done
     DIR/runs/<run_id>/error.txt        instead, when the run raised (message and traceback)
     DIR/runs/<run_id>/claim.json       while a sweep process runs it (see claims.py)
     DIR/results.csv                    one row per run (rewritten after each completion)
+    DIR/aggregate/                     per condition over seeds, by run_sweep: conditions.csv,
+                                       curves.csv, coverage.png (see aggregate.py)
 
 Every file is written atomically. Running the same sweep again skips runs that are done (and,
 unless ``retry_failed``, runs that failed), so an interrupted sweep resumes where it stopped
@@ -34,7 +37,7 @@ from swarmsim.experiments import claims
 from swarmsim.experiments.executors import open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
-from swarmsim.output import write_csv, write_json
+from swarmsim.output import write_csv, write_json, write_npz
 
 DONE, FAILED = "done", "failed"
 
@@ -50,12 +53,10 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
 
         sim = Simulation(run.world_ref or run.world, controller=run.controller, seed=run.seed,
                          settings=dict(run.settings))
+        sim.summary_sources.add("sweep", lambda: {"run_id": run.run_id})
         result = sim.run(progress=False)
-        summary = {"run_id": run.run_id, **result.summary}
-        fired = getattr(sim.fault_hook, "fired_tick", None)
-        if sim.config.failures:
-            summary["fault_tick"] = fired
-        return {"summary": summary, "timeseries": result.timeseries, "robots": result.robots}
+        return {"summary": result.summary, "timeseries": result.timeseries,
+                "robots": result.robots, "coverage": sim.grid.arrays(sim.positions)}
     except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
@@ -93,12 +94,15 @@ class RunStore:
         return read_table(self.path(run_id) / "timeseries.csv")
 
     def write_result(self, run: RunSpec, summary: dict, timeseries: Sequence[dict],
-                     robots: Sequence[dict] = ()) -> None:
+                     robots: Sequence[dict] = (),
+                     coverage: Mapping[str, Any] | None = None) -> None:
         p = self.path(run.run_id)
         write_json(p / "run.json", run.to_json())
         write_csv(p / "timeseries.csv", timeseries)
         if robots:
             write_csv(p / "robots.csv", robots)
+        if coverage:
+            write_npz(p / "coverage.npz", coverage)
         write_json(p / "summary.json", summary)  # last: marks the run done
         (p / "error.txt").unlink(missing_ok=True)
 
@@ -223,7 +227,7 @@ class Sweep:
         self._rows.pop(run.run_id, None)
         if "summary" in outcome:
             self.store.write_result(run, outcome["summary"], outcome["timeseries"],
-                                    outcome.get("robots", ()))
+                                    outcome.get("robots", ()), outcome.get("coverage"))
             status = DONE
         else:
             self.store.write_error(run, outcome["error"], outcome.get("traceback", ""))
@@ -323,27 +327,3 @@ def _outcome(future: cf.Future) -> dict[str, Any]:
                            "run again to resume") from exc
     details = "".join(traceback.format_exception(exc))
     return {"error": one_line(exc), "traceback": details}
-
-
-def run_sweep(runs: Sequence[RunSpec], out_dir: str | Path, *, workers: int | None = None,
-              scheduler: Any = None, retry_failed: bool = False, progress: bool = True,
-              on_result: Callable[[RunSpec, str], None] | None = None,
-              runs_dir: str | Path | None = None,
-              table_path: str | Path | None = None) -> SweepReport:
-    """Run every run not yet done, writing each one as it finishes, and the table.
-
-    Args:
-        runs: the runs (e.g. ``load_spec(path).runs()``).
-        out_dir: output folder.
-        workers: local worker processes (default os.cpu_count(); 1 = in this process).
-        scheduler: a Dask scheduler address (or Client/cluster): run there instead.
-        retry_failed: run again the runs that failed before.
-        progress: tqdm progress bar on stderr.
-        on_result: called as ``on_result(run, "done" | "failed")`` after each run is written.
-        runs_dir, table_path: see :class:`Sweep`.
-
-    A KeyboardInterrupt (also raised from ``on_result``) cancels what has not finished; what
-    has finished is on disk and the next call resumes.
-    """
-    sweep = Sweep(runs, out_dir, runs_dir, table_path)
-    return sweep.run(workers, scheduler, retry_failed, progress, on_result)

@@ -11,7 +11,7 @@ World coordinates have y growing upward; image rows grow downward, so the camera
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
@@ -23,7 +23,6 @@ import pygame
 import pygame.font
 import shapely
 
-from swarmsim.controller import INF_GRADIENT
 from swarmsim.metrics import CoverageGrid
 from swarmsim.render.legend import legend_panel
 from swarmsim.render.palette import (
@@ -53,7 +52,6 @@ from swarmsim.render.palette import (
 from swarmsim.snapshot import Snapshot
 from swarmsim.world import World
 
-COLOR_BY = ("gradient", "group", "status")
 MIN_WIDTH = 64
 
 
@@ -79,7 +77,13 @@ class Renderer:
             rule as :meth:`CoverageGrid.for_target`).
         width: frame width in pixels (even, >= 64). The height follows the arena's aspect
             ratio, rounded to a multiple of 16 when ``width`` is one, else to an even number.
-        color_by: robot colouring, one of ``"gradient"``, ``"group"``, ``"status"``.
+        color_by: robot colouring: ``"status"`` or a field of ``colourings``; None: the
+            first of ``colourings``, else ``"status"``.
+        colourings: the message fields robots may be coloured by, each ``"scale"`` (an
+            ordered value such as a hop count; negative values and the field type's largest
+            value mean "unknown") or ``"category"`` (such as a group id; 0 or less: none).
+            The controller declares them (ControllerInfo.colourings).
+        leader_field: a bool message field marking robots drawn with a leader ring, or None.
         show_coverage: tint covered target pixels (when the snapshot has ``covered``).
         highlight_contacts: draw a red ring around robots in contact.
         legend: draw a legend for the colouring at the bottom.
@@ -90,13 +94,19 @@ class Renderer:
     """
 
     def __init__(self, world: World, grid: CoverageGrid | None = None, width: int = 800,
-                 color_by: str = "gradient", show_coverage: bool = True,
+                 color_by: str | None = None, show_coverage: bool = True,
                  highlight_contacts: bool = False, legend: bool = True, *, hud: bool = True,
                  on_target: Callable[[Snapshot], int] | None = None,
-                 min_radius_px: float = 2.0):
-        if color_by not in COLOR_BY:
-            raise ValueError(f"color_by must be one of {', '.join(map(repr, COLOR_BY))}; "
+                 min_radius_px: float = 2.0, colourings: Mapping[str, str] | None = None,
+                 leader_field: str | None = None):
+        self.colourings = dict(colourings or {})
+        if color_by is None:
+            color_by = next(iter(self.colourings), "status")
+        offered = ("status", *self.colourings)
+        if color_by not in offered:
+            raise ValueError(f"color_by must be one of {', '.join(map(repr, offered))}; "
                              f"got {color_by!r}")
+        self.leader_field = leader_field
         check_width(width)
         if not min_radius_px > 0:
             raise ValueError(f"min_radius_px must be positive, got {min_radius_px!r}")
@@ -246,13 +256,16 @@ class Renderer:
         msgs = snapshot.messages
         if snapshot.n_robots == 0:
             return GRADIENT_PALETTE, np.zeros(0, dtype=np.int64)
-        if self.color_by == "gradient":
-            g = msgs["gradient"].astype(np.int64)
+        kind = self.colourings.get(self.color_by)
+        if kind == "scale":
+            field = msgs[self.color_by]
+            unknown = _largest(field.dtype)
+            g = field.astype(np.int64)
             pal = np.vstack([GRADIENT_PALETTE, np.uint8(NONE_GREY)])
-            idx = np.where((g == INF_GRADIENT) | (g < 0), len(GRADIENT_PALETTE),
+            idx = np.where((g >= unknown) | (g < 0), len(GRADIENT_PALETTE),
                            g % len(GRADIENT_PALETTE))
-        elif self.color_by == "group":
-            g = msgs["group"].astype(np.int64)
+        elif kind == "category":
+            g = msgs[self.color_by].astype(np.int64)
             pal = np.vstack([np.uint8(NONE_GREY), GROUP_PALETTE])
             idx = np.where(g <= 0, 0, (g - 1) % len(GROUP_PALETTE) + 1)
         else:
@@ -274,7 +287,8 @@ class Renderer:
         ri = max(1, round(r))
         pal, idx = self._color_index(snap)
         failed = _mask(snap.failed, n)
-        leader = _mask(snap.messages["leader"], n)
+        leader = (_mask(snap.messages[self.leader_field], n) if self.leader_field
+                  else np.zeros(n, dtype=bool))
         contact = _mask(snap.in_contact, n) if self.highlight_contacts else None
 
         circle = pygame.draw.circle
@@ -318,11 +332,15 @@ class Renderer:
         return int(np.count_nonzero(shapely.contains_xy(self._target, pos[:, 0], pos[:, 1])))
 
     def hud_text(self, snapshot: Snapshot) -> str:
-        """The heads-up line: ``tick T  coverage XX.X %  on target N  groups G``."""
-        groups = np.asarray(snapshot.messages["group"]) if snapshot.n_robots else np.zeros(0)
-        n_groups = len(np.unique(groups[groups != 0]))
-        return (f"tick {snapshot.tick}  coverage {100.0 * snapshot.coverage:.1f} %  "
-                f"on target {self.robots_on_target(snapshot)}  groups {n_groups}")
+        """The heads-up line: ``tick T  coverage XX.X %  on target N``, then for each
+        "category" colouring the number of its values in use (``group 3``)."""
+        text = (f"tick {snapshot.tick}  coverage {100 * snapshot.coverage:.1f} %  "
+                f"on target {self.robots_on_target(snapshot)}")
+        for field, kind in self.colourings.items():
+            if kind == "category" and snapshot.n_robots:
+                values = np.asarray(snapshot.messages[field])
+                text += f"  {field}s {len(np.unique(values[values > 0]))}"
+        return text
 
     def _draw_hud(self, surf: pygame.Surface, snap: Snapshot) -> None:
         if self._font is None:
@@ -341,12 +359,14 @@ class Renderer:
 
     # --- legend --------------------------------------------------------------------------------
     def _legend_key(self, snap: Snapshot) -> Any:
-        if self.color_by == "status":
-            return ("status", tuple(snap.statuses))
-        if self.color_by == "group":
-            g = np.asarray(snap.messages["group"]) if snap.n_robots else np.zeros(0, int)
-            return ("group", tuple(int(v) for v in np.unique(g[g > 0])[:11]))
-        return ("gradient",)
+        kind = self.colourings.get(self.color_by)
+        if kind == "category":
+            g = np.asarray(snap.messages[self.color_by]) if snap.n_robots else np.zeros(0, int)
+            return ("category", self.color_by, tuple(int(v) for v in np.unique(g[g > 0])[:11]),
+                    self.leader_field is not None)
+        if kind == "scale":
+            return ("scale", self.color_by, self.leader_field is not None)
+        return ("status", tuple(snap.statuses), self.leader_field is not None)
 
     def _legend_surface(self, snap: Snapshot) -> pygame.Surface | None:
         if self._small_font is None:
@@ -397,3 +417,8 @@ def _mask(values: Any, n: int) -> np.ndarray:
     if arr.shape[0] != n:
         raise ValueError(f"expected {n} flags, got {arr.shape[0]}")
     return arr
+
+
+def _largest(dtype: np.dtype) -> float:
+    """The largest value of a numeric type (a "scale" field's "unknown")."""
+    return np.iinfo(dtype).max if np.issubdtype(dtype, np.integer) else np.inf

@@ -26,9 +26,10 @@ MAX_GROUPS_LISTED = 10
 
 def legend_panel(font: pygame.font.Font, key: tuple, max_width: int, margin: int,
                  contacts: bool) -> pygame.Surface:
-    """The legend for colouring ``key`` (``("gradient",)``, ``("group", ids)`` or
-    ``("status", names)``), at most ``max_width`` pixels wide plus ``margin`` on each side;
-    ``contacts`` adds the contact ring."""
+    """The legend for colouring ``key`` (``("scale", field, leaders)``, ``("category", field,
+    ids, leaders)`` or ``("status", names, leaders)``; leaders: draw the leader mark), at most
+    ``max_width`` pixels wide plus ``margin`` on each side; ``contacts`` adds the contact
+    ring."""
     gap = max(3, font.get_linesize() // 3)
     return _flow(_items(font, key, contacts), max_width, margin, gap)
 
@@ -43,21 +44,23 @@ def _label(font: pygame.font.Font, text: str) -> pygame.Surface:
 
 def _items(font: pygame.font.Font, key: tuple, contacts: bool) -> list[pygame.Surface]:
     """The legend's entries, left to right: the colouring's name, its colours, the marks."""
-    items = [_label(font, f"{key[0]}:")]
-    if key[0] == "gradient":
+    kind = key[0]
+    items = [_label(font, f"{'status' if kind == 'status' else key[1]}:")]
+    if kind == "scale":
         items.append(_gradient_strip(font))
-    elif key[0] == "status":
+    elif kind == "status":
         items += [_swatch(font, "disc", tuple(STATUS_PALETTE[i % len(STATUS_PALETTE)]), str(name))
                   for i, name in enumerate(key[1])]
         items.append(_swatch(font, "disc", NONE_GREY, "none"))  # nothing broadcast yet
     else:
         items.append(_swatch(font, "disc", NONE_GREY, "none"))
-        ids = key[1]
+        ids = key[2]
         items += [_swatch(font, "disc", tuple(GROUP_PALETTE[(g - 1) % len(GROUP_PALETTE)]), str(g))
                   for g in ids[:MAX_GROUPS_LISTED]]
         if len(ids) > MAX_GROUPS_LISTED:
             items.append(_label(font, "..."))
-    items.append(_swatch(font, "ring", LEADER_RING, "leader"))
+    if key[-1]:  # the controller marks leaders
+        items.append(_swatch(font, "ring", LEADER_RING, "leader"))
     items.append(_swatch(font, "failed", FAILED, "failed"))
     if contacts:
         items.append(_swatch(font, "ring", CONTACT_RING, "contact"))

@@ -13,7 +13,8 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from swarmsim.controller import INF_GRADIENT, NO_SENDER
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
 

@@ -1,0 +1,149 @@
+"""What the engine knows of a controller class, read once from its declarations.
+
+The engine asks a controller class nothing else: :func:`describe` reads the declarations of
+:class:`swarmsim.controller.ControllerClass` (with their defaults) into a frozen
+:class:`ControllerInfo`, and the run uses that.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from swarmsim.controller import RobotSetup, Swarm
+from swarmsim.errors import ConfigError
+
+COLOURING_KINDS = ("scale", "category")
+
+
+@dataclass(frozen=True)
+class ControllerInfo:
+    """A controller class's declarations (see ControllerClass for each one's meaning).
+
+    Attributes:
+        cls: the class.
+        name: its registered name.
+        statuses: names of its status codes.
+        settled: statuses meaning "done, standing still".
+        initial: statuses before any robot covers (the fault phase "gradient").
+        covering: statuses of robots covering (the fault phase "coverage").
+        silent: message field values of a neighbour that is not heard.
+        colourings: message field -> "scale" or "category" (video colourings).
+        leader_field: the bool message field marking leaders, or None.
+        layouts: the names of the start layouts it offers ("random" first; see
+            swarmsim.layouts).
+        default_start: the start layout used unless the run names one.
+        requires_beacon: the world must have a beacon.
+        max_groups: the most groups a run may have (1: the controller has no groups).
+        probe_params: parameters that are floor-probe lengths, units.
+        min_probe_range: the floor probe reach it needs at least, units.
+    """
+
+    cls: type
+    name: str
+    statuses: tuple[str, ...]
+    settled: tuple[str, ...]
+    initial: tuple[str, ...]
+    covering: tuple[str, ...]
+    silent: Mapping[str, Any]
+    colourings: Mapping[str, str]
+    leader_field: str | None
+    layouts: tuple[str, ...]
+    default_start: str
+    requires_beacon: bool
+    max_groups: int
+    probe_params: tuple[str, ...]
+    min_probe_range: float
+
+    @property
+    def batch(self) -> bool:
+        """True for a batch controller (``create_swarm``), False for a per-robot one."""
+        return hasattr(self.cls, "create_swarm")
+
+    @property
+    def has_groups(self) -> bool:
+        return self.max_groups > 1
+
+    def codes(self, names: Sequence[str]) -> tuple[int, ...]:
+        """The status codes of these status names (names it does not have are left out)."""
+        return tuple(i for i, s in enumerate(self.statuses) if s in names)
+
+    def message_fields(self, groups: int) -> list[tuple[str, Any]]:
+        """Its broadcast fields beyond the base fields, for a run with ``groups`` groups."""
+        fields_for = getattr(self.cls, "message_fields_for", None)
+        if fields_for is not None:
+            return list(fields_for(groups))
+        return list(getattr(self.cls, "MESSAGE_FIELDS", []))
+
+    def sensing_range(self, params: Any) -> float:
+        """How far its robots sense, units."""
+        return float(self.cls.sensing_range(params))
+
+    def warm_up(self) -> None:
+        """Compile or load its kernels (before a run's clock starts)."""
+        warm = getattr(self.cls, "warm_up", None)
+        if warm is not None:
+            warm()
+
+    def create_swarm(self, setups: Sequence[RobotSetup], params: Any,
+                     rngs: Sequence[np.random.Generator], **options: Any) -> Swarm:
+        """The run's swarm: the class's own, or its robots driven one by one (``options``
+        go to :class:`swarmsim.swarm.RobotSwarm`)."""
+        if self.batch:
+            return self.cls.create_swarm(setups, params, rngs)
+        from swarmsim.swarm import RobotSwarm
+
+        return RobotSwarm(self.cls, setups, params, rngs, **options)
+
+
+def describe(cls: type, name: str | None = None) -> ControllerInfo:
+    """Read a controller class's declarations, with their defaults; ConfigError if one is
+    malformed."""
+    statuses = tuple(cls.STATUSES)
+    name = name or getattr(cls, "name", cls.__name__)
+    colourings = dict(getattr(cls, "COLOURINGS", {}))
+    for field, kind in colourings.items():
+        if kind not in COLOURING_KINDS:
+            raise ConfigError(f"COLOURINGS[{field!r}] must be one of {COLOURING_KINDS}, got "
+                              f"{kind!r}", key="controller")
+    for attr in ("SETTLED_STATUSES", "INITIAL_STATUSES", "COVERING_STATUSES"):
+        unknown = [s for s in getattr(cls, attr, ()) if s not in statuses]
+        if unknown:
+            raise ConfigError(f"{name}: {attr} names unknown statuses {unknown}",
+                              key="controller")
+    return ControllerInfo(
+        cls=cls, name=name, statuses=statuses,
+        settled=tuple(getattr(cls, "SETTLED_STATUSES", ())),
+        initial=tuple(getattr(cls, "INITIAL_STATUSES", ())),
+        covering=tuple(getattr(cls, "COVERING_STATUSES", ())),
+        silent=MappingProxyType(dict(getattr(cls, "SILENT", {}))),
+        colourings=MappingProxyType(colourings),
+        leader_field=getattr(cls, "LEADER_FIELD", None),
+        layouts=_layouts(cls, name),
+        default_start=getattr(cls, "default_start", "random"),
+        requires_beacon=bool(getattr(cls, "requires_beacon", False)),
+        max_groups=int(getattr(cls, "max_groups", 1)),
+        probe_params=tuple(getattr(cls, "probe_params", ())),
+        min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
+
+
+def _layouts(cls: type, name: str) -> tuple[str, ...]:
+    from swarmsim.layouts import LAYOUTS
+
+    declared = ("random", *(s for s in getattr(cls, "LAYOUTS", ()) if s != "random"))
+    unknown = [s for s in declared if s not in LAYOUTS]
+    if unknown:
+        raise ConfigError(f"{name}: LAYOUTS names unknown layouts {unknown}; known: "
+                          f"{', '.join(LAYOUTS)}", key="controller")
+    start = getattr(cls, "default_start", "random")
+    if start not in declared:
+        raise ConfigError(f"{name}: default_start {start!r} is not among its LAYOUTS",
+                          key="controller")
+    return declared
+
+
+__all__ = ["ControllerInfo", "describe"]

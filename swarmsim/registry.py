@@ -1,0 +1,94 @@
+"""Where controllers are found: by registered name or as ``module:Class``.
+
+A controller joins the registry in one of two ways; the engine lists no controller itself:
+
+- an entry point in the ``swarmsim.controllers`` group (``name = "package.module:Class"`` in
+  the installing project's ``pyproject.toml``): found without importing anything else, loaded
+  when first asked for. swarmsim's own controllers are registered so.
+- ``@register`` on the class in a module the user imports (then its ``name`` works too).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+from importlib.metadata import EntryPoint, entry_points
+from typing import Any
+
+from swarmsim.errors import ConfigError
+
+ENTRY_POINT_GROUP = "swarmsim.controllers"
+_REGISTRY: dict[str, type] = {}
+
+
+def register(cls: type) -> type:
+    """Class decorator: make a controller available by its ``name``."""
+    _REGISTRY[cls.name] = cls
+    return cls
+
+
+def _entry_points() -> dict[str, EntryPoint]:
+    return {ep.name: ep for ep in entry_points(group=ENTRY_POINT_GROUP)}
+
+
+def available_controllers() -> list[str]:
+    """Names of the registered controllers (entry points and ``@register``ed classes)."""
+    return sorted(set(_entry_points()) | set(_REGISTRY))
+
+
+def get_controller(name: str | type) -> type:
+    """A controller class by registered name, ``module:Class``, or the class itself."""
+    if isinstance(name, type):
+        _check_controller_class(name, getattr(name, "__name__", repr(name)))
+        return name
+    if ":" in name:
+        return _from_module(name)
+    if name in _REGISTRY:
+        return _REGISTRY[name]
+    point = _entry_points().get(name)
+    if point is None:
+        raise ConfigError(f"unknown controller {name!r}; available: "
+                          f"{', '.join(available_controllers())} (or module:Class)",
+                          key="controller")
+    cls = point.load()
+    _check_controller_class(cls, name)
+    _REGISTRY.setdefault(name, cls)
+    return cls
+
+
+def _from_module(name: str) -> type:
+    mod_name, _, cls_name = name.partition(":")
+    _importable_from_here()
+    try:
+        mod = importlib.import_module(mod_name)
+    except ImportError as exc:
+        raise ConfigError(f"cannot import module {mod_name!r}: {exc}", key="controller") from None
+    cls = getattr(mod, cls_name, None)
+    if cls is None:
+        raise ConfigError(f"module {mod_name!r} has no {cls_name!r}", key="controller")
+    _check_controller_class(cls, name)
+    return cls
+
+
+def _importable_from_here() -> None:
+    """Let ``module:Class`` name a module in the current folder, as ``python -m swarmsim``
+    does (the installed ``swarmsim`` command does not put the current folder on sys.path).
+    Appended, so that it never shadows an installed module."""
+    here = os.getcwd()
+    if here not in sys.path and "" not in sys.path:
+        sys.path.append(here)
+
+
+def _check_controller_class(cls: Any, name: str) -> None:
+    if not isinstance(cls, type):
+        raise ConfigError(f"{name!r} is not a class", key="controller")
+    missing = [a for a in ("name", "Params", "STATUSES", "sensing_range") if not hasattr(cls, a)]
+    if not (hasattr(cls, "step") or hasattr(cls, "create_swarm")):
+        missing.append("step or create_swarm")
+    if missing:
+        raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
+                          key="controller")
+
+
+__all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "register"]

@@ -1,0 +1,133 @@
+"""The engine's structure: it knows no controller, has no import circles, and its controller
+API loads no physics or drawing library."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from swarmsim.controller import Action, Perception, RobotSetup
+from swarmsim.errors import ConfigError
+from swarmsim.registry import available_controllers, get_controller
+from swarmsim.sim import Simulation
+from swarmsim.summary import SummaryCollector
+from tests.conftest import square_world
+
+ROOT = Path(__file__).resolve().parents[1]
+ENGINE = ROOT / "swarmsim"
+
+
+def engine_imports() -> dict[str, set[str]]:
+    """Each engine module (dotted name) -> the swarmsim/controllers modules it imports, at any
+    depth of the file (function-level imports too; TYPE_CHECKING ones included)."""
+    graph: dict[str, set[str]] = {}
+    for path in ENGINE.rglob("*.py"):
+        rel = path.relative_to(ROOT).with_suffix("")
+        name = ".".join(rel.parts).removesuffix(".__init__")
+        found: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                found.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+                for a in node.names:  # "from package import submodule" is the submodule
+                    sub = f"{node.module}.{a.name}"
+                    found.add(sub if _is_module(sub) else node.module)
+        graph[name] = {m for m in found if m.split(".")[0] in ("swarmsim", "controllers")}
+    return graph
+
+
+def _is_module(dotted: str) -> bool:
+    path = ROOT.joinpath(*dotted.split("."))
+    return path.with_suffix(".py").exists() or (path / "__init__.py").exists()
+
+
+def test_the_engine_imports_nothing_from_controllers():
+    offenders = {mod: sorted(m for m in deps if m.split(".")[0] == "controllers")
+                 for mod, deps in engine_imports().items()}
+    assert not {k: v for k, v in offenders.items() if v}
+
+
+def test_the_engine_has_no_import_circles():
+    graph = engine_imports()
+    modules = set(graph)
+    edges = {m: {d for d in deps if d in modules and d != m} for m, deps in graph.items()}
+    state: dict[str, int] = {}
+
+    def visit(m: str, path: list[str]) -> None:
+        state[m] = 1
+        for d in sorted(edges[m]):
+            if state.get(d) == 1:
+                raise AssertionError(" -> ".join([*path[path.index(d):], d]))
+            if d not in state:
+                visit(d, [*path, d])
+        state[m] = 2
+
+    for m in sorted(modules):
+        if m not in state:
+            visit(m, [m])
+
+
+def test_importing_the_controller_api_loads_no_physics_or_drawing():
+    code = ("import sys, controllers.ggc, controllers.kilobot, swarmsim.controller; "
+            "print(sorted(m for m in ('pymunk', 'pygame') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=ROOT)
+    assert out.stdout.strip() == "[]"
+
+
+def test_builtin_controllers_are_found_by_entry_point():
+    names = available_controllers()
+    assert {"ggc", "dispersion", "kilobot", "cvt", "meanshift", "dash", "fcdfs"} <= set(names)
+    assert get_controller("dispersion").name == "dispersion"
+
+
+@dataclass(frozen=True)
+class StillParams:
+    """No parameters."""
+
+
+class Still:
+    """A per-robot controller that stands still and says so by field name."""
+
+    name = "still"
+    Params = StillParams
+    STATUSES = ("Standing",)
+    SETTLED_STATUSES = ("Standing",)
+
+    @classmethod
+    def sensing_range(cls, params) -> float:
+        return 2.0
+
+    def __init__(self, setup: RobotSetup, params, rng: np.random.Generator):
+        pass
+
+    def step(self, p: Perception) -> Action:
+        return Action((0.0, 0.0), {"status": 0, "moving": False})
+
+
+def test_a_controller_class_runs_as_given_and_its_broadcasts_by_name():
+    sim = Simulation(square_world(), controller=Still, robots=5, max_ticks=3)
+    result = sim.run()
+    assert result.summary["controller"] == "still"
+    assert result.summary["groups"] == 1  # no groups: the world's default does not apply
+    assert sim.messages["id"].tolist() == list(range(5))  # the engine fills each robot's id
+    assert (sim.messages["status"] == 0).all()
+
+
+def test_a_controller_without_groups_refuses_groups():
+    with pytest.raises(ConfigError, match="at most 1 group"):
+        Simulation.check(square_world(), controller="dispersion", groups=3)
+
+
+def test_summary_sources_refuse_a_field_written_twice():
+    c = SummaryCollector()
+    c.add("a", lambda: {"x": 1})
+    c.add("b", lambda: {"x": 2})
+    with pytest.raises(ValueError, match="'x' written by both 'a' and 'b'"):
+        c.collect()
