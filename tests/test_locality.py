@@ -130,3 +130,50 @@ def test_ggc_rules_take_only_local_arguments():
             seen.add(name)
     assert {"coverage", "detection", "initial", "gather", "stops", "should_arrive", "stuck",
             "is_surplus", "formation_gradient"} <= seen
+
+
+def ggc_imports() -> dict[str, set[str]]:
+    """Each module of controllers/ggc (dotted) -> the controllers.ggc modules it imports
+    (relative imports resolved; "from . import x" is the module x)."""
+    root = CONTROLLERS.parent
+    graph: dict[str, set[str]] = {}
+    for path in (CONTROLLERS / "ggc").rglob("*.py"):
+        parts = path.relative_to(root).with_suffix("").parts
+        name = ".".join(parts).removesuffix(".__init__")
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                base = package[:len(package) - node.level + 1] if node.level else []
+                module = ".".join([*base, *(node.module.split(".") if node.module else [])])
+                for a in node.names:
+                    sub = f"{module}.{a.name}"
+                    as_file = root.joinpath(*sub.split("."))
+                    is_module = (as_file.with_suffix(".py").exists()
+                                 or (as_file / "__init__.py").exists())
+                    found.add(sub if is_module else module)
+            elif isinstance(node, ast.Import):
+                found.update(a.name for a in node.names)
+        graph[name] = {m for m in found if m.startswith("controllers.ggc") and m != name}
+    return graph
+
+
+def test_ggc_has_no_import_circles():
+    graph = ggc_imports()
+    assert "controllers.ggc.rules.coverage" in graph
+    state: dict[str, int] = {}
+
+    def visit(m: str, path: list[str]) -> None:
+        state[m] = 1
+        for d in sorted(graph.get(m, ())):
+            if d not in graph or m.startswith(d + "."):
+                continue  # a package's own __init__ runs first: not a circle
+            if state.get(d) == 1:
+                raise AssertionError(" -> ".join([*path[path.index(d):], d]))
+            if d not in state:
+                visit(d, [*path, d])
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
