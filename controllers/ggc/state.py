@@ -101,18 +101,20 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
 
 
 def broadcast_rows(state: np.ndarray, rows: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """The broadcasts (in the run's message ``dtype``) of the robots at ``rows``."""
+    """The broadcasts (in the run's message ``dtype``) of the robots at ``rows``: gathered
+    field by field (cheaper than gathering whole state rows)."""
     out = np.empty(len(rows), dtype=dtype)
-    picked = state[rows]
+    status = state["status"][rows]
     for name in dtype.names:
         if name == "moving":
-            status = picked["status"]
             moving = status == MOVING_STATUSES[0]
             for s in MOVING_STATUSES[1:]:
                 moving |= status == s
             out[name] = moving
+        elif name == "status":
+            out[name] = status
         elif name in ("ldist", "lepoch"):
-            out[name] = picked[name][:, :dtype[name].shape[0]]
+            out[name] = state[name][rows, :dtype[name].shape[0]]
         else:
-            out[name] = picked[SOURCES.get(name, name)]
+            out[name] = state[SOURCES.get(name, name)][rows]
     return out
