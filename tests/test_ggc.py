@@ -188,3 +188,17 @@ def test_lattice_stop_still_covers_the_small_world():
 def test_without_lattice_stop_the_small_world_is_covered_too():
     s = run_small(seed=3, lattice_stop=False)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
+
+
+def test_the_warm_up_compiles_every_signature_a_run_needs():
+    """GGC.warm_up compiles (or loads) the driver before a run's clock starts: runs with one
+    group or several, in formation or scattered, then need no other compiled signature."""
+    from controllers.ggc import GGC
+    from controllers.ggc.decide import decide_chunk
+
+    GGC.warm_up()
+    compiled = len(decide_chunk.signatures)
+    Simulation("tiny", robots=20, groups=1, seed=0, max_ticks=30).run()
+    Simulation("tiny", robots=20, groups=3, seed=0, max_ticks=30,
+               settings={"start": "random"}).run()
+    assert len(decide_chunk.signatures) == compiled == 1
