@@ -98,3 +98,82 @@ def test_every_controller_is_declared_properly():
         assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
         assert isinstance(cls.MESSAGE_FIELDS, list)
         np.dtype(cls.MESSAGE_FIELDS) if cls.MESSAGE_FIELDS else None
+
+
+RULE_PARAMETERS = {
+    "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
+    "nearest", "a", "b", "r", "reach", "status", "whole", "sender",  # rows, numbers, codes
+    "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
+    "dist", "wake_range", "wake_on_motion", "wake_tick"}
+"""Every parameter name a GGC rule function may take: none is anyone's position."""
+
+
+def test_ggc_rules_take_only_local_arguments():
+    """Locality by signature: the rules (controllers/ggc/rules) get one robot's view, state
+    row, sensors and probe, and import nothing but numerics and the controller API."""
+    import importlib
+    import inspect
+
+    rules = sorted((CONTROLLERS / "ggc" / "rules").glob("*.py"))
+    seen = set()
+    for f in rules:
+        allowed = {"__future__", "math", "numpy", "numba", "collections", "controllers.gradient",
+                   "swarmsim.controller"}
+        assert imported_modules(f) <= allowed, f.name
+        module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
+        for name, fn in vars(module).items():
+            py = getattr(fn, "py_func", None)
+            if py is None or py.__module__ != module.__name__:
+                continue
+            params = set(inspect.signature(py).parameters)
+            assert params <= RULE_PARAMETERS, (f.name, name, params - RULE_PARAMETERS)
+            seen.add(name)
+    assert {"coverage", "detection", "initial", "gather", "stops", "should_arrive", "stuck",
+            "is_surplus", "formation_gradient"} <= seen
+
+
+def ggc_imports() -> dict[str, set[str]]:
+    """Each module of controllers/ggc (dotted) -> the controllers.ggc modules it imports
+    (relative imports resolved; "from . import x" is the module x)."""
+    root = CONTROLLERS.parent
+    graph: dict[str, set[str]] = {}
+    for path in (CONTROLLERS / "ggc").rglob("*.py"):
+        parts = path.relative_to(root).with_suffix("").parts
+        name = ".".join(parts).removesuffix(".__init__")
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                base = package[:len(package) - node.level + 1] if node.level else []
+                module = ".".join([*base, *(node.module.split(".") if node.module else [])])
+                for a in node.names:
+                    sub = f"{module}.{a.name}"
+                    as_file = root.joinpath(*sub.split("."))
+                    is_module = (as_file.with_suffix(".py").exists()
+                                 or (as_file / "__init__.py").exists())
+                    found.add(sub if is_module else module)
+            elif isinstance(node, ast.Import):
+                found.update(a.name for a in node.names)
+        graph[name] = {m for m in found if m.startswith("controllers.ggc") and m != name}
+    return graph
+
+
+def test_ggc_has_no_import_circles():
+    graph = ggc_imports()
+    assert "controllers.ggc.rules.coverage" in graph
+    state: dict[str, int] = {}
+
+    def visit(m: str, path: list[str]) -> None:
+        state[m] = 1
+        for d in sorted(graph.get(m, ())):
+            if d not in graph or m.startswith(d + "."):
+                continue  # a package's own __init__ runs first: not a circle
+            if state.get(d) == 1:
+                raise AssertionError(" -> ".join([*path[path.index(d):], d]))
+            if d not in state:
+                visit(d, [*path, d])
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])

@@ -1,0 +1,111 @@
+"""The compiled driver: one pass over a chunk's robots, each decided by its status's rule.
+
+:func:`decide_chunk` gives robot j of the chunk its own view (rows ``starts[j]:starts[j+1]``
+of the chunk's neighbour columns), its own sensors, its own probe slots and its own state
+row, and writes its action. A robot whose floor probe asked a question not answered yet is
+marked pending: the caller (swarm.py) answers the questions and decides it again from its
+row as it was (rules are deterministic, so the second pass asks the same questions first).
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+from numba import njit
+
+from .rules.aggregation import gather, select_leaders
+from .rules.common import Probe, Sense, View
+from .rules.coverage import coverage, stopped
+from .rules.detection import detection
+from .rules.travel import initial
+from .statuses import (
+    APPROACH,
+    ARRIVE,
+    COVERAGE,
+    DETECTION,
+    FORMED,
+    INITIAL,
+    JOIN,
+    PEND,
+    STOP,
+    SURPLUS,
+)
+
+RuleParams = namedtuple("RuleParams", [
+    "d_safe", "d_cover", "d_min", "R_c", "v", "radial_gain", "arrive_tolerance",
+    "probe_distance", "yield_distance", "orbit", "T_r", "theta", "T_s", "init_timeout",
+    "T_settle", "T_quiet", "handover_reach", "join_tolerance", "boundary_probe",
+    "surplus_frontier", "surplus_winding", "surplus_spread", "yield_release", "lattice_stop",
+    "lattice_reach", "groups", "scattered", "surplus_rule", "boundary_fill",
+    "selection_ticks", "gather_deadline", "ruleset"])
+"""The run's parameters as the rules read them (GGCParams' plus the run's: groups, start,
+which of our additions apply; surplus_winding in radians)."""
+
+
+@njit(cache=True)
+def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """One robot's tick: its status's rule (the scattered start's leader selection first)."""
+    me.odo_x += sense.moved_x
+    me.odo_y += sense.moved_y
+    if P.scattered and sense.tick < P.selection_ticks:
+        return select_leaders(view, me, sense, P)
+    s = me.status
+    if s == COVERAGE:
+        return coverage(view, me, sense, pb, P)
+    if s == INITIAL:
+        return initial(view, me, sense, P)
+    if s == DETECTION:
+        return detection(view, me, sense, pb, P)
+    if s == STOP:
+        return stopped(view, me, sense, pb, P)
+    if s == ARRIVE or s == SURPLUS:
+        return 0.0, 0.0, True, 0.0, True, -1
+    return gather(view, me, sense, pb, P)
+
+
+@njit(cache=True)
+def listen_range(status, P):  # pragma: no cover - compiled
+    """How far a robot in ``status`` needs to hear next tick (units)."""
+    if status == COVERAGE or status == STOP:
+        return min(2 * P.d_cover, P.R_c)
+    if status == APPROACH or status == PEND or status == JOIN or status == FORMED:
+        return P.R_c
+    if status == INITIAL:
+        return 1.5 * P.d_min
+    if status == DETECTION:
+        return max(P.d_cover, 1.5 * P.d_min)
+    return P.d_safe  # Arrive, Surplus
+
+
+@njit(cache=True)
+def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, beacons,
+                 has_beacon, req, ans, calls, pending, P, velocity, sleep, wake_range,
+                 wake_on_motion, wake_tick, listen):  # pragma: no cover - compiled
+    """Decide the chunk's robots ``todo`` (indices j into the chunk: robot j's state row is
+    ``state[rows[j]]``, its sensors row j of the sensor arrays, its neighbours rows
+    ``c[0][j]:c[0][j+1]`` of the chunk's columns ``c``: starts, then View's fields) into row
+    j of the action arrays. ``pending[j]``: decide it again (``again``: its row is put back
+    from ``saved[j]`` first) once its probe questions ``req[j, :calls[j]]`` are answered in
+    ``ans``."""
+    starts = c[0]
+    for j in todo:
+        i = rows[j]
+        if again:
+            state[i] = saved[j]
+        else:
+            saved[j] = state[i]
+        a, b = starts[j], starts[j + 1]
+        view = View(c[1][a:b], c[2][a:b], c[3][a:b], c[4][a:b], c[5][a:b], c[6][a:b],
+                    c[7][a:b], c[8][a:b], c[9][a:b], c[10][a:b], c[11][a:b], c[12][a:b],
+                    c[13][a:b], c[14][a:b], c[15][a:b], c[16][a:b], c[17][a:b], c[18][a:b],
+                    c[19][a:b])
+        sense = Sense(tick, on_target[j], moved[j, 0], moved[j, 1], has_beacon,
+                      beacons[j, 0], beacons[j, 1])
+        calls[j] = 0
+        pending[j] = False
+        pb = Probe(req[j], ans[j], calls[j:j + 1], pending[j:j + 1])
+        me = state[i]
+        vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
+        velocity[j, 0], velocity[j, 1] = vx, vy
+        sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until
+        listen[j] = listen_range(me.status, P)

@@ -1,0 +1,74 @@
+"""Initial: the formation travels to the target (paper Section 3, Figure 4a).
+
+The leader heads for the beacon and broadcasts a travel command with its velocity; every
+robot copies its gradient parent's command one tick later, so the formation moves rigidly.
+When the formation's front touches the target the leader halts (Arrive) and the halt runs
+back the same way; each robot then waits in Detection.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from ..statuses import ARRIVE, CMD_HALT, CMD_TRAVEL, DETECTION
+from .common import move, rest, set_status, still, within
+from .gradient import formation_gradient, parent_row
+
+
+@njit(cache=True)
+def touching(view, me, sense, P):  # pragma: no cover - compiled
+    """Has the formation's front touched the target (my floor sensor, or a formation
+    neighbour of my group that says so)?"""
+    if sense.on_target:
+        return True
+    for r in range(within(view.dist, 1.5 * P.d_min)):
+        if view.group[r] == me.group and view.touch[r]:
+            return True
+    return False
+
+
+@njit(cache=True)
+def remember_route(me):  # pragma: no cover - compiled
+    """Keep my formation's travel vector (it decides my group's orbit sense later)."""
+    if me.cmd == CMD_TRAVEL and (me.travel_x != 0.0 or me.travel_y != 0.0):
+        me.route_x, me.route_y, me.has_route = me.travel_x, me.travel_y, True
+
+
+@njit(cache=True)
+def lead(view, me, sense, P):  # pragma: no cover - compiled
+    """The leader: toward the beacon until the front touches the target, then halt."""
+    if touching(view, me, sense, P) or not sense.has_beacon:
+        me.cmd = CMD_HALT
+        me.travel_x, me.travel_y = 0.0, 0.0
+        set_status(me, ARRIVE)
+        return still()
+    me.cmd = CMD_TRAVEL
+    me.travel_x, me.travel_y = sense.beacon_x * P.v, sense.beacon_y * P.v
+    remember_route(me)
+    return move(me.travel_x, me.travel_y)
+
+
+@njit(cache=True)
+def initial(view, me, sense, P):  # pragma: no cover - compiled
+    """Travel with the formation: copy my gradient parent's command."""
+    if me.leader:
+        return lead(view, me, sense, P)
+    reach = 1.5 * P.d_min
+    grad = formation_gradient(view, me, reach)
+    if grad < 0:  # nobody to follow (yet): wait, and after init_timeout start alone
+        if sense.tick - me.initial_since >= P.init_timeout:
+            set_status(me, DETECTION)
+        return rest(reach, True, me.initial_since + P.init_timeout)
+    me.grad = grad
+    me.touch = touching(view, me, sense, P)
+    parent = parent_row(view, me, reach)
+    me.cmd = view.cmd[parent]
+    me.travel_x, me.travel_y = float(view.vx[parent]), float(view.vy[parent])
+    remember_route(me)
+    if me.cmd == CMD_HALT:
+        me.travel_x, me.travel_y = 0.0, 0.0
+        set_status(me, DETECTION)
+        return still()
+    if me.cmd == CMD_TRAVEL:
+        return move(me.travel_x, me.travel_y)
+    return still()

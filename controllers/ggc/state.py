@@ -1,0 +1,120 @@
+"""All robots' GGC state: one structured array, one row per robot (its own memory only).
+
+The rules (rules/) read and write one row at a time, as a numba record (``me``); the
+controller (swarm.py) owns the array. A row's broadcast is a function of the row
+(:func:`broadcast_rows`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from controllers.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, RobotSetup
+
+from .rules.aggregation import FAR
+from .rules.coverage import NO_WAY_SLOTS
+from .statuses import APPROACH, FORMED, INITIAL, MOVING_STATUSES
+
+MAX_GROUPS = 16
+"""Largest number of groups a run may have (the per-group fields' size)."""
+
+STATE_DTYPE = np.dtype([
+    # who I am, what I broadcast
+    ("id", "i4"), ("group", "i2"), ("leader", "?"), ("status", "i1"), ("visited", "u2"),
+    ("grad", "i4"),
+    ("cmd", "i1"), ("travel_x", "f8"), ("travel_y", "f8"), ("touch", "?"), ("stepped", "?"),
+    ("enclosed", "?"),
+    # travel: the route my formation took (it decides my group's orbit sense)
+    ("route_x", "f8"), ("route_y", "f8"), ("has_route", "?"), ("orbit_chosen", "?"),
+    ("initial_since", "i8"),
+    # edge following
+    ("sense", "f8"), ("head_x", "f8"), ("head_y", "f8"), ("stepping", "?"),
+    ("no_way", "i4", (NO_WAY_SLOTS,)), ("no_way_next", "i8"),
+    # circling and progress (Equation 3), deadlocks
+    ("circ_id", "i4"), ("circled", "f8"), ("last_bearing", "f8"),
+    ("odo_x", "f8"), ("odo_y", "f8"), ("progress_tick", "i8"), ("resume_tick", "i8"),
+    ("deadlocks", "i4"), ("episodes", "i4"), ("in_deadlock", "?"), ("yield_count", "i4"),
+    ("collision_stops", "i4"),
+    # the surplus lap
+    ("away", "?"), ("frontier", "f8"), ("lap_whole", "?"), ("winding", "f8"),
+    ("beacon_angle", "f8"), ("surplus", "i4"),
+    # the scattered start
+    ("h", "i1"), ("handover", "i4"), ("handover_tick", "i8"), ("quiet", "i4"),
+    ("ldist", "f8", (MAX_GROUPS,)), ("lepoch", "i8", (MAX_GROUPS,)),
+    # my own random stream (xorshift64*)
+    ("rng", "u8"),
+])
+"""One robot's state (units: lengths, ticks, radians). ``visited``: bit s set once the robot
+has had status s."""
+
+ALL_MESSAGE_FIELDS = [("gradient", "i4"), ("group", "i2"), ("leader", "?"), ("cmd", "i1"),
+                      ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
+                      ("enclosed", "?"), ("h", "i1"), ("handover", "i4"),
+                      ("ldist", "f4", (MAX_GROUPS,)), ("lepoch", "i4", (MAX_GROUPS,)),
+                      ("quiet", "i4")]
+"""GGC's broadcast fields (beside the engine's id, status, moving) for up to MAX_GROUPS
+groups; a run has one ldist and lepoch entry per group (:func:`message_fields`)."""
+
+SOURCES = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y"}
+"""Broadcast field -> state field, where the names differ."""
+
+
+def message_fields(groups: int) -> list[tuple]:
+    """GGC's broadcast fields for a run with ``groups`` groups."""
+    out = []
+    for field in ALL_MESSAGE_FIELDS:
+        out.append((field[0], field[1], (groups,)) if len(field) == 3 else field)
+    return out
+
+
+def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
+              rngs: Sequence[np.random.Generator]) -> np.ndarray:
+    """The run's robots' first rows."""
+    n = len(setups)
+    s = np.zeros(n, dtype=STATE_DTYPE)
+    s["id"] = [u.robot_id for u in setups]
+    s["group"] = [u.group for u in setups]
+    leader = np.array([u.leader for u in setups], dtype=bool)
+    scattered = np.array([u.scattered for u in setups], dtype=bool)
+    s["leader"] = leader
+    s["status"] = np.where(scattered, np.where(leader, FORMED, APPROACH), INITIAL)
+    s["visited"] = 1 << s["status"].astype(np.uint16)
+    s["grad"] = np.where(leader, 0, INF_GRADIENT)
+    s["sense"] = float(orbit)
+    s["no_way"] = NO_SENDER
+    s["circ_id"] = NO_SENDER
+    s["last_bearing"] = math.nan
+    s["lap_whole"] = True
+    s["beacon_angle"] = math.nan
+    s["h"] = np.where(leader, h_max, 0)
+    s["handover"] = NO_SENDER
+    s["handover_tick"] = -1
+    s["ldist"] = FAR
+    for i in np.flatnonzero(leader):
+        s["ldist"][i, s["group"][i] - 1] = 0.0
+    s["rng"] = [int(rng.integers(1, 2**63)) for rng in rngs]
+    return s
+
+
+def broadcast_rows(state: np.ndarray, rows: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    """The broadcasts (in the run's message ``dtype``) of the robots at ``rows``: gathered
+    field by field (cheaper than gathering whole state rows)."""
+    out = np.empty(len(rows), dtype=dtype)
+    status = state["status"][rows]
+    for name in dtype.names:
+        if name == "moving":
+            moving = status == MOVING_STATUSES[0]
+            for s in MOVING_STATUSES[1:]:
+                moving |= status == s
+            out[name] = moving
+        elif name == "status":
+            out[name] = status
+        elif name in ("ldist", "lepoch"):
+            out[name] = state[name][rows, :dtype[name].shape[0]]
+        else:
+            out[name] = state[SOURCES.get(name, name)][rows]
+    return out

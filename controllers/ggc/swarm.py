@@ -1,0 +1,139 @@
+"""A run's GGC robots: their state rows (state.py) and the chunk driver's Python side.
+
+:meth:`GGCSwarm.decide` gathers a chunk's neighbour columns, runs the compiled driver
+(decide.py), answers the floor-probe questions it asked (through the engine's probe, all of
+a round at once) and runs it again for the robots that asked, until none is pending; then it
+writes the chunk's state rows back and returns its actions and broadcasts.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Sequence
+
+import numpy as np
+
+from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
+
+from .decide import RuleParams, decide_chunk
+from .params import GGCParams
+from .rules.common import MAX_PROBES
+from .rules.intergroup import RULESETS
+from .state import broadcast_rows, new_state
+from .statuses import STATUSES
+
+COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
+           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch")
+"""The broadcast columns a rule's view holds, in View's order (after off, dist)."""
+SCATTERED_COLUMNS = ("h", "handover", "quiet", "ldist", "lepoch")
+"""Columns only the scattered start's rules read (left empty in a formation start)."""
+
+
+def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
+    """The rules' parameters for a run with ``groups`` groups (``scattered``: start
+    "random")."""
+    selection = (p.h_max + 1) * p.T_settle
+    one = groups == 1
+    return RuleParams(
+        d_safe=float(p.d_safe), d_cover=float(p.d_cover), d_min=float(p.d_min),
+        R_c=float(p.R_c), v=float(p.v), radial_gain=float(p.radial_gain),
+        arrive_tolerance=float(p.arrive_tolerance), probe_distance=float(p.probe_distance),
+        yield_distance=float(p.yield_distance), orbit=float(p.orbit), T_r=int(p.T_r),
+        theta=float(p.theta), T_s=int(p.T_s), init_timeout=int(p.init_timeout),
+        T_settle=int(p.T_settle), T_quiet=int(p.T_quiet),
+        handover_reach=float(p.handover_reach), join_tolerance=float(p.join_tolerance),
+        boundary_probe=float(p.boundary_probe), surplus_frontier=float(p.surplus_frontier),
+        surplus_winding=math.radians(p.surplus_winding), surplus_spread=bool(p.surplus_spread),
+        yield_release=float(p.yield_release), lattice_stop=bool(p.lattice_stop),
+        lattice_reach=float(p.lattice_reach), groups=int(groups), scattered=bool(scattered),
+        surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release and one),
+        boundary_fill=one, selection_ticks=int(selection),
+        gather_deadline=int(selection + p.aggregation_timeout + 1),
+        ruleset=int(RULESETS[p.ruleset]))
+
+
+class GGCSwarm:
+    """The run's GGC robots: ``state`` (one row per robot, the robot's index) and the rules'
+    parameters."""
+
+    def __init__(self, setups: Sequence[RobotSetup], params: GGCParams,
+                 rngs: Sequence[np.random.Generator]):
+        groups = setups[0].groups if setups else 1
+        scattered = bool(setups[0].scattered) if setups else False
+        self.params = params
+        self.rules = rule_params(params, groups, scattered)
+        self.state = new_state(setups, params.orbit, params.h_max, rngs)
+
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
+        """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
+        in the dense column form (every robot's broadcast and sleep request)."""
+        robots = np.asarray(robots, dtype=np.intp)
+        n = len(robots)
+        saved = np.empty(n, dtype=self.state.dtype)
+        m = batch.neighbours.messages
+        columns = (np.require(batch.neighbours.starts, np.int64, "C"),
+                   np.require(batch.offsets, np.float64, "C"),
+                   np.require(batch.neighbours.distances, np.float64, "C"),
+                   *(np.ascontiguousarray(m[name]) if self.rules.scattered
+                     or name not in SCATTERED_COLUMNS else m[name][:0].copy()
+                     for name in COLUMNS))
+        on_target = np.asarray(batch.on_target, dtype=bool)
+        moved = np.require(batch.moved, np.float64, "C")
+        has_beacon = batch.beacons is not None
+        beacons = (np.require(batch.beacons, np.float64, "C") if has_beacon
+                   else np.zeros((n, 2)))
+        req = np.zeros((n, MAX_PROBES, 2))
+        ans = np.full((n, MAX_PROBES), -1, dtype=np.int8)
+        calls = np.zeros(n, dtype=np.int64)
+        pending = np.zeros(n, dtype=bool)
+        velocity, listen = np.zeros((n, 2)), np.zeros(n)
+        sleep, wake_on_motion = np.zeros(n, dtype=bool), np.ones(n, dtype=bool)
+        wake_range, wake_tick = np.full(n, np.nan), np.full(n, -1, dtype=np.int64)
+        todo, again = np.arange(n), False
+        while len(todo):
+            decide_chunk(todo, robots, self.state, saved, again, columns, batch.tick,
+                         on_target, moved, beacons, has_beacon, req, ans, calls, pending,
+                         self.rules, velocity, sleep, wake_range, wake_on_motion, wake_tick,
+                         listen)
+            todo, again = np.flatnonzero(pending), True
+            if len(todo):
+                self._answer(batch, todo, req, ans, calls)
+        broadcast = broadcast_rows(self.state, robots, m.dtype)
+        return ChunkActions.columns(velocity, listen, broadcast, sleep, wake_range,
+                                    wake_on_motion, wake_tick)
+
+    @staticmethod
+    def _answer(batch: DecideBatch, todo: np.ndarray, req: np.ndarray, ans: np.ndarray,
+                calls: np.ndarray) -> None:
+        """Answer the open probe questions of the robots ``todo`` (in place, in ``ans``)."""
+        asked = np.arange(MAX_PROBES) < calls[todo, None]
+        rows, c = np.nonzero(asked & (ans[todo] < 0))
+        if len(rows) == 0:
+            return
+        k = todo[rows]
+        if batch.probe_many is not None:
+            answers = batch.probe_many(k, req[k, c])
+        else:
+            answers = [batch.probe(j)(offset) for j, offset in zip(k.tolist(), req[k, c],
+                                                                     strict=True)]
+        ans[k, c] = answers
+
+    def summarize(self, failed: np.ndarray | None = None) -> dict:
+        """Per-run GGC figures: final statuses (failed robots as "Failed"), deadlocks (every
+        detection; episodes of consecutive detections, released or still open), Stops for
+        other groups' movers, robots that gave up after a surplus lap."""
+        s = self.state
+        working = np.ones(len(s), dtype=bool) if failed is None else ~np.asarray(failed, bool)
+        counts = Counter(STATUSES[code] for code in s["status"][working].tolist())
+        if not working.all():
+            counts["Failed"] = int((~working).sum())
+        open_ = int(s["in_deadlock"].sum())
+        return {"status_counts": dict(sorted(counts.items())),
+                "deadlocks_detected": int(s["deadlocks"].sum()),
+                "deadlock_episodes": int(s["episodes"].sum()),
+                "deadlocks_released": int(s["episodes"].sum()) - open_,
+                "deadlocks_open": open_,
+                "collision_stops": int(s["collision_stops"].sum()),
+                "surplus_stops": int(s["surplus"].sum())}
+
