@@ -201,4 +201,4 @@ def test_the_warm_up_compiles_every_signature_a_run_needs():
     Simulation("tiny", robots=20, groups=1, seed=0, max_ticks=30).run()
     Simulation("tiny", robots=20, groups=3, seed=0, max_ticks=30,
                settings={"start": "random"}).run()
-    assert len(decide_chunk.signatures) == compiled == 1
+    assert len(decide_chunk.signatures) == compiled  # no signature compiled during the runs
