@@ -169,7 +169,7 @@ class FCDFS(FormationTravel):
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
-    LAYOUTS = ("formation",)
+    GROUP_FIELD = "group"
     default_start = "formation"
     requires_beacon = True
     min_probe_range = MIN_PROBE_RANGE

@@ -195,7 +195,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
-    LAYOUTS = ("formation",)
+    GROUP_FIELD = "group"
     default_start = "formation"
     requires_beacon = True
 

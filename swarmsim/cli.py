@@ -1,4 +1,5 @@
-"""Command line: ``swarmsim run | sweep | reproduce | study | worlds | controllers | params``.
+"""Command line: ``swarmsim run | sweep | reproduce | study | worlds | make-world | controllers |
+params``.
 
 Every input error prints one line naming the file, key and value, and exits with status 2.
 """
@@ -7,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
+import os
 import signal
 import sys
 import tempfile
@@ -17,8 +18,7 @@ from typing import Any
 
 from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError
-
-LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
+from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
 def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
@@ -54,8 +54,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
-                   help="a video frame every K ticks (default: max_ticks / 600, at most 50: "
-                        "a K run of 18,500 ticks gets ~370 frames)")
+                   help="a video frame every K ticks (default: max_ticks / 600, at least 1 "
+                        "and at most 50)")
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="robot colouring in videos: status, or a field the controller offers "
                         "(GGC: gradient (default), group)")
@@ -132,6 +132,32 @@ def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     _add_executor_args(p)
 
 
+def _add_make_world_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("make-world", help="build a world file from text or a black-and-white "
+                       "image", description="Build a world from glyph outlines (--text) or an "
+                       "image's dark shapes (--image): the target scaled and joined into one "
+                       "polygon, holes kept, a spawn band below it, the beacon inside it and "
+                       "the robot count from the lattice capacity at --d-cover.")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--text", help='the target\'s text, e.g. "GGC"')
+    src.add_argument("--image", type=Path, metavar="FILE.png",
+                     help="a black-and-white image: its dark shapes become the target")
+    p.add_argument("--out", type=Path, required=True, metavar="FILE.toml",
+                   help="the world file to write")
+    p.add_argument("--size", type=float, help="the target's height, units (default: the "
+                   "height at which its area is the K world's, 13,280 units^2)")
+    p.add_argument("--font", help="font family or .ttf file for --text (default DejaVu Sans "
+                   "Bold)")
+    p.add_argument("--invert", action="store_true",
+                   help="trace the image's light shapes instead of its dark ones")
+    p.add_argument("--robots", type=int, help="robot count (default: the lattice capacity at "
+                   "--d-cover / 0.7, as the shipped worlds)")
+    p.add_argument("--groups", type=int, help="groups (default: one per 200 robots, 1..10)")
+    p.add_argument("--d-cover", type=float, default=6.0, dest="d_cover",
+                   help="d_cover the robot count is sized for (default 6)")
+    p.add_argument("--name", help="the world's name (default: the text, or the image's name)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="swarmsim",
@@ -140,14 +166,96 @@ def build_parser() -> argparse.ArgumentParser:
     _add_run_parser(sub)
     _add_sweep_parsers(sub)
     _add_study_parser(sub)
-    sub.add_parser("worlds", help="list shipped worlds with target area and lattice capacity")
+    wp = sub.add_parser("worlds", help="list shipped worlds, or describe your own world files",
+                        description="Without WORLD: the shipped worlds with their target area "
+                        "and lattice capacity. With WORLD (a .toml path or a shipped name): its "
+                        "free target floor (net of holes and obstacles), lattice capacity per "
+                        "d_cover, spawn room, beacon and warnings.")
+    wp.add_argument("world", nargs="*", help="world file(s) (.toml) or shipped names")
+    wp.add_argument("--preview", type=Path, metavar="FILE.png",
+                    help="draw the world (one WORLD) with its robots at the start, without "
+                    "running it")
+    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800)")
+    _add_make_world_parser(sub)
     sub.add_parser("controllers", help="list registered controllers")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning")
     pp.add_argument("--controller", default="ggc")
     return parser
 
 
-def cmd_worlds() -> int:
+def cmd_worlds(args: argparse.Namespace) -> int:
+    if not args.world:
+        if args.preview:
+            raise ConfigError("needs a WORLD to draw (e.g. swarmsim worlds my.toml --preview "
+                              "my.png)", key="--preview")
+        return cmd_list_worlds()
+    return cmd_describe_worlds(args.world, args.preview, args.width)
+
+
+def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) -> int:
+    """Describe each world; with ``preview``, draw the one world into that PNG."""
+    from swarmsim.world import load_world
+    from swarmsim.worldinfo import describe_world, format_report
+
+    if preview is not None:
+        if len(names) != 1:
+            raise ConfigError(f"draws one world, got {len(names)}: {' '.join(names)}",
+                              key="--preview")
+        if preview.suffix.lower() != ".png":
+            raise ConfigError(f"must be a .png file, got {str(preview)!r}", key="--preview")
+        _check_width(width)
+    reports = [describe_world(load_world(name)) for name in names]
+    for k, report in enumerate(reports):
+        if k:
+            print()
+        print("\n".join(format_report(report)))
+    if preview is not None:
+        from swarmsim.render.preview import save_preview
+
+        _make_folder("--preview", preview.parent)
+        print(f"preview: {save_preview(reports[0], preview, width)}")
+    return 0
+
+
+def cmd_make_world(args: argparse.Namespace) -> int:
+    from swarmsim.makeworld import WorldSpec, build_world, describe_built, write_world
+    from swarmsim.shapes import image_shape, text_shape
+
+    if args.out.suffix.lower() != ".toml":
+        raise ConfigError(f"must be a .toml file, got {str(args.out)!r}", key="--out")
+    if args.out.is_dir():
+        raise ConfigError(f"{str(args.out)!r} is a folder; give a file name", key="--out")
+    if args.text is not None:
+        shape = text_shape(args.text, args.font)
+        name = args.name or args.text.strip()
+        how = f"the text {args.text.strip()!r}" + (f" in {args.font}" if args.font else "")
+    else:
+        if args.font:
+            raise ConfigError("is for --text only", key="--font")
+        shape = image_shape(args.image, invert=args.invert)
+        name = args.name or args.image.stem
+        how = f"the {'light' if args.invert else 'dark'} shapes of {args.image.name}"
+    spec = WorldSpec(name=name, description=f"Made by swarmsim make-world from {how}",
+                     size=args.size, d_cover=args.d_cover, robots=args.robots,
+                     groups=args.groups)
+    built = build_world(shape, spec)
+    _make_folder("--out", args.out.parent)
+    header = (f"Made by `swarmsim make-world` from {how}.\n"
+              "Edit freely: `swarmsim worlds THIS.toml` describes it, --preview draws it.")
+    path = write_world(built, args.out, header)
+    d = built.data["defaults"]
+    print(f"wrote {path}: {built.world.target_area:,.0f} units^2, {d['robots']} robots, "
+          f"{d['groups']} group(s), d_cover {d['d_cover']:g}")
+    for note in built.notes:
+        print(f"  {note}")
+    for warning in describe_built(built):
+        print(f"  warning: {warning}")
+    print(f"run it: swarmsim run {path}   describe it: swarmsim worlds {path} --preview "
+          f"{path.with_suffix('.png')}")
+    return 0
+
+
+def cmd_list_worlds() -> int:
     from swarmsim.world import available_worlds, load_world
 
     head = f"{'world':<10} {'area':>9} " + " ".join(f"{'cap@' + str(d):>8}"
@@ -172,30 +280,15 @@ def cmd_controllers() -> int:
     return 0
 
 
-def _doc_lines(cls: type) -> dict[str, str]:
-    """Attribute descriptions from a dataclass docstring's 'Attributes:' section."""
-    out, current = {}, None
-    for line in (cls.__doc__ or "").splitlines():
-        stripped = line.strip()
-        if ":" in stripped and stripped.split(":")[0].isidentifier() and line.startswith(" " * 8):
-            current, _, text = stripped.partition(":")
-            out[current] = text.strip()
-        elif current and stripped and line.startswith(" " * 12):
-            out[current] += " " + stripped
-    return out
-
-
 def cmd_params(controller: str) -> int:
     from swarmsim.controller import get_controller
+    from swarmsim.paramhelp import format_params, help_width
     from swarmsim.physics import PhysicsConfig
 
     cls = get_controller(controller)
-    for title, klass in (("engine", SimConfig), ("physics", PhysicsConfig),
-                         (f"controller {controller}", cls.Params)):
-        print(f"[{title}]")
-        docs = _doc_lines(klass)
-        for f in dataclasses.fields(klass):
-            print(f"  {f.name:<20} = {f.default!r:<10} {docs.get(f.name, '')}")
+    sections = (("engine", SimConfig), ("physics", PhysicsConfig),
+                (f"controller {controller}", cls.Params))
+    print("\n".join(format_params(sections, help_width())))
     return 0
 
 
@@ -245,18 +338,46 @@ def _make_folder(key: str, folder: str | Path) -> None:
                           key=key) from None
 
 
+def _check_folder(key: str, folder: str | Path) -> None:
+    """Refuse a folder that cannot be made or written, without making it: the folder is a
+    file, or the nearest folder that exists above it is a file or not writable."""
+    path = Path(folder)
+    above = next(p for p in (path, *path.absolute().parents) if p.exists())
+    if not above.is_dir():
+        raise ConfigError(f"cannot create the folder {str(folder)!r} ({str(above)!r} is a "
+                          "file)", key=key)
+    if not os.access(above, os.W_OK | os.X_OK):
+        verb = "write in" if above == path else "create"
+        raise ConfigError(f"cannot {verb} the folder {str(folder)!r} (permission denied on "
+                          f"{str(above)!r})", key=key)
+
+
+def _output_folders(args: argparse.Namespace) -> list[tuple[str, Path]]:
+    """(option, folder) that run's --out, --video and --snapshot write to."""
+    out = [("--out", Path(args.out))] if args.out else []
+    return out + [(key, Path(path).parent) for key, path in
+                  (("--video", args.video), ("--snapshot", args.snapshot)) if path]
+
+
 def _check_output_paths(args: argparse.Namespace) -> None:
-    """The folders that run's --out, --video and --snapshot write to, made (and found
-    writable) before the run."""
+    """Refuse run's --out, --video and --snapshot paths that cannot be written, before the
+    run and without making anything (the folders are made once the run is valid:
+    _make_output_folders)."""
     if args.snapshot and Path(args.snapshot).suffix.lower() != ".png":
         raise ConfigError(f"must be a .png file, got {str(args.snapshot)!r}", key="--snapshot")
-    if args.out:
-        _make_folder("--out", args.out)
+    if args.video and Path(args.video).suffix.lower() != ".mp4":
+        raise ConfigError(f"must be an .mp4 file, got {str(args.video)!r}", key="--video")
+    for key, folder in _output_folders(args):
+        _check_folder(key, folder)
     for key, path in (("--video", args.video), ("--snapshot", args.snapshot)):
-        if path:
-            _make_folder(key, Path(path).parent)
-            if Path(path).is_dir():
-                raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+        if path and Path(path).is_dir():
+            raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+
+
+def _make_output_folders(args: argparse.Namespace) -> None:
+    """Make the folders run writes to (and find them writable)."""
+    for key, folder in _output_folders(args):
+        _make_folder(key, folder)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -272,6 +393,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,
@@ -293,9 +415,11 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments import load_spec, run_sweep
+    from swarmsim.experiments.executors import check_workers
 
+    check_workers(args.workers)
+    _check_folder("--out", args.out)  # made by the sweep once the runs and executor are valid
     runs = load_spec(args.spec).runs()
-    _make_folder("--out", args.out)
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
@@ -305,13 +429,15 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     from swarmsim.experiments import reproduce as rp
+    from swarmsim.experiments.executors import check_workers
 
+    check_workers(args.workers)
     setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set))
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
                                args.retry_failed))
         return 0
-    _make_folder("--out", args.out)
+    _check_folder("--out", args.out)  # made by the sweep once every run is checked
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
                           args.scheduler, args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")
@@ -320,10 +446,12 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 def cmd_study(args: argparse.Namespace) -> int:
     from swarmsim.experiments.collisions import StudySetup, study_collisions
+    from swarmsim.experiments.executors import check_workers
 
     if args.max_ticks is not None and args.max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
-    _make_folder("--out", args.out)
+    check_workers(args.workers)
+    _check_folder("--out", args.out)  # made by the sweep once every run is checked
     setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
                        groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
                        noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,
@@ -370,13 +498,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     with _terminate_as_interrupt():
-        return _main(args)
+        try:
+            return _main(args)
+        except BrokenPipeError:  # the reader went away (swarmsim worlds | head): no traceback
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            return 1
 
 
 def _main(args: argparse.Namespace) -> int:
     try:
         if args.command == "worlds":
-            return cmd_worlds()
+            return cmd_worlds(args)
+        if args.command == "make-world":
+            return cmd_make_world(args)
         if args.command == "controllers":
             return cmd_controllers()
         if args.command == "params":

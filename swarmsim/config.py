@@ -6,13 +6,15 @@ A run has three kinds of parameters, all with documented defaults:
 * :class:`swarmsim.physics.PhysicsConfig`: bodies and drive,
 * the controller's own ``Params`` dataclass (e.g. GGC's d_cover, R_c, ...).
 
-``resolve_settings`` routes each key to the one place that knows it; an unknown key, or a value
-of the wrong type, is a :class:`ConfigError` naming the key and value.
+``resolve_settings`` routes each key to the one place that knows it; an unknown key, a value
+of the wrong type, or a non-finite number (inf, nan) where a finite one is meant, is a
+:class:`ConfigError` naming the key and value.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -21,6 +23,10 @@ from typing import Any
 from swarmsim.errors import ConfigError
 from swarmsim.imperfections import NoiseLevels
 from swarmsim.physics import PhysicsConfig
+
+UNBOUNDED_PARAMS = frozenset({"spin_traction"})
+"""Parameters for which +inf is a documented value (PhysicsConfig.spin_traction: robots never
+turn). Every other number must be finite; nan never is."""
 
 
 @dataclass(frozen=True)
@@ -43,7 +49,7 @@ class SimConfig:
         grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
         record_every: a time-series row every this many ticks.
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
-            many ticks (10,000: GGC on house, seed 3, took 7,200 ticks for its last 0.2 %).
+            many ticks (long enough for a slow last stretch: see docs/measurements.md).
         plateau_delta: see plateau_ticks (fraction of the target).
         stall_ticks: stop ("stalled") when no robot moved or changed its message for this long.
         stop_on_complete: stop at the completion tick.
@@ -108,6 +114,8 @@ class SimConfig:
     displaced_threshold: float = 0.1
 
     def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            check_finite(f.name, getattr(self, f.name))
         positive = ("robots", "groups", "max_ticks", "spawn_spacing", "formation_spacing",
                     "v_max", "coverage_radius", "grid_size", "record_every", "plateau_ticks",
                     "stall_ticks", "probe_range", "wake_eps")
@@ -181,8 +189,23 @@ def parse_value(text: str) -> Any:
     return text
 
 
+def check_finite(key: str, value: Any, unbounded: bool = False) -> None:
+    """Refuse a float that is nan, or infinite unless ``unbounded`` (+inf allowed)."""
+    if (isinstance(value, float) and not math.isfinite(value)
+            and not (unbounded and value == math.inf)):
+        what = "a finite number" if not unbounded else "a number (or inf)"
+        raise ConfigError(f"must be {what}, got {value!r}", key=key)
+
+
 def coerce(value: Any, default: Any, key: str) -> Any:
-    """Convert ``value`` to the type of the field's ``default``; error if it cannot be."""
+    """Convert ``value`` to the type of the field's ``default``; error if it cannot be, or if
+    it is a non-finite number (+inf is allowed for the parameters in UNBOUNDED_PARAMS)."""
+    out = _coerce(value, default, key)
+    check_finite(key, out, key in UNBOUNDED_PARAMS)
+    return out
+
+
+def _coerce(value: Any, default: Any, key: str) -> Any:
     if isinstance(default, bool):
         if isinstance(value, bool):
             return value

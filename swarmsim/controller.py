@@ -372,10 +372,11 @@ class ControllerClass(Protocol):
     - ``COLOURINGS`` ({}): message fields a video may colour robots by: "scale" (an ordered
       value, e.g. a hop count) or "category" (e.g. a group id). "status" is always offered.
     - ``LEADER_FIELD`` (None): a bool message field marking leaders (drawn with a ring;
-      faults fail them last).
-    - ``LAYOUTS`` (()): names of start layouts it offers beside "random"
-      (:data:`swarmsim.layouts.LAYOUTS`, e.g. "formation").
-    - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (1),
+      faults fail them last); ``GROUP_FIELD`` (None): the field holding a robot's group.
+    - ``LAYOUTS`` (every layout of :data:`swarmsim.layouts.LAYOUTS`: "random", "formation"):
+      the start layouts it can start from, if not all; ``default_start`` is one of them.
+    - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
+      forms no groups of its own),
       ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).
     - Per-robot controllers only: ``create_robots(setups, params, rngs)``,
       ``prepare(robots, batch)``, ``decide_batch(robots, batch)``, ``summarize(robots)``.

@@ -34,11 +34,13 @@ class ControllerInfo:
         silent: message field values of a neighbour that is not heard.
         colourings: message field -> "scale" or "category" (video colourings).
         leader_field: the bool message field marking leaders, or None.
-        layouts: the names of the start layouts it offers ("random" first; see
+        group_field: the message field holding a robot's group, or None.
+        layouts: the names of the start layouts it can start from (default: every one in
             swarmsim.layouts).
         default_start: the start layout used unless the run names one.
         requires_beacon: the world must have a beacon.
-        max_groups: the most groups a run may have (1: the controller has no groups).
+        max_groups: the most groups a run may have, or None: the controller forms no groups
+            of its own (a run has groups only if its start layout makes them).
         probe_params: parameters that are floor-probe lengths, units.
         min_probe_range: the floor probe reach it needs at least, units.
     """
@@ -52,10 +54,11 @@ class ControllerInfo:
     silent: Mapping[str, Any]
     colourings: Mapping[str, str]
     leader_field: str | None
+    group_field: str | None
     layouts: tuple[str, ...]
     default_start: str
     requires_beacon: bool
-    max_groups: int
+    max_groups: int | None
     probe_params: tuple[str, ...]
     min_probe_range: float
 
@@ -64,9 +67,14 @@ class ControllerInfo:
         """True for a batch controller (``create_swarm``), False for a per-robot one."""
         return hasattr(self.cls, "create_swarm")
 
-    @property
-    def has_groups(self) -> bool:
-        return self.max_groups > 1
+    def uses_groups(self, start: str = "") -> bool:
+        """Whether a run's number of groups means anything with this start ("": the
+        default start): the controller forms groups (it declares ``max_groups``: GGC), or the
+        start layout makes one formation per group (swarmsim.layouts.GROUPED). Otherwise a
+        run has one group."""
+        from swarmsim.layouts import GROUPED
+
+        return self.max_groups is not None or (start or self.default_start) in GROUPED
 
     def codes(self, names: Sequence[str]) -> tuple[int, ...]:
         """The status codes of these status names (names it does not have are left out)."""
@@ -123,10 +131,11 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         silent=MappingProxyType(dict(getattr(cls, "SILENT", {}))),
         colourings=MappingProxyType(colourings),
         leader_field=getattr(cls, "LEADER_FIELD", None),
+        group_field=getattr(cls, "GROUP_FIELD", None),
         layouts=_layouts(cls, name),
         default_start=getattr(cls, "default_start", "random"),
         requires_beacon=bool(getattr(cls, "requires_beacon", False)),
-        max_groups=int(getattr(cls, "max_groups", 1)),
+        max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
         min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
 
@@ -134,7 +143,7 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
 def _layouts(cls: type, name: str) -> tuple[str, ...]:
     from swarmsim.layouts import LAYOUTS
 
-    declared = ("random", *(s for s in getattr(cls, "LAYOUTS", ()) if s != "random"))
+    declared = tuple(getattr(cls, "LAYOUTS", LAYOUTS))
     unknown = [s for s in declared if s not in LAYOUTS]
     if unknown:
         raise ConfigError(f"{name}: LAYOUTS names unknown layouts {unknown}; known: "

@@ -69,5 +69,7 @@ def formation_start(world: World, req: LayoutRequest, layout_rng: np.random.Gene
 
 LAYOUTS: dict[str, Layout] = {"random": random_start, "formation": formation_start}
 """Every start layout by name."""
+GROUPED = ("formation",)
+"""Layouts that group robots themselves (one formation per group, a leader at its centre)."""
 
-__all__ = ["LAYOUTS", "Layout", "LayoutRequest", "formation_start", "random_start"]
+__all__ = ["GROUPED", "LAYOUTS", "Layout", "LayoutRequest", "formation_start", "random_start"]

@@ -1,15 +1,17 @@
 """Run metrics, exactly as the paper defines them (pure numpy; no physics).
 
 Coverage P(t): the target's bounding box is rasterised into a ``cols x rows`` pixel grid
-(100 x 100 by default); a pixel belongs to the target when its centre lies inside the target
-polygon, and it is covered when its centre lies within ``r`` (default 4) of some robot.
+(100 x 100 by default); a pixel belongs to the target when its centre lies on free target
+floor (inside the target's outline, outside its holes and outside every obstacle), and it is
+covered when its centre lies within ``r`` (default 4) of some robot.
 P = covered target pixels / target pixels. Completion tick t_dpl = first tick with
 1 - P <= eps0.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -18,6 +20,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
+from swarmsim.errors import ConfigError
 from swarmsim.stamps import restamp
 
 MOVING_FRACTION = 0.01
@@ -31,10 +34,17 @@ NOT_YET = -1
 class CoverageGrid:
     """The paper's coverage raster over the target's bounding box.
 
+    Geometry: ``cols x rows`` cells stretch over the bounding box of the target's outline
+    (so a cell is ``dx = width / cols`` by ``dy = height / rows`` units: square only when the
+    box is). A cell counts (is a target pixel) when its centre lies on free target floor:
+    inside the outline, outside the holes and outside every obstacle. A target pixel is
+    covered when a robot's centre is within ``radius`` (r) of the cell's centre (distance
+    <= r). Coverage P = covered target pixels / target pixels.
+
     Attributes:
         x0, y0: lower-left corner of the bounding box, units.
         dx, dy: pixel size, units.
-        inside: (rows, cols) bool, pixel centre inside the target; row index grows with y.
+        inside: (rows, cols) bool, pixel centre on free target floor; row index grows with y.
         centres: (M, 2) centres of the target pixels (the True cells of ``inside``, row-major).
         radius: coverage radius r, units.
     """
@@ -49,15 +59,26 @@ class CoverageGrid:
 
     @classmethod
     def for_target(cls, target: Polygon, radius: float = 4.0, cols: int = 100,
-                   rows: int = 100) -> CoverageGrid:
-        if radius <= 0:
-            raise ValueError(f"coverage radius must be positive, got {radius!r}")
+                   rows: int = 100, obstacles: Sequence[Polygon] = ()) -> CoverageGrid:
+        """The grid over ``target``'s bounding box; cells whose centre is inside one of
+        ``obstacles`` do not count (see the class docstring).
+
+        Raises ConfigError when no cell counts (a target thinner than a cell everywhere)."""
+        if not (math.isfinite(radius) and radius > 0):
+            raise ConfigError(f"must be positive and finite, got {radius!r}",
+                              key="coverage_radius")
         xmin, ymin, xmax, ymax = target.bounds
         dx, dy = (xmax - xmin) / cols, (ymax - ymin) / rows
         xs = xmin + (np.arange(cols) + 0.5) * dx
         ys = ymin + (np.arange(rows) + 0.5) * dy
         gx, gy = np.meshgrid(xs, ys)
         inside = shapely.contains_xy(target, gx, gy)
+        for obstacle in obstacles:
+            inside &= ~shapely.contains_xy(obstacle, gx, gy)
+        if not inside.any():
+            raise ConfigError(f"no cell of the {cols} x {rows} coverage grid has its centre on "
+                              "free target floor: the target is too thin for the grid (more "
+                              "cells: grid_size) or covered by obstacles", key="grid_size")
         centres = np.column_stack([gx[inside], gy[inside]])
         return cls(xmin, ymin, dx, dy, inside, centres, float(radius))
 
@@ -114,8 +135,10 @@ class IncrementalCoverage:
     def __init__(self, grid: CoverageGrid, positions: np.ndarray):
         self.grid = grid
         self.rows, self.cols = grid.shape
-        self._half_i = int(np.ceil(grid.radius / grid.dy)) + 1  # the stencil round a robot
-        self._half_j = int(np.ceil(grid.radius / grid.dx)) + 1
+        self._half_i = _stencil_half(grid.radius, grid.dy)  # the stencil round a robot
+        self._half_j = _stencil_half(grid.radius, grid.dx)
+        # r^2 as before; a radius whose square overflows (> 1e154 units) covers everything
+        self._r2 = grid.radius**2 if grid.radius < 1e150 else math.inf
         self._inside = np.require(grid.inside.ravel(), bool, ("C", "W"))  # one signature
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
@@ -129,11 +152,22 @@ class IncrementalCoverage:
             g = self.grid
             new = np.require(positions, np.float64, ("C", "W"))
             self._covered += restamp(self._count, self._inside, moved, self._positions, new,
-                                     g.x0, g.y0, g.dx, g.dy, g.radius**2, self._half_i,
+                                     g.x0, g.y0, g.dx, g.dy, self._r2, self._half_i,
                                      self._half_j, self.rows, self.cols)
             self._positions = new.copy()
         pixels = self.grid.n_target_pixels
         return float(self._covered / pixels) if pixels else 0.0
+
+
+STENCIL_CAP = 2**31
+"""Largest half-size of a robot's coverage stencil, pixels: a robot is never that far from
+the grid (robots stay inside the arena, a few grid widths across), so a wider radius covers
+the same pixels; the cap keeps a huge (finite) coverage_radius within compiled integers."""
+
+
+def _stencil_half(radius: float, pixel: float) -> int:
+    """Half-size (pixels) of the stencil of pixels within ``radius`` of a robot's pixel."""
+    return int(min(np.ceil(radius / pixel), STENCIL_CAP)) + 1
 
 
 class SettledWatch:

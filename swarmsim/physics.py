@@ -8,8 +8,13 @@ force-limited PivotJoint (and a GearJoint against spinning, unless spin_traction
 own kinematic control body: pymunk's tank-example pattern. Robots therefore push each other
 for real and the contact solver keeps overlap tiny, while an unobstructed robot tracks its
 command within a tick. Walls around the arena and obstacle outlines are static segments
-(concave shapes work: pymunk.Poly would take the convex hull). All body IO goes through
+(concave shapes work: pymunk.Poly would take the convex hull). Body reads go through
 pymunk.batch.
+
+With ``physics_sleep`` on (the default), parked robots (a zero command for two ticks) sleep in
+pymunk: see swarmsim/bodysleep.py. They are still pushed, and wake on contact. A sleeping
+robot's contacts drop out of pymunk's arbiters; :meth:`Physics.contact_state` keeps its last
+ones (they cannot change while it sleeps).
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
+from swarmsim.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.world import World
 
 ROBOT_TYPE = 1
@@ -30,6 +36,10 @@ ROBOT_CATEGORY = 0b01
 WALL_CATEGORY = 0b10
 GHOST_GROUP = 1
 WALL_THICKNESS = 0.5
+IDLE_SPEED = 1e-9
+"""Speed (units per tick) below which pymunk counts a body as resting, for sleeping. Bodies
+held still by contacts keep velocities of ~1e-19 (rounding); with pymunk's default (0 without
+gravity: exactly still) a parked crowd that touches never sleeps."""
 
 
 @dataclass(frozen=True)
@@ -47,6 +57,12 @@ class PhysicsConfig:
         iterations: contact solver iterations per step.
         collision_slop: overlap pymunk tolerates before pushing apart, units.
         mode: "rigid" (robots collide) or "ghost" (robots pass through each other; walls hold).
+        physics_sleep: parked robots (a zero command this tick and the last) sleep in pymunk,
+            out of its solver, until something pushes them or they are commanded again.
+            Same physics, contacts solved in another order; false: every body is solved on
+            every step, as before.
+        physics_sleep_time: how long a parked robot must rest (zero velocity) before pymunk
+            puts it to sleep, ticks (pymunk's sleep_time_threshold).
     """
 
     radius: float = 0.4
@@ -57,9 +73,12 @@ class PhysicsConfig:
     iterations: int = 5
     collision_slop: float = 0.002
     mode: Literal["rigid", "ghost"] = "rigid"
+    physics_sleep: bool = True
+    physics_sleep_time: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("radius", "traction", "spin_traction", "collision_slop"):
+        for name in ("radius", "traction", "spin_traction", "collision_slop",
+                     "physics_sleep_time"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
         if self.friction < 0:
@@ -108,6 +127,38 @@ class ContactState:
     peak_impulse: float = 0.0
 
 
+@dataclass(frozen=True)
+class _Arbiters:
+    """Contacts as rows: robots (M, 2) robot indices (-1: a wall), depth (M,) penetration,
+    units (>= 0), impulse (M,) magnitude of the last substep's impulse."""
+
+    robots: np.ndarray
+    depth: np.ndarray
+    impulse: np.ndarray
+
+    @staticmethod
+    def none() -> _Arbiters:
+        return _Arbiters(np.zeros((0, 2), dtype=np.intp), np.zeros(0), np.zeros(0))
+
+    def touches(self, robots: np.ndarray, every: bool) -> np.ndarray:
+        """(M,) bool: rows with a robot flagged in ``robots`` (N,) bool; with ``every``, rows
+        with at least one robot, all of them flagged."""
+        real = self.robots >= 0
+        flagged = real & robots[np.where(real, self.robots, 0)]
+        a, b = flagged[:, 0], flagged[:, 1]  # columns: faster than any/all(axis=1)
+        if every:
+            return (a | b) & (a | ~real[:, 0]) & (b | ~real[:, 1])
+        return a | b
+
+    def keep(self, rows: np.ndarray) -> _Arbiters:
+        return _Arbiters(self.robots[rows], self.depth[rows], self.impulse[rows])
+
+    @staticmethod
+    def join(a: _Arbiters, b: _Arbiters) -> _Arbiters:
+        return _Arbiters(np.concatenate([a.robots, b.robots]), np.concatenate([a.depth, b.depth]),
+                         np.concatenate([a.impulse, b.impulse]))
+
+
 class Physics:
     """A pymunk Space with N disc robots; read states and write commands in batches."""
 
@@ -128,6 +179,16 @@ class Physics:
         self._install_contact_counters()
         self._index_rows()
         self._buf = pb.Buffer()
+        self._steps = 0  # physics ticks so far
+        self._contacts_at = -1  # the tick self._contacts describes
+        self._contacts = _Arbiters.none()
+        self._sleep = self.config.physics_sleep
+        if self._sleep:
+            space.sleep_time_threshold = self.config.physics_sleep_time
+            space.idle_speed_threshold = IDLE_SPEED
+            self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
+            self._parking = Parking(self._robots, self._controls)
+            self._rows_at = -1  # the tick self._rows describes
 
     def _add_walls(self, world: World) -> None:
         static = self.space.static_body
@@ -201,13 +262,13 @@ class Physics:
         self.robot_rows = np.array([row_of[b.id] for b in self._robots], dtype=np.intp)
         self.control_rows = np.array([row_of[b.id] for b in self._controls], dtype=np.intp)
         self._robot_of_body = {b.id: i for i, b in enumerate(self._robots)}
-        ids = np.array([b.id for b in self._robots], dtype=np.uintp)
-        self._sorted_body_ids = np.sort(ids)
-        self._robot_by_sorted_id = np.argsort(ids, kind="stable")
+        self._robot_ids = IdTable([b.id for b in self._robots], range(self.n))
         self._cmd = np.zeros((self.n_rows, 2))
 
     def read(self) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities of all robots, (N, 2) each, as fresh arrays."""
+        if self._sleep:
+            return self._read_by_id()
         self._buf.clear()
         pb.get_space_bodies(self.space, pb.BodyFields.POSITION | pb.BodyFields.VELOCITY,
                             self._buf)
@@ -218,8 +279,48 @@ class Physics:
         self._velocity_rows = rows[:, 2:4].copy()
         return robots[:, 0:2].copy(), robots[:, 2:4].copy()
 
+    def _read_by_id(self) -> tuple[np.ndarray, np.ndarray]:
+        """read() with sleepers: rows are matched to robots by body id, on every read."""
+        buf = self._buf
+        buf.clear()
+        pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID | pb.BodyFields.POSITION
+                            | pb.BodyFields.VELOCITY, buf)
+        rows = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 4)
+        if rows.shape[0] != self.n_rows:
+            raise RuntimeError("pymunk body rows changed; bodies must not be added or removed")
+        self._rows.update(np.frombuffer(buf.int_buf(), dtype=np.uintp))
+        self._rows_at = self._steps
+        robots = np.take(rows, self._rows.robot_rows, axis=0)
+        return robots[:, 0:2].copy(), robots[:, 2:4].copy()
+
+    @property
+    def parked(self) -> np.ndarray:
+        """(N,) bool: robots whose control body is parked (STATIC), so pymunk may sleep them."""
+        if not self._sleep:
+            return np.zeros(self.n, dtype=bool)
+        return self._parking.parked.copy()
+
+    def bodies_asleep(self) -> np.ndarray:
+        """(N,) bool: robots whose bodies pymunk has put to sleep (out of its solver)."""
+        if not self._sleep:
+            return np.zeros(self.n, dtype=bool)
+        if self._rows_at != self._steps:
+            buf = pb.Buffer()
+            pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID, buf)
+            self._rows.update(np.frombuffer(buf.int_buf(), dtype=np.uintp))
+            self._rows_at = self._steps
+        return self._rows.asleep(self._parking.parked)
+
     def command(self, velocities: np.ndarray) -> None:
-        """Set every robot's commanded velocity (N, 2), units per tick. Call after read()."""
+        """Set every robot's commanded velocity (N, 2), units per tick. Call after read().
+
+        With physics_sleep, a zero command for this tick and the last parks the robot (see
+        swarmsim/bodysleep.py); a non-zero one unparks it.
+        """
+        if self._sleep:
+            self._parking.command(velocities)
+            self._rows_at = -1  # parking and waking reorder the rows
+            return
         cmd = self._cmd
         cmd[:] = self._velocity_rows  # leave every other body's velocity as it is
         # cmd[control_rows] = velocities, with each (vx, vy) row as one complex: ~6x faster
@@ -231,39 +332,60 @@ class Physics:
 
     def step(self) -> None:
         """Advance one tick."""
+        if self._sleep and self._contacts_at != self._steps:
+            self._arbiters()  # sleepers keep the contacts they have now
         dt = 1.0 / self.config.substeps
         for _ in range(self.config.substeps):
             self.space.step(dt)
+        self._steps += 1
 
     def contact_state(self) -> ContactState:
         """The contacts active now: who touches, overlap and impulse (see ContactState).
 
-        Overlap is the penetration depth reported by the active contact arbiters.
+        Overlap is the penetration depth reported by the active contact arbiters. A robot
+        asleep in pymunk keeps the contacts it had when it fell asleep.
         """
+        c = self._arbiters()
+        in_contact = np.zeros(self.n, dtype=bool)
+        if len(c.robots) == 0:
+            return ContactState(in_contact)
+        touched = c.robots[c.robots >= 0]
+        in_contact[touched] = True
+        pair = (c.robots[:, 0] >= 0) & (c.robots[:, 1] >= 0) & (c.depth > 0)
+        return ContactState(in_contact, float(c.depth.max()), float(c.depth[pair].sum()),
+                            int(pair.sum()), float(c.impulse.sum()), float(c.impulse.max()))
+
+    def _arbiters(self) -> _Arbiters:
+        """This tick's contacts: pymunk's arbiters, plus the last ones of sleeping robots."""
+        if self._contacts_at == self._steps:
+            return self._contacts
+        live = self._read_arbiters()
+        if self._sleep and self._parking.parked.any():
+            asleep = self.bodies_asleep()
+            if asleep.any():
+                live = live.keep(~live.touches(asleep, every=False))  # stale cached ones
+                before = self._contacts
+                kept = before.keep(before.touches(asleep, every=True))
+                live = _Arbiters.join(live, kept)
+        self._contacts, self._contacts_at = live, self._steps
+        return live
+
+    def _read_arbiters(self) -> _Arbiters:
         buf = pb.Buffer()
         fields = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
                   | pb.ArbiterFields.DISTANCE_1 | pb.ArbiterFields.TOTAL_IMPULSE)
         pb.get_space_arbiters(self.space, fields, buf)
         ids = np.frombuffer(buf.int_buf(), dtype=np.uintp).reshape(-1, 2)
         floats = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 3)
-        in_contact = np.zeros(self.n, dtype=bool)
         if len(ids) == 0:
-            return ContactState(in_contact)
-        robots = self._robots_of(ids)
-        touched = robots[robots >= 0]
-        in_contact[touched] = True
+            return _Arbiters.none()
         # pymunk.batch lays float fields out in flag order: TOTAL_IMPULSE (x, y), DISTANCE_1
-        depth = np.maximum(0.0, -floats[:, 2])
-        impulses = np.hypot(floats[:, 0], floats[:, 1])
-        pair = (robots >= 0).all(axis=1) & (depth > 0)
-        return ContactState(in_contact, float(depth.max()), float(depth[pair].sum()),
-                            int(pair.sum()), float(impulses.sum()), float(impulses.max()))
+        return _Arbiters(self._robots_of(ids), np.maximum(0.0, -floats[:, 2]),
+                         np.hypot(floats[:, 0], floats[:, 1]))
 
     def _robots_of(self, body_ids: np.ndarray) -> np.ndarray:
         """Robot index of each body id (same shape), -1 for bodies that are not robots."""
-        at = np.searchsorted(self._sorted_body_ids, body_ids).clip(0, self.n - 1)
-        found = self._sorted_body_ids[at] == body_ids
-        return np.where(found, self._robot_by_sorted_id[at], -1)
+        return self._robot_ids.lookup(body_ids)
 
     def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
         """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.

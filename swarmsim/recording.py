@@ -52,6 +52,7 @@ class Recorder:
             self._renderer = Renderer(self.sim.world, self.sim.grid,
                                       colourings=self.sim.info.colourings,
                                       leader_field=self.sim.info.leader_field,
+                                      group_field=self.sim.info.group_field,
                                       **self._render_kw)
         return self._renderer
 

@@ -57,6 +57,24 @@ def get_controller(name: str | type) -> type:
     return cls
 
 
+def resolve_controller(controller: str | type) -> tuple[type, str]:
+    """A run's controller class and the name its summary reports, from a registered name, a
+    ``"module:Class"`` string or a class. A class is reported by its registered name if it is
+    the class registered under its ``name``, else as ``"module:Class"``."""
+    if isinstance(controller, str):
+        return get_controller(controller), controller
+    if not isinstance(controller, type):
+        raise ConfigError(f"expected a controller name, 'module:Class' or a controller class, "
+                          f"got {controller!r}", key="controller")
+    name = getattr(controller, "name", None)
+    registered = (isinstance(name, str) and name in available_controllers()
+                  and get_controller(name) is controller)
+    if not registered:
+        name = f"{controller.__module__}:{controller.__qualname__}"
+    _check_controller_class(controller, name)
+    return controller, name
+
+
 def _from_module(name: str) -> type:
     mod_name, _, cls_name = name.partition(":")
     _importable_from_here()
@@ -91,4 +109,5 @@ def _check_controller_class(cls: Any, name: str) -> None:
                           key="controller")
 
 
-__all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "register"]
+__all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "register",
+           "resolve_controller"]

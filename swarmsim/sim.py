@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, wakes
+from swarmsim import cellsearch, spawn, wakes
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -36,7 +36,7 @@ from swarmsim.layouts import LAYOUTS, LayoutRequest
 from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
-from swarmsim.registry import get_controller
+from swarmsim.registry import resolve_controller
 from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
 from swarmsim.summary import SummaryCollector
@@ -78,9 +78,13 @@ class Simulation:
         world: a World or the name/path of a world file.
         controller: registered controller name (default: the world's ``defaults.controller``,
             else "ggc", the paper's method, as on the command line; e.g. "dispersion",
-            "kilobot"), "module:Class", or a controller class.
+            "kilobot"), "module:Class", or a controller class (the summary names it by its
+            registered name, else "module:Class").
         robots: number of robots (default: the world's ``defaults.robots``).
-        groups: number of groups K (default: the world's ``defaults.groups``, else 1).
+        groups: number of groups K (default: the world's ``defaults.groups``, else 1). Only
+            a controller that forms groups (one that declares ``max_groups``: GGC) or a
+            formation start (one formation per group) uses groups; any other run has one
+            group (its summary says groups 1) and asking it for more is an error.
         seed: the one seed that decides the run.
         d_cover: the controller's coverage distance, units (paper Table 2: 6).
         max_ticks: hard tick limit.
@@ -97,9 +101,9 @@ class Simulation:
 
     @classmethod
     def check(cls, world: World | str, controller: str | type | None = None,
-              robots: int | None = None,
-              groups: int | None = None, seed: int = 0, d_cover: float | None = None,
-              max_ticks: int | None = None, settings: Mapping[str, Any] | None = None) -> None:
+              robots: int | None = None, groups: int | None = None, seed: int = 0,
+              d_cover: float | None = None, max_ticks: int | None = None,
+              settings: Mapping[str, Any] | None = None) -> None:
         """Check a run's world, controller and settings as the constructor does, without
         building the run (no layout, no bodies: milliseconds). Raises ConfigError naming the
         key and value. Sweeps and reproductions check every run this way before the first."""
@@ -112,9 +116,8 @@ class Simulation:
         """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
         controller = controller or self.world.defaults.get("controller", DEFAULT_CONTROLLER)
-        self.controller_cls = get_controller(controller)
-        self.controller_name = (controller if isinstance(controller, str)
-                                else str(getattr(controller, "name", controller.__name__)))
+        self.controller_cls, controller = resolve_controller(controller)
+        self.controller_name = controller
         self.info: ControllerInfo = describe(self.controller_cls, self.controller_name)
         if self.info.requires_beacon and self.world.beacon is None:
             raise ConfigError(f"controller {controller!r} needs a [beacon] in the world file",
@@ -127,27 +130,38 @@ class Simulation:
     def _check_configs(self) -> None:
         """Checks that span the engine's, the physics' and the controller's settings."""
         most = self.info.max_groups
-        if self.config.groups > most:
+        if most is not None and self.config.groups > most:
             raise ConfigError(f"value {self.config.groups}: controller "
-                              f"{self.controller_name!r} supports at most {most} "
-                              f"group{'s' if most > 1 else ''}", key="groups")
-        start = self.config.start or self.info.default_start
+                              f"{self.controller_name!r} supports at most {most} groups",
+                              key="groups")
+        start = self._start()
         if start not in self.info.layouts:
             offered = ", ".join(self.info.layouts)
             raise ConfigError(f"controller {self.controller_name!r} offers the starts {offered}; "
                               f"got {start!r}", key="start")
         body = 2 * self.physics_config.radius
+        if self.world.target_area < np.pi * body * body / 4:
+            raise ConfigError(f"{self.physics_config.radius!r}: one robot's disc is larger than "
+                              f"the target's free floor ({self.world.target_area:.3g} units^2)",
+                              source=self.world.source, key="radius")
         for name in ("spawn_spacing", "formation_spacing"):
             if getattr(self.config, name) < body:
                 raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "
                                   f"(2 x radius = {body:g}): robots would start overlapping",
                                   key=name)
+        spawn.check_capacity(self.world, self.config.robots, self._start(),
+                             self.config.spawn_spacing, self.config.formation_spacing)
         reach = self._probe_range()
         for name in self.info.probe_params:
             value = getattr(self.params, name)
             if not 0 < value <= reach:
                 raise ConfigError(f"must be in (0, {reach:g}], got {value!r}: a floor probe reaches"
                                   " probe_range at most (set probe_range too)", key=name)
+
+    def _start(self) -> str:
+        """The run's start layout: the setting, else the controller class's default_start,
+        else "random"."""
+        return self.config.start or self.info.default_start
 
     def _probe_range(self) -> float:
         """How far a robot's floor probe reaches, units: the engine's probe_range, or more if
@@ -158,11 +172,9 @@ class Simulation:
                         settings: Mapping[str, Any]) -> dict[str, Any]:
         merged: dict[str, Any] = {}
         defaults = self.world.defaults
-        for key in ("robots", "max_ticks", "start"):
+        for key in ("robots", "groups", "max_ticks", "start"):
             if key in defaults:
                 merged[key] = defaults[key]
-        if "groups" in defaults and self.info.has_groups:  # a world's groups mean GGC's
-            merged["groups"] = defaults["groups"]
         if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):
             merged["d_cover"] = defaults["d_cover"]
         explicit = {"robots": robots, "groups": groups, "seed": seed, "d_cover": d_cover,
@@ -174,7 +186,20 @@ class Simulation:
         if "d_cover" in merged and not _has_field(self.controller_cls.Params, "d_cover"):
             raise ConfigError(f"controller {self.controller_name!r} has no d_cover parameter "
                               f"(value {merged['d_cover']!r})", key="d_cover")
+        if "groups" in merged and not self.info.uses_groups(str(merged.get("start") or "")):
+            self._no_groups(merged, settings.get("groups", groups))
         return merged
+
+    def _no_groups(self, merged: dict[str, Any], explicit: Any) -> None:
+        """A run whose controller and start have no use for groups has one: the world's
+        default is dropped; more than one, asked for, is an error."""
+        if explicit is None:
+            del merged["groups"]
+        elif not (isinstance(explicit, int) and not isinstance(explicit, bool) and explicit <= 1):
+            raise ConfigError(f"controller {self.controller_name!r} has no groups (value "
+                              f"{explicit!r}): only a controller that forms groups (ggc) or a "
+                              "formation start (start=formation: one formation per group) "
+                              "uses them", key="groups")
 
     # ----------------------------------------------------------------------------- setup
     def _setup(self) -> None:
@@ -182,10 +207,12 @@ class Simulation:
         seeds = np.random.SeedSequence(cfg.seed).spawn(4)
         layout_rng, role_rng, order_rng = (np.random.default_rng(s) for s in seeds[:3])
         robot_seeds = seeds[3].spawn(cfg.robots)
-        start = cfg.start or self.info.default_start
+        start = self._start()
         self.start = start
         positions, setups = self._initial_layout(start, layout_rng, role_rng)
         self.n = len(positions)
+        self.start_groups = np.array([s.group for s in setups], dtype=np.int64)
+        self.start_leaders = np.array([s.leader for s in setups], dtype=bool)
         self.physics = Physics(self.world, positions, self.physics_config)
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
@@ -216,8 +243,8 @@ class Simulation:
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
-                                            cfg.grid_size, cfg.grid_size)
-        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.info.codes(self.info.settled))
+                                            cfg.grid_size, cfg.grid_size, self.world.obstacles)
+        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.settled_codes())
         self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
@@ -574,7 +601,9 @@ class Simulation:
         return Snapshot(tick=self.tick, positions=self.positions.copy(),
                         messages=self.messages.copy(), statuses=self.statuses,
                         radius=self.physics_config.radius, coverage=self.metrics.coverage,
-                        covered=covered, in_contact=in_contact, failed=self.failed.copy())
+                        covered=covered, in_contact=in_contact, failed=self.failed.copy(),
+                        start_groups=self.start_groups.copy(),
+                        start_leaders=self.start_leaders.copy())
 
 
     def render(self, color_by: str | None = None, width: int = 800, **options: Any
@@ -592,6 +621,7 @@ class Simulation:
             self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
                                       colourings=self.info.colourings,
                                       leader_field=self.info.leader_field,
+                                      group_field=self.info.group_field,
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())

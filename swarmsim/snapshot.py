@@ -18,8 +18,9 @@ class Snapshot:
     Attributes:
         tick: tick number (0 = the start layout).
         positions: (N, 2) robot centres, world units.
-        messages: (N,) structured array of the robots' last broadcasts; always has the fields
-            ``id, status, gradient, group, leader, moving`` (see swarmsim.controller).
+        messages: (N,) structured array of the robots' last broadcasts: the engine's base
+            fields (see swarmsim.controller) and the controller's own; observers read a field
+            such as ``gradient`` or ``group`` only if the dtype has it.
         statuses: names of the status codes (index = code) of the controller in use.
         radius: robot body radius, units.
         coverage: coverage fraction P(t) in [0, 1].
@@ -27,6 +28,11 @@ class Snapshot:
             None when not requested.
         in_contact: (N,) bool, robots touching another robot or a wall this tick.
         failed: (N,) bool, robots that have failed.
+        start_groups: (N,) int, the group the run gave each robot at the start
+            (``RobotSetup.group``, 0 = none), or None. Observers use it for robots that have
+            not broadcast yet (tick 0), whose ``messages`` rows are silent.
+        start_leaders: (N,) bool, the robots the run made leaders at the start
+            (``RobotSetup.leader``), or None; used like ``start_groups``.
     """
 
     tick: int
@@ -38,6 +44,8 @@ class Snapshot:
     covered: np.ndarray | None
     in_contact: np.ndarray
     failed: np.ndarray
+    start_groups: np.ndarray | None = None
+    start_leaders: np.ndarray | None = None
 
     @property
     def n_robots(self) -> int:

@@ -20,15 +20,59 @@ BOX_TRIES = 20
 BOX_TRIES lands in the region; below that, piece by piece (see formation_centres)."""
 
 
-def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator,
-                  clearance: float = 0.0) -> np.ndarray:
-    """(n, 2) centres uniformly at random in the spawn areas, pairwise >= ``spacing`` apart
-    and at least ``clearance`` (the body radius, units) from obstacles and the arena walls."""
+def check_capacity(world: World, n: int, start: str, spawn_spacing: float,
+                   formation_spacing: float) -> None:
+    """Refuse ``n`` robots that the start's floor cannot hold, from areas alone: no layout is
+    built, so any count is refused in milliseconds.
+
+    ``start`` "formation": every robot of a formation stands at least ``formation_spacing``
+    (units) from every other, off the target, clear of obstacles and inside the walls (see
+    check_formation_floor), so the discs of diameter ``formation_spacing`` round them are
+    disjoint and lie on that floor: n <= its area / one disc's (max_formation_robots). Any
+    other start is random placement at ``spawn_spacing`` in the spawn areas
+    (World.max_random_robots). A count that passes may still fail to be laid out (formations
+    that do not fit apart): the layout says so.
+    """
+    if start == "formation":
+        limit = max_formation_robots(world, formation_spacing)
+        if n > limit:
+            floor = _formation_floor(world, formation_spacing).area
+            raise ConfigError(
+                f"{n} robots cannot start in formation at spacing {formation_spacing:g}: the "
+                f"floor off the target inside the arena ({floor:.0f} units^2) holds at most "
+                f"{limit}; use fewer robots", source=world.source, key="robots")
+        return
+    _check_random_capacity(world, n, spawn_spacing)
+
+
+def _check_random_capacity(world: World, n: int, spacing: float) -> None:
     limit = world.max_random_robots(spacing)
     if n > limit:
         raise ConfigError(f"spawn areas (total area {world.spawn_area:.0f}) cannot hold {n} robots"
                           f" at spacing {spacing} (at most {limit})", source=world.source,
                           key="robots")
+
+
+def max_formation_robots(world: World, spacing: float) -> int:
+    """An upper bound on the robots formations at ``spacing`` (units) can place: the area
+    where a robot's disc of diameter ``spacing`` may lie (the arena, minus the target shrunk
+    by spacing / 2, minus the obstacles) over one disc's area."""
+    return int(_formation_floor(world, spacing).area / (math.pi * spacing * spacing / 4))
+
+
+def _formation_floor(world: World, spacing: float):
+    """Where the discs (diameter ``spacing``) of robots in formation can lie; see
+    max_formation_robots."""
+    x0, y0, x1, y1 = world.arena
+    blocked = [world.target.buffer(-spacing / 2), *world.obstacles]
+    return shapely.difference(shapely.box(x0, y0, x1, y1), shapely.union_all(blocked))
+
+
+def random_layout(world: World, n: int, spacing: float, rng: np.random.Generator,
+                  clearance: float = 0.0) -> np.ndarray:
+    """(n, 2) centres uniformly at random in the spawn areas, pairwise >= ``spacing`` apart
+    and at least ``clearance`` (the body radius, units) from obstacles and the arena walls."""
+    _check_random_capacity(world, n, spacing)
     spawn = _clear_of_walls(world, shapely.union_all(world.spawns), clearance)
     shapely.prepare(spawn)
     xmin, ymin, xmax, ymax = spawn.bounds

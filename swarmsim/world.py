@@ -9,8 +9,8 @@ Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)
     holes = [[[x, y], ...], ...]        # optional holes inside the outline
     [[spawn]]                           # one or more areas where robots start
     outline = [[x, y], ...]
-    [[obstacles]]                       # optional static polygons (robots collide with them)
-    outline = [[x, y], ...]
+    [[obstacles]]                       # optional static polygons (robots collide with them);
+    outline = [[x, y], ...]             # inside the target they are not floor to cover
     [beacon]                            # optional: the one global cue (a light) leaders head to
     position = [x, y]
     [arena]                             # optional: walls around everything
@@ -19,7 +19,9 @@ Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)
     robots = 603
     groups = 3
 
-Any other key is an error. Every error names the file, the key and the value.
+Any other key is an error. Every error names the file, the key and the value. Every number
+must be finite. The target's free floor (its outline minus its holes minus the obstacles) must
+hold at least one robot's disc (MIN_FREE_FLOOR).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import math
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
@@ -46,6 +49,9 @@ TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon
 DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
                 "max_ticks": int, "start": str}
 REPO_WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
+MIN_FREE_FLOOR = math.pi * 0.4**2
+"""Least free target floor a world may have, units^2: one robot's disc (default body radius
+0.4). Less, and no robot could stand on the target: every run would end at 0 % coverage."""
 
 
 @dataclass(frozen=True)
@@ -73,17 +79,27 @@ class World:
     description: str = ""
     defaults: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
 
+    @cached_property
+    def free_target(self) -> shapely.Geometry:
+        """The floor to cover: the target (holes already cut out) minus the obstacles (a
+        Polygon or MultiPolygon). The target itself (the same object) when no obstacle
+        overlaps it."""
+        blocking = [ob for ob in self.obstacles if ob.intersection(self.target).area > 0]
+        if not blocking:
+            return self.target
+        return shapely.difference(self.target, shapely.union_all(blocking))
+
     @property
     def target_area(self) -> float:
-        """Target area in square units."""
-        return float(self.target.area)
+        """Area of the free target floor (outline minus holes minus obstacles), units^2."""
+        return float(self.free_target.area)
 
     def lattice_capacity(self, d_cover: float) -> int:
         """Robots a hexagonal lattice of spacing ``d_cover`` places in the target (area-based)."""
         if not (math.isfinite(d_cover) and d_cover > 0):  # also rejects NaN
             raise ConfigError(f"d_cover must be positive and finite, got {d_cover!r}",
                               key="d_cover")
-        return int(self.target_area / (HEX_CELL_FACTOR * d_cover**2))
+        return int(self.target_area / (HEX_CELL_FACTOR * d_cover * d_cover))  # no OverflowError
 
     @property
     def spawn_area(self) -> float:
@@ -99,7 +115,7 @@ class World:
         if not (math.isfinite(spacing) and spacing > 0):
             raise ConfigError(f"spacing must be positive and finite, got {spacing!r}",
                               key="spacing")
-        disc = math.pi * spacing**2 / 4
+        disc = math.pi * spacing * spacing / 4  # (a huge spacing: inf, no OverflowError)
         return int(0.75 * 0.547 * self.spawn_area / disc)
 
 
@@ -175,8 +191,9 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
         if isinstance(v, bool) or not ok:
             raise ConfigError(f"expected {want.__name__}, got {v!r}", source=source,
                               key=f"defaults.{k}")
-        if want in (int, float) and v <= 0:
-            raise ConfigError(f"must be positive, got {v!r}", source=source, key=f"defaults.{k}")
+        if want in (int, float) and not (math.isfinite(v) and v > 0):  # also refuses nan
+            raise ConfigError(f"must be a positive finite number, got {v!r}", source=source,
+                              key=f"defaults.{k}")
         if k == "start" and v not in ("random", "formation"):
             raise ConfigError(f"must be 'random' or 'formation', got {v!r}", source=source,
                               key="defaults.start")
@@ -238,6 +255,7 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
         raise ConfigError("at least one [[spawn]] area is needed", source=source, key="spawn")
     obstacles = _polygon_list(data.get("obstacles", []), source, "obstacles")
     _check_overlaps(spawns, obstacles, target, source)
+    _check_free_floor(target, obstacles, source)
     beacon = _beacon(data["beacon"], source) if "beacon" in data else None
     arena = _arena(data.get("arena", {}), source, [target, *spawns, *obstacles])
     description = data.get("description", "")
@@ -263,6 +281,18 @@ def _check_overlaps(spawns: tuple[Polygon, ...], obstacles: tuple[Polygon, ...],
                 raise ConfigError(f"spawn area {_coords(sp)} overlaps obstacles[{j}] "
                                   f"{_coords(ob)} (overlap area {overlap:g})", source=source,
                                   key=f"spawn[{i}].outline")
+
+
+def _check_free_floor(target: Polygon, obstacles: tuple[Polygon, ...], source: str) -> None:
+    """Refuse a target whose free floor (minus holes and obstacles) cannot hold a robot."""
+    free = target.difference(shapely.union_all(obstacles)).area if obstacles else target.area
+    if free < MIN_FREE_FLOOR:
+        blame = ("the obstacles cover it" if obstacles and free < target.area
+                 else "it is too small")
+        key = "obstacles" if obstacles and free < target.area else "target.outline"
+        raise ConfigError(f"the target has {free:.3g} units^2 of free floor (outline "
+                          f"{_coords(target)}, area {target.area:.3g}): {blame}; a robot "
+                          f"needs {MIN_FREE_FLOOR:.3g}", source=source, key=key)
 
 
 def _coords(poly: Polygon) -> list[list[float]]:

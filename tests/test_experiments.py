@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from controllers.gradient import INF_GRADIENT
+from controllers.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
@@ -167,8 +167,9 @@ def test_a_table_before_any_run_finished_has_the_runs_columns(tmp_path):
 
 
 def test_failing_run_is_recorded_and_others_finish(tmp_path):
-    # tiny's spawn band holds at most ~150 robots: 500 makes that run fail
-    runs = spec_from_dict({**TINY, "grid": {"robots": [20, 500, 25]}}).runs()
+    # tiny's spawn band holds at most ~150 robots: 500 makes that run fail (a checked spec
+    # refuses it before any run: see test_bad_input)
+    runs = spec_from_dict({**TINY, "grid": {"robots": [20, 500, 25]}}, check=False).runs()
     out = tmp_path / "out"
     report = run_sweep(runs, out, workers=1, progress=False)
     assert report.ran == 3 and report.failed == 1
@@ -444,9 +445,13 @@ class Scripted:
     at 30 (ticks as perceived; they show in the broadcast one tick later)."""
 
     name = "scripted"
+    max_groups = 3  # its leaders, one per group, never fail
     Params = ScriptParams
     STATUSES = ("Initial", "Detection", "Coverage", "Arrive")
-    MESSAGE_FIELDS = ()
+    MESSAGE_FIELDS = GRADIENT_FIELDS
+    SILENT = SILENT
+    LEADER_FIELD, GROUP_FIELD = "leader", "group"
+    INITIAL_STATUSES, COVERING_STATUSES, SETTLED_STATUSES = ("Initial",), ("Coverage",), ("Arrive",)
 
     @classmethod
     def sensing_range(cls, params):
@@ -461,7 +466,7 @@ class Scripted:
         status = 0 if t < self.p.leave_initial else 1 if t < self.p.start_moving else (
             3 if arrived else 2)
         moving = status == 2
-        msg = (s.robot_id, status, 0 if s.leader else INF_GRADIENT, s.group, s.leader, moving)
+        msg = (s.robot_id, status, moving, 0 if s.leader else INF_GRADIENT, s.group, s.leader)
         return Action((0.05, 0.0) if moving else (0.0, 0.0), msg)
 
 
@@ -599,8 +604,10 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     result = rp.reproduce(["fig17", "fig19", "fig23", "fig24"], out, setup, reps=1,
                           max_ticks=25, workers=1, progress=False,
                           on_result=lambda run, status: done.append(status))
-    # fig19 shares fig17's 2 runs; fig23: 1 without failures + 2 phases x 1; fig24: 1 (shared)
-    assert result.runs == 2 + 3 and done == ["done"] * 5
+    # fig19 shares fig17's 2 runs; fig23: 2 phases x 1, and its run without failures is
+    # fig17's d_cover 6 run (dispersion has no groups: fig23's groups 3 is left out);
+    # fig24: 1 (shared)
+    assert result.runs == 2 + 2 and done == ["done"] * 4
     for fig in ("fig17", "fig19", "fig23", "fig24"):
         for name in ("results.csv", "conditions.csv", f"{fig}.png", "REPORT.md"):
             assert (out / fig / name).is_file(), (fig, name)
@@ -608,8 +615,8 @@ def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     assert read_table(out / "fig23" / "conditions.csv")[0]["panel"].startswith("(a)")
     report = (out / "REPORT.md").read_text()
     assert "Figure 17" in report and "Figure 23" in report and "paper's claim" in report
-    assert "Code: 0.1" in report and "(5 runs)" in report
-    assert "Run time: 5 finished runs simulated for" in report
+    assert "Code: 0.1" in report and "(4 runs)" in report
+    assert "Run time: 4 finished runs simulated for" in report
     assert "no-such-ctrl" in (out / "fig24" / "REPORT.md").read_text()
     again = rp.reproduce("fig17", out, setup, reps=1, max_ticks=25, workers=1, progress=False)
     assert again.sweep_line.startswith("2 runs: 2 done (0 run now")

@@ -52,6 +52,7 @@ def make_renderer(*args, **kw):
     """A renderer for GGC-like broadcasts (gradient and group colourings, leaders)."""
     kw.setdefault("colourings", COLOURINGS)
     kw.setdefault("leader_field", "leader")
+    kw.setdefault("group_field", "group")
     return Renderer(*args, **kw)
 
 

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import json
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
 
 from swarmsim.cli import main
+from swarmsim.controller import Action
 from swarmsim.experiments import run_sweep, spec_from_dict
 from swarmsim.experiments.aggregate import conditions, tick_grid
 from swarmsim.experiments.table import read_table
@@ -79,19 +81,46 @@ def test_every_finished_sweep_run_keeps_its_coverage_grid(tmp_path):
             summary["coverage"], abs=1e-6)
 
 
+@dataclass(frozen=True)
+class FlakyParams:
+    """fail: the robots raise on their third tick (a run that fails while it runs)."""
+
+    fail: bool = False
+
+
+class Flaky:
+    """Test controller: stands still, or breaks at tick 2 when told to."""
+
+    name = "flaky"
+    Params = FlakyParams
+    STATUSES = ("Standing",)
+
+    @classmethod
+    def sensing_range(cls, params) -> float:
+        return 2.0
+
+    def __init__(self, setup, params: FlakyParams, rng):
+        self.p = params
+
+    def step(self, p):
+        if self.p.fail and p.tick >= 2:
+            raise RuntimeError("flaky robot broke")
+        return Action((0.0, 0.0), {"status": 0, "moving": False})
+
+
 def test_cli_sweep_writes_the_aggregate_with_failed_runs_counted_apart(tmp_path, capsys):
-    # tiny's spawn band holds at most ~150 robots: 500 makes that condition fail
     spec = tmp_path / "spec.toml"
-    spec.write_text('world = "tiny"\ncontroller = "dispersion"\nreps = 2\n'
-                    "[params]\nmax_ticks = 10\n[grid]\nrobots = [20, 500]\n")
+    spec.write_text('world = "tiny"\ncontroller = "tests.test_sweep_aggregate:Flaky"\n'
+                    "reps = 2\n[params]\nmax_ticks = 10\nrobots = 20\n[grid]\n"
+                    "fail = [false, true]\n")
     out = tmp_path / "out"
     assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--quiet"]) == 1
     table = read_table(out / "aggregate" / "conditions.csv")
-    assert [(r["robots"], r["done"], r["failed"]) for r in table] == [("20", "2", "0"),
-                                                                     ("500", "0", "2")]
+    assert [(r["fail"], r["done"], r["failed"]) for r in table] == [("False", "2", "0"),
+                                                                   ("True", "0", "2")]
     assert table[1]["coverage_mean"] == ""
     curves = read_table(out / "aggregate" / "curves.csv")
-    assert {r["condition"] for r in curves} == {"robots=20"}
+    assert {r["condition"] for r in curves} == {"fail=False"}
 
 
 def test_conditions_are_every_setting_but_the_seed():

@@ -54,9 +54,9 @@ class GGC:
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
+    GROUP_FIELD = "group"
     INITIAL_STATUSES = ("Initial",)
     COVERING_STATUSES = ("Coverage",)
-    LAYOUTS = ("formation",)
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True

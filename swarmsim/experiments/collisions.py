@@ -24,7 +24,7 @@ import numpy as np
 
 from swarmsim.errors import ConfigError
 from swarmsim.experiments.runner import DONE, Sweep
-from swarmsim.experiments.spec import RunSpec
+from swarmsim.experiments.spec import RunSpec, drop_unused_groups
 from swarmsim.experiments.table import Band, mean_band, series, stats
 from swarmsim.output import atomic_write_bytes, atomic_write_text, write_csv
 
@@ -44,7 +44,8 @@ class StudySetup:
     Attributes:
         world: world name or path (default 'K', the paper's Figure 14).
         controller: controller under study.
-        robots, groups, d_cover: None = the world's / controller's defaults.
+        robots, groups, d_cover: None = the world's / controller's defaults (groups is left
+            out for a controller that has no use for it: see drop_unused_groups).
         modes: physics modes compared ("ghost" = the paper's point robots).
         noise: noise levels (0 = ideal robots).
         max_ticks: tick limit of every run (None = the engine's default).
@@ -69,7 +70,7 @@ class StudySetup:
         if noise:
             out.update(dict.fromkeys(NOISE_KEYS, noise))
         out.update(self.extra)
-        return out
+        return drop_unused_groups(self.controller, out)  # groups 3 is ggc's default
 
 
 @dataclass(frozen=True)

@@ -133,6 +133,13 @@ def dask_client(scheduler: Any):
                           key="--scheduler") from None
 
 
+def check_workers(workers: int | None) -> None:
+    """Refuse a worker count below 1 (None = one per CPU)."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
+                                or workers < 1):
+        raise ConfigError(f"must be >= 1, got {workers!r}", key="--workers")
+
+
 @contextmanager
 def open_pool(workers: int | None = None, scheduler: Any = None, tasks: int | None = None):
     """Open an executor: Dask when ``scheduler`` is given, else ``workers`` local processes.
@@ -145,8 +152,7 @@ def open_pool(workers: int | None = None, scheduler: Any = None, tasks: int | No
     Yields a :class:`Pool`; on an exception (e.g. KeyboardInterrupt) pending tasks are
     cancelled.
     """
-    if workers is not None and workers < 1:
-        raise ConfigError(f"must be >= 1, got {workers!r}", key="--workers")
+    check_workers(workers)
     if scheduler is not None:
         client, owned = dask_client(scheduler)
         pool = Pool(client.get_executor(pure=False), "dask", None,

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim.experiments.runner import DONE, FAILED, RunStore, Sweep
-from swarmsim.experiments.spec import RunSpec
+from swarmsim.experiments.spec import RunSpec, drop_unused_groups
 from swarmsim.experiments.table import Band, mean_band, series, settle_tick, stats
 
 
@@ -53,13 +53,14 @@ class PaperSetup:
     def settings(self, controller: str | None = None, **values: Any) -> dict[str, Any]:
         """Run settings: robots (if set), the given values, then ``extra``.
 
-        ``d_cover`` is dropped for controllers that have no such parameter."""
+        ``d_cover`` is dropped for controllers that have no such parameter, ``groups`` for
+        controllers that have no use for groups with their start (see drop_unused_groups)."""
         out: dict[str, Any] = {} if self.robots is None else {"robots": self.robots}
         out.update(values)
         if "d_cover" in out and not _has_d_cover(controller or self.controller):
             del out["d_cover"]
         out.update(self.extra)
-        return out
+        return drop_unused_groups(controller or self.controller, out)
 
 
 PAPER = PaperSetup()

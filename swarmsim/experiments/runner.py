@@ -29,12 +29,13 @@ import traceback
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from swarmsim.experiments import claims
-from swarmsim.experiments.executors import open_pool
+from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
 from swarmsim.output import write_csv, write_json, write_npz
@@ -238,13 +239,22 @@ class Sweep:
     def run(self, workers: int | None = None, scheduler: Any = None,
             retry_failed: bool = False, progress: bool = True,
             on_result: Callable[[RunSpec, str], None] | None = None) -> SweepReport:
-        """Run every pending run once; see :func:`run_sweep`."""
+        """Run every pending run once; see :func:`run_sweep`. The executor is opened (a bad
+        worker count or scheduler refused) before anything is written."""
+        check_workers(workers)
         todo = self.pending(retry_failed)
-        self.out.mkdir(parents=True, exist_ok=True)
-        self.write_table()
         tally: Counter[str] = Counter()
-        if todo:
-            self._execute(todo, workers, scheduler, progress, on_result, tally)
+        pool = open_pool(workers, scheduler, tasks=len(todo)) if todo else nullcontext()
+        in_flight: dict[cf.Future, RunSpec] = {}
+        try:
+            with pool as opened:
+                self.out.mkdir(parents=True, exist_ok=True)
+                self.write_table()
+                if todo:
+                    self._execute(opened, todo, in_flight, progress, on_result, tally)
+        finally:  # interrupted: the pool has stopped its workers; only now free their runs
+            for run in in_flight.values():
+                claims.release(self.store.path(run.run_id))
         return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
                            tally["ran"], self.failed_count(), self.table_path,
                            self.code_versions(), busy=tally["busy"],
@@ -256,28 +266,26 @@ class Sweep:
         return sum(1 for p in self.store.dir.glob("*") if p.name not in mine
                    and ((p / "summary.json").is_file() or (p / "error.txt").is_file()))
 
-    def _execute(self, todo: list[RunSpec], workers, scheduler, progress: bool,
-                 on_result, tally: Counter[str]) -> None:
-        """Run ``todo``, claiming each run just before it is submitted (see claims.py) and
-        keeping one run per worker in flight, so that other processes can share the rest."""
+    def _execute(self, pool, todo: list[RunSpec], in_flight: dict[cf.Future, RunSpec],
+                 progress: bool, on_result, tally: Counter[str]) -> None:
+        """Run ``todo`` on ``pool``, claiming each run just before it is submitted (see
+        claims.py) and keeping one run per worker in flight, so that other processes can share
+        the rest. ``in_flight`` holds the runs submitted and not finished (the caller frees
+        their claims once the pool has stopped)."""
         from tqdm import tqdm
 
         bar = tqdm(total=len(todo), unit="run", desc="sweep", file=sys.stderr,
                    disable=not progress, dynamic_ncols=True)
         queue = iter(todo)
-        in_flight: dict[cf.Future, RunSpec] = {}
         try:
-            with open_pool(workers, scheduler, tasks=len(todo)) as pool:
-                window = pool.window(len(todo))
+            window = pool.window(len(todo))
+            self._submit_more(pool, queue, in_flight, window, tally, bar)
+            while in_flight:
+                future = pool.next_completed(in_flight)
+                run = in_flight.pop(future)
+                self._finish(run, _outcome(future), tally, bar, on_result)
                 self._submit_more(pool, queue, in_flight, window, tally, bar)
-                while in_flight:
-                    future = pool.next_completed(in_flight)
-                    run = in_flight.pop(future)
-                    self._finish(run, _outcome(future), tally, bar, on_result)
-                    self._submit_more(pool, queue, in_flight, window, tally, bar)
-        finally:  # interrupted: the pool has stopped its workers; only now free their runs
-            for run in in_flight.values():
-                claims.release(self.store.path(run.run_id))
+        finally:
             bar.close()
 
     def _submit_more(self, pool, queue, in_flight: dict, window: int, tally: Counter[str],

@@ -335,6 +335,21 @@ def _reraise(fn, source: str, key: str):
         raise ConfigError(text, source=source, key=key) from None
 
 
+def drop_unused_groups(controller: str, settings: Mapping[str, Any]) -> dict[str, Any]:
+    """``settings`` without ``groups`` when ``controller`` (a name or module:Class) with the
+    settings' start has no use for groups (see ControllerInfo.uses_groups): such a run
+    has one group, and asking it for more is an error. For figures and studies that set the
+    same groups for every controller they compare."""
+    from swarmsim.controller_info import describe
+    from swarmsim.registry import get_controller
+
+    out = dict(settings)
+    if "groups" in out and not describe(get_controller(controller)).uses_groups(
+            str(out.get("start") or "")):
+        del out["groups"]
+    return out
+
+
 def unique_runs(runs: Iterable[RunSpec]) -> list[RunSpec]:
     """``runs`` without repeats (same run id), first occurrence kept."""
     seen: set[str] = set()

@@ -24,6 +24,7 @@ import pygame.font
 import shapely
 
 from swarmsim.metrics import CoverageGrid
+from swarmsim.render import roles
 from swarmsim.render.legend import legend_panel
 from swarmsim.render.palette import (
     BEACON_EDGE,
@@ -84,6 +85,8 @@ class Renderer:
             value mean "unknown") or ``"category"`` (such as a group id; 0 or less: none).
             The controller declares them (ControllerInfo.colourings).
         leader_field: a bool message field marking robots drawn with a leader ring, or None.
+        group_field: the message field holding a robot's group, or None (the heads-up line
+            counts groups; robots that have not broadcast yet show their start group).
         show_coverage: tint covered target pixels (when the snapshot has ``covered``).
         highlight_contacts: draw a red ring around robots in contact.
         legend: draw a legend for the colouring at the bottom.
@@ -98,7 +101,7 @@ class Renderer:
                  highlight_contacts: bool = False, legend: bool = True, *, hud: bool = True,
                  on_target: Callable[[Snapshot], int] | None = None,
                  min_radius_px: float = 2.0, colourings: Mapping[str, str] | None = None,
-                 leader_field: str | None = None):
+                 leader_field: str | None = None, group_field: str | None = None):
         self.colourings = dict(colourings or {})
         if color_by is None:
             color_by = next(iter(self.colourings), "status")
@@ -107,6 +110,7 @@ class Renderer:
             raise ValueError(f"color_by must be one of {', '.join(map(repr, offered))}; "
                              f"got {color_by!r}")
         self.leader_field = leader_field
+        self.group_field = group_field
         check_width(width)
         if not min_radius_px > 0:
             raise ValueError(f"min_radius_px must be positive, got {min_radius_px!r}")
@@ -258,14 +262,12 @@ class Renderer:
             return GRADIENT_PALETTE, np.zeros(0, dtype=np.int64)
         kind = self.colourings.get(self.color_by)
         if kind == "scale":
-            field = msgs[self.color_by]
-            unknown = _largest(field.dtype)
-            g = field.astype(np.int64)
+            g, unknown = roles.scale(snapshot, self.color_by)
             pal = np.vstack([GRADIENT_PALETTE, np.uint8(NONE_GREY)])
             idx = np.where((g >= unknown) | (g < 0), len(GRADIENT_PALETTE),
                            g % len(GRADIENT_PALETTE))
         elif kind == "category":
-            g = msgs[self.color_by].astype(np.int64)
+            g = roles.category(snapshot, self.color_by, self.group_field)
             pal = np.vstack([np.uint8(NONE_GREY), GROUP_PALETTE])
             idx = np.where(g <= 0, 0, (g - 1) % len(GROUP_PALETTE) + 1)
         else:
@@ -287,8 +289,7 @@ class Renderer:
         ri = max(1, round(r))
         pal, idx = self._color_index(snap)
         failed = _mask(snap.failed, n)
-        leader = (_mask(snap.messages[self.leader_field], n) if self.leader_field
-                  else np.zeros(n, dtype=bool))
+        leader = roles.leaders(snap, self.leader_field)
         contact = _mask(snap.in_contact, n) if self.highlight_contacts else None
 
         circle = pygame.draw.circle
@@ -332,15 +333,12 @@ class Renderer:
         return int(np.count_nonzero(shapely.contains_xy(self._target, pos[:, 0], pos[:, 1])))
 
     def hud_text(self, snapshot: Snapshot) -> str:
-        """The heads-up line: ``tick T  coverage XX.X %  on target N``, then for each
-        "category" colouring the number of its values in use (``group 3``)."""
-        text = (f"tick {snapshot.tick}  coverage {100 * snapshot.coverage:.1f} %  "
-                f"on target {self.robots_on_target(snapshot)}")
-        for field, kind in self.colourings.items():
-            if kind == "category" and snapshot.n_robots:
-                values = np.asarray(snapshot.messages[field])
-                text += f"  {field}s {len(np.unique(values[values > 0]))}"
-        return text
+        """The heads-up line: ``tick T  coverage XX.X %  on target N  groups G`` (groups only
+        when the controller broadcasts them; at tick 0 the groups the run started with)."""
+        n_groups = roles.group_count(snapshot, self.group_field)
+        tail = "" if n_groups is None else f"  groups {n_groups}"
+        return (f"tick {snapshot.tick}  coverage {100.0 * snapshot.coverage:.1f} %  "
+                f"on target {self.robots_on_target(snapshot)}{tail}")
 
     def _draw_hud(self, surf: pygame.Surface, snap: Snapshot) -> None:
         if self._font is None:
@@ -360,13 +358,14 @@ class Renderer:
     # --- legend --------------------------------------------------------------------------------
     def _legend_key(self, snap: Snapshot) -> Any:
         kind = self.colourings.get(self.color_by)
+        leaders = self.leader_field is not None
         if kind == "category":
-            g = np.asarray(snap.messages[self.color_by]) if snap.n_robots else np.zeros(0, int)
+            g = roles.category(snap, self.color_by, self.group_field)
             return ("category", self.color_by, tuple(int(v) for v in np.unique(g[g > 0])[:11]),
-                    self.leader_field is not None)
+                    leaders)
         if kind == "scale":
-            return ("scale", self.color_by, self.leader_field is not None)
-        return ("status", tuple(snap.statuses), self.leader_field is not None)
+            return ("scale", self.color_by, leaders)
+        return ("status", tuple(snap.statuses), leaders)
 
     def _legend_surface(self, snap: Snapshot) -> pygame.Surface | None:
         if self._small_font is None:
@@ -418,7 +417,3 @@ def _mask(values: Any, n: int) -> np.ndarray:
         raise ValueError(f"expected {n} flags, got {arr.shape[0]}")
     return arr
 
-
-def _largest(dtype: np.dtype) -> float:
-    """The largest value of a numeric type (a "scale" field's "unknown")."""
-    return np.iinfo(dtype).max if np.issubdtype(dtype, np.integer) else np.inf

@@ -59,16 +59,29 @@ def _items(font: pygame.font.Font, key: tuple, contacts: bool) -> list[pygame.Su
                   for g in ids[:MAX_GROUPS_LISTED]]
         if len(ids) > MAX_GROUPS_LISTED:
             items.append(_label(font, "..."))
+    dot = _sample_color(key)  # leaders and touching robots: a robot's disc with a ring
     if key[-1]:  # the controller marks leaders
-        items.append(_swatch(font, "ring", LEADER_RING, "leader"))
+        items.append(_swatch(font, "ringed", LEADER_RING, "leader", dot))
     items.append(_swatch(font, "failed", FAILED, "failed"))
     if contacts:
-        items.append(_swatch(font, "ring", CONTACT_RING, "contact"))
+        items.append(_swatch(font, "ringed", CONTACT_RING, "contact", dot))
     return items
 
 
-def _swatch(font: pygame.font.Font, kind: str, color: Any, text: str) -> pygame.Surface:
-    """A disc, ring or failed-robot mark of ``color`` followed by ``text``."""
+def _sample_color(key: tuple) -> tuple[int, int, int]:
+    """A robot colour of the colouring ``key`` for the ringed swatches: gradient 0 (a
+    leader's own), group 1 or the first status."""
+    if key[0] == "scale":
+        return tuple(GRADIENT_PALETTE[0].tolist())
+    if key[0] == "status":
+        return tuple(STATUS_PALETTE[0].tolist())
+    return tuple(GROUP_PALETTE[0].tolist())
+
+
+def _swatch(font: pygame.font.Font, kind: str, color: Any, text: str,
+            fill: Any = NONE_GREY) -> pygame.Surface:
+    """A disc of ``color``, a ``fill`` disc ringed in ``color`` ("ringed", as the frame draws
+    leaders and touching robots) or a failed-robot mark, followed by ``text``."""
     sw = _swatch_size(font)
     lab = _label(font, text)
     s = pygame.Surface((sw + 3 + lab.get_width(), max(sw, lab.get_height())), pygame.SRCALPHA)
@@ -76,8 +89,10 @@ def _swatch(font: pygame.font.Font, kind: str, color: Any, text: str) -> pygame.
     rad = sw // 2
     if kind == "disc":
         pygame.draw.circle(s, color, c, rad)
-    elif kind == "ring":
-        pygame.draw.circle(s, color, c, rad, max(1, sw // 6))
+    elif kind == "ringed":
+        ring_w = max(1, sw // 6)
+        pygame.draw.circle(s, fill, c, max(1, rad - ring_w - 1))
+        pygame.draw.circle(s, color, c, rad, ring_w)
     elif kind == "failed":
         pygame.draw.circle(s, FAILED, c, rad)
         a = max(1, rad // 2)

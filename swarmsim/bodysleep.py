@@ -1,0 +1,181 @@
+"""Parked robots sleep in pymunk: the low-level parts Physics needs (pymunk body sleeping).
+
+Not the engine's robot sleep (controllers asking not to be decided, swarmsim/wakes.py): this
+is Chipmunk's own sleeping of bodies at rest, which takes them out of its solver.
+
+Chipmunk keeps every body jointed to a KINEMATIC body awake, so a robot's control body is made
+STATIC while the robot is parked (joints kept: the drive still holds it like floor friction,
+and it is still pushed by others, which wakes it). Three things break once bodies sleep, and
+this module handles them:
+
+- pymunk.batch walks awake bodies, then static bodies, then sleeping ones, and sleeping, waking
+  and type changes swap bodies around in those arrays: :class:`BodyRows` maps rows to robots by
+  body id on every read.
+- Setting a sleeping body's velocity wakes it (and a batch write skips some): :class:`Parking`
+  writes velocities only to the control bodies of robots that move, one by one.
+- pymunk's ``Body.body_type`` setter refuses ``STATIC`` for a body jointed to a dynamic body
+  (its assertion is inverted): :class:`Parking` calls Chipmunk's ``cpBodySetType`` directly.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pymunk
+from pymunk._chipmunk_cffi import lib
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
+
+
+class IdTable:
+    """Body id -> code, vectorised: an open-addressing hash table (linear probing) in numpy.
+
+    numpy's searchsorted or argsort cost ~0.3 us a lookup on ids like pymunk's (addresses);
+    this costs a few numpy passes over the queried ids.
+
+    Args:
+        ids: the distinct keys (body ids, as pymunk.batch reports them).
+        codes: (same length) the value of each key (e.g. a robot index).
+    """
+
+    def __init__(self, ids: Sequence[int], codes: Sequence[int]):
+        bits = max(4, int(np.ceil(np.log2(8 * max(len(ids), 1)))))
+        self._shift = np.uint64(64 - bits)
+        self._mask = (1 << bits) - 1
+        self._keys = np.zeros(1 << bits, dtype=np.uint64)
+        self._used = np.zeros(1 << bits, dtype=bool)
+        self._codes = np.full(1 << bits, -1, dtype=np.intp)
+        self.probes = 1  # the longest probe sequence of any key
+        keys = np.asarray(ids, dtype=np.uint64)
+        for key, slot, code in zip(keys.tolist(), self._slots(keys).tolist(), codes, strict=True):
+            steps = 1
+            while self._used[slot] and self._keys[slot] != key:
+                slot, steps = (slot + 1) & self._mask, steps + 1
+            if self._used[slot]:
+                raise ValueError(f"body id {key} given twice")
+            self._keys[slot], self._used[slot], self._codes[slot] = key, True, code
+            self.probes = max(self.probes, steps)
+
+    def _slots(self, keys: np.ndarray) -> np.ndarray:
+        return ((keys >> np.uint64(4)) * _GOLDEN >> self._shift).astype(np.intp)
+
+    def lookup(self, ids: np.ndarray) -> np.ndarray:
+        """The code of each id (same shape); -1 for ids not in the table."""
+        keys = np.asarray(ids, dtype=np.uint64).ravel()
+        slots = self._slots(keys)
+        out = self._codes[slots]  # right at once for most keys (the table is 1/8 full)
+        todo = np.flatnonzero(self._keys[slots] != keys)
+        for _ in range(self.probes):
+            todo = todo[self._used[slots[todo]]]  # an empty slot: not in the table (-1)
+            if not len(todo):
+                break
+            at = slots[todo] = (slots[todo] + 1) & self._mask
+            out[todo] = self._codes[at]
+            todo = todo[self._keys[at] != keys[todo]]
+        return out.reshape(np.shape(ids))
+
+
+class BodyRows:
+    """Which pymunk.batch row holds which robot body and which control body.
+
+    Rows follow the space's internal arrays, which sleeping and type changes reorder, so
+    :meth:`update` is given the rows' body ids after every step. Only rows whose id changed
+    are looked up again.
+
+    Args:
+        robot_ids: (N,) body ids of the robots' bodies.
+        control_ids: (N,) body ids of their control bodies.
+    """
+
+    def __init__(self, robot_ids: Sequence[int], control_ids: Sequence[int]):
+        ids = list(robot_ids) + list(control_ids)
+        self.n = len(robot_ids)
+        self._table = IdTable(ids, range(len(ids)))  # robots (< n), then controls (>= n)
+        self._row_of = np.full(len(ids), -1, dtype=np.intp)
+        self._row_ids: np.ndarray | None = None
+
+    def update(self, row_ids: np.ndarray) -> None:
+        """Take the body id of every row (as pymunk.batch returned them, BODY_ID)."""
+        if self._row_ids is not None and len(row_ids) == len(self._row_ids):
+            changed = np.flatnonzero(row_ids != self._row_ids)
+        else:
+            changed = np.arange(len(row_ids))
+        if len(changed):
+            codes = self._table.lookup(row_ids[changed])
+            found = codes >= 0
+            self._row_of[codes[found]] = changed[found]
+            self._row_ids = row_ids.copy()
+            if self._row_of.min() < 0:
+                raise RuntimeError("a robot's body is missing from the space's rows")
+
+    @property
+    def robot_rows(self) -> np.ndarray:
+        """(N,) the row of each robot's body."""
+        return self._row_of[:self.n]
+
+    @property
+    def control_rows(self) -> np.ndarray:
+        """(N,) the row of each robot's control body."""
+        return self._row_of[self.n:]
+
+    def asleep(self, parked: np.ndarray) -> np.ndarray:
+        """(N,) bool: robots whose bodies pymunk has put to sleep.
+
+        Sleeping bodies come last in the rows, after the static bodies, among which are the
+        control bodies of the ``parked`` robots; awake bodies come first. So a robot sleeps
+        exactly when its row lies beyond every parked control body's row (only a parked robot
+        can sleep: a KINEMATIC control body keeps its robot awake).
+        """
+        if not parked.any():
+            return np.zeros(self.n, dtype=bool)
+        return self.robot_rows > self.control_rows[parked].max()
+
+
+class Parking:
+    """Parks and unparks robots, and writes the movers' commanded velocities.
+
+    A robot whose command was zero for this tick and the one before is parked: its control
+    body becomes STATIC, and pymunk may put it to sleep once it rests (``sleep_time_threshold``
+    on the space). A parked robot given a non-zero command is unparked: its body is woken
+    FIRST, and only then its control body made KINEMATIC again (the other way round, waking
+    would leave its joints out of the solver). A STATIC control body at rest and a KINEMATIC one
+    commanded to stand still drive the robot alike; only sleeping differs.
+
+    Args:
+        robots: the robots' dynamic bodies (in the space).
+        controls: their control bodies (KINEMATIC, in the space).
+    """
+
+    def __init__(self, robots: Sequence[pymunk.Body], controls: Sequence[pymunk.Body]):
+        self._robot_ptrs = [b._body for b in robots]
+        self._control_ptrs = [b._body for b in controls]
+        n = len(robots)
+        self.parked = np.zeros(n, dtype=bool)
+        self._zero_before = np.zeros(n, dtype=bool)
+        self._written = np.zeros((n, 2))  # the control bodies' velocities, units per tick
+
+    def command(self, velocities: np.ndarray) -> None:
+        """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
+        v = np.ascontiguousarray(velocities, dtype=np.float64)
+        pairs = v.view(np.complex128)[:, 0]  # (vx, vy) as one number: faster than any(axis=1)
+        zero = pairs == 0
+        to_park = np.flatnonzero(zero & self._zero_before & ~self.parked)
+        to_unpark = np.flatnonzero(~zero & self.parked)
+        self._zero_before = zero
+        for i in to_unpark.tolist():
+            lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver
+            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.KINEMATIC)
+        for i in to_park.tolist():
+            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.STATIC)  # velocity becomes 0
+        self.parked[to_unpark] = False
+        self.parked[to_park] = True
+        self._written[to_park] = 0.0
+        write = np.flatnonzero(pairs != self._written.view(np.complex128)[:, 0])
+        if len(write):
+            set_velocity, ptrs = lib.cpBodySetVelocity, self._control_ptrs
+            rows = v[write]
+            for i, vx, vy in zip(write.tolist(), rows[:, 0].tolist(), rows[:, 1].tolist(),
+                                 strict=True):
+                set_velocity(ptrs[i], (vx, vy))
+            self._written[write] = rows
