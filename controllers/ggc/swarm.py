@@ -1,9 +1,10 @@
 """A run's GGC robots: their state rows (state.py) and the chunk driver's Python side.
 
-:meth:`GGCSwarm.decide` gathers a chunk's neighbour columns, runs the compiled driver
-(decide.py), answers the floor-probe questions it asked (through the engine's probe, all of
-a round at once) and runs it again for the robots that asked, until none is pending; then it
-writes the chunk's state rows back and returns its actions and broadcasts.
+:meth:`GGCSwarm.decide` gathers a chunk's neighbour columns and runs the compiled driver
+(decide.py) on the chunk's state rows, in place; it answers the floor-probe questions the
+driver asked (all of a round in one ``probe_many``) and runs it again for the robots that
+asked (each from its row as it was), until none is pending; then it returns the chunk's
+actions and broadcasts as columns.
 """
 
 from __future__ import annotations
