@@ -31,8 +31,8 @@ _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 
 class IdTable:
     """Body id -> code, vectorised: an open-addressing hash table (linear probing) in numpy.
 
-    numpy's searchsorted or argsort cost ~0.3 us a lookup on ids like pymunk's (addresses);
-    this costs a few numpy passes over the queried ids.
+    Cheaper than numpy's searchsorted or argsort on ids like pymunk's (addresses): a few
+    numpy passes over the queried ids.
 
     Args:
         ids: the distinct keys (body ids, as pymunk.batch reports them).
@@ -73,6 +73,7 @@ class IdTable:
             at = slots[todo] = (slots[todo] + 1) & self._mask
             out[todo] = self._codes[at]
             todo = todo[self._keys[at] != keys[todo]]
+        out[todo] = -1  # probed as far as any key lies from its slot: not in the table
         return out.reshape(np.shape(ids))
 
 

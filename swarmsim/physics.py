@@ -38,8 +38,8 @@ GHOST_GROUP = 1
 WALL_THICKNESS = 0.5
 IDLE_SPEED = 1e-9
 """Speed (units per tick) below which pymunk counts a body as resting, for sleeping. Bodies
-held still by contacts keep velocities of ~1e-19 (rounding); with pymunk's default (0 without
-gravity: exactly still) a parked crowd that touches never sleeps."""
+held still by contacts keep velocities at rounding level; with pymunk's default (0 without
+gravity: exactly still) a parked crowd that touches would never sleep."""
 
 
 @dataclass(frozen=True)

@@ -204,3 +204,6 @@ def test_id_table_finds_every_id_and_only_those():
     order = rng.permutation(len(ids))
     assert np.array_equal(table.lookup(ids[order]), order)
     assert (table.lookup(ids[:50] + 8) == -1).all()
+    full = IdTable([16, 32], [0, 1])  # then every slot taken by another key: probing stops
+    full._keys[:], full._used[:], full._codes[:] = 99, True, 7
+    assert (full.lookup(np.array([16, 5], dtype=np.uintp)) == -1).all()
