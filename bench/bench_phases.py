@@ -29,7 +29,7 @@ solved in another order), so they compare like two seeds, not tick by tick.
     python bench/bench_phases.py                                   # 600 2000 10000 robots
     python bench/bench_phases.py sizes --robots 600 2000 --ticks 50
     python bench/bench_phases.py compare --world house --ticks 3000
-    python bench/bench_phases.py sizes --settings physics_sleep=false    # as before
+    python bench/bench_phases.py sizes --settings physics_sleep=false    # the default
     python bench/bench_phases.py sizes --pair        # sleeping on and off, taking turns
 
 These machines are noisy (+-30 %): compare within one run of the script, not across runs.
