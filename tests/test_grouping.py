@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
+from controllers.ggc.robot import MESSAGE_FIELDS, GGCRobot
 from controllers.ggc.statuses import (
     APPROACH,
     ARRIVE,
@@ -15,17 +16,13 @@ from controllers.ggc.statuses import (
     FORMED,
     GATHERING,
     INITIAL,
-    STOP,
     SURPLUS,
 )
 from swarmsim import Simulation
+from swarmsim.controller import Perception, RobotSetup, message_dtype
 from swarmsim.world import world_from_dict
 
-from .ggc_bot import Bot, ggc_state
 from .test_ggc import small_world
-
-SELECTION = (GGCParams().h_max + 1) * GGCParams().T_settle
-"""Ticks of leader selection (Algorithm 3) with the default parameters."""
 
 
 def scattered(world, robots, groups, seed, **settings):
@@ -35,7 +32,7 @@ def scattered(world, robots, groups, seed, **settings):
 
 def leader_spread(sim):
     """Sum of pairwise distances between the current leaders (units)."""
-    pos = sim.positions[ggc_state(sim)["leader"]]
+    pos = [sim.positions[c.id] for c in sim.swarm.robots if c.leader]
     return sum(float(np.hypot(*(a - b))) for a, b in itertools.combinations(pos, 2))
 
 
@@ -52,11 +49,12 @@ def wide_band():
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_grouping_gives_k_non_empty_groups_of_every_robot(seed):
     sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
-    for _ in range(SELECTION + 60):
+    selection = sim.swarm.robots[0].selection_ticks
+    for _ in range(selection + 60):
         sim.step()
-    state = ggc_state(sim)
-    assert sorted(state["group"][state["leader"]].tolist()) == [1, 2, 3]
-    sizes = Counter(state["group"].tolist())
+    leaders = [c for c in sim.swarm.robots if c.leader]
+    assert sorted(c.group for c in leaders) == [1, 2, 3]
+    sizes = Counter(c.group for c in sim.swarm.robots)
     assert set(sizes) == {1, 2, 3}, sizes  # every robot has a group, none is empty
     # sizes follow the leaders' nearness cells: not equal, but no group starves or dominates
     assert min(sizes.values()) >= 8 and max(sizes.values()) <= 0.6 * 120, sizes
@@ -67,7 +65,7 @@ def test_leaders_end_farther_apart_than_they_started():
     for seed in range(4):
         sim = scattered(wide_band(), robots=120, groups=3, seed=seed)
         before.append(leader_spread(sim))
-        for _ in range(SELECTION):
+        for _ in range(sim.swarm.robots[0].selection_ticks):
             sim.step()
         after.append(leader_spread(sim))
         assert after[-1] >= before[-1] - 1.0, (seed, before[-1], after[-1])
@@ -81,7 +79,7 @@ def two_group_run():
 
     def watch(s):
         if s.tick % 20 == 0:
-            statuses_seen.update(ggc_state(s)["status"].tolist())
+            statuses_seen.update(c.status for c in s.controllers)
 
     return sim, sim.run(on_tick=watch), statuses_seen
 
@@ -93,13 +91,14 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     assert s["max_overlap"] < 0.05 * 0.4
     # every robot went through aggregation into a formation, then travelled and covered
     assert {FORMED, INITIAL, ARRIVE} <= seen and seen & set(GATHERING)
-    visited = ggc_state(sim)["visited"].astype(int)
-    formed = (visited >> FORMED & 1).sum()
-    assert formed >= 0.9 * len(visited)
+    assert all(c.history[0] in (FORMED, *GATHERING) for c in sim.swarm.robots)
+    formed = sum(FORMED in c.history for c in sim.swarm.robots)
+    assert formed >= 0.9 * len(sim.swarm.robots)
 
 
 def test_two_groups_meeting_head_on_resolve_without_deadlock():
     """The corridor world: two formations enter a band from its two ends and meet."""
+    from controllers.ggc.statuses import STOP
     from swarmsim.world import load_world
 
     sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
@@ -110,11 +109,10 @@ def test_two_groups_meeting_head_on_resolve_without_deadlock():
     # is part of one: seeds 0-4 end at 0.967 / 0.977 / 0.990 / 0.974 / 0.975 by the plateau.
     assert s["coverage"] >= 0.96, s
     assert s["collision_stops"] > 0  # the groups did meet (Section 4.3 stops happened) ...
-    state = ggc_state(sim)
-    assert not (state["status"] == STOP).any()  # ... and every stop was lifted
-    assert s["deadlocks_open"] == 0, s  # no deadlock left unreleased
-    arrived = [(sim.positions[i], state["group"][i]) for i in range(len(state))
-               if state["status"][i] == ARRIVE and sim.on_target[i]]
+    assert not any(c.status == STOP for c in sim.swarm.robots)  # ... and every stop was lifted
+    assert s["deadlocks_open"] == 0, s  # no deadlock left unreleased (seed 0 detects none)
+    arrived = [(sim.positions[c.id], c.group) for c in sim.swarm.robots
+               if c.status == ARRIVE and sim.on_target[c.id]]
     pairs = [np.hypot(*(a - b)) for (a, g), (b, h) in itertools.combinations(arrived, 2)
              if g != h]
     assert min(pairs) <= 1.5 * 6.0  # the junction is filled: the groups' robots are neighbours
@@ -144,12 +142,19 @@ def test_a_robot_not_formed_in_time_covers_on_its_own():
     """aggregation_timeout: a robot of a group still gathering that long after leader selection
     covers on its own (Detection, then Coverage); it does not stop for good as Surplus."""
     params = GGCParams()
-    bot = Bot(groups=3, robot_id=7, group=2, scattered=True, status=APPROACH)
-    d = bot.step([], beacon_deg=0.0, tick=SELECTION + params.aggregation_timeout + 1)
-    assert bot.me["visited"] >> DETECTION & 1
-    assert bot.me["status"] in (DETECTION, COVERAGE)
-    assert bot.me["status"] != SURPLUS and bot.me["surplus"] == 0
-    assert np.hypot(*d.velocities[0]) > 0  # nobody to wait for: it heads for the beacon
+    robot = GGCRobot(RobotSetup(7, group=2, groups=3, scattered=True), params,
+                     np.random.default_rng(0))
+    assert robot.status == APPROACH
+    alone = Perception(tick=robot.selection_ticks + params.aggregation_timeout + 1,
+                       offsets=np.zeros((0, 2)), distances=np.zeros(0),
+                       messages=np.zeros(0, dtype=message_dtype(MESSAGE_FIELDS)),
+                       on_target=False, probe=lambda offset: False,
+                       beacon=np.array([1.0, 0.0]), moved=np.zeros(2))
+    action = robot.step(alone)
+    assert DETECTION in robot.history
+    assert robot.status in (DETECTION, COVERAGE)
+    assert robot.status != SURPLUS and robot.surplus == 0
+    assert np.hypot(*action.velocity) > 0  # nobody to wait for: it heads for the beacon
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -157,10 +162,9 @@ def test_every_group_keeps_a_leader_when_two_leaders_pick_the_same_robot(seed):
     """Leaders hand over on the same tick and may pick the same robot, which takes over one
     group only: the other leader must stay (5 groups on tiny lost a group on most seeds)."""
     sim = scattered("tiny", robots=40, groups=5, seed=seed)
-    for _ in range(SELECTION + 1):
+    for _ in range(sim.swarm.robots[0].selection_ticks + 1):
         sim.step()
-    state = ggc_state(sim)
-    assert sorted(state["group"][state["leader"]].tolist()) == [1, 2, 3, 4, 5]
+    assert sorted(c.group for c in sim.swarm.robots if c.leader) == [1, 2, 3, 4, 5]
 
 
 def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monkeypatch):
@@ -175,9 +179,9 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
 
     monkeypatch.setattr(spawn, "random_layout", one_far_away)
     sim = scattered("tiny", robots=40, groups=1, seed=0, aggregation_timeout=300)
+    robot = sim.swarm.robots[0]
     start = sim.positions[0].copy()
-    for _ in range(SELECTION + 300 + 1 + 100):
+    for _ in range(robot.gather_deadline + 100):
         sim.step()
-    robot = ggc_state(sim)[0]
-    assert robot["visited"] >> DETECTION & 1 and robot["status"] in (COVERAGE, ARRIVE)
+    assert DETECTION in robot.history and robot.status in (COVERAGE, ARRIVE)
     assert np.hypot(*(sim.positions[0] - start)) > 5  # on its way to the beacon

@@ -1,0 +1,97 @@
+"""GGC: gradient-and-grouping self-organising coverage (the paper's controller).
+
+``--controller ggc``. The class here only declares: its parameters (params.py), statuses
+(statuses.py), broadcast fields (state.py). The run's robots are one :class:`GGCSwarm`
+(swarm.py): their state rows (state.py) and the compiled driver (decide.py) that decides each
+robot by the rules in rules/, one module per rule family:
+
+=============================  =============================================================
+rule                           where
+=============================  =============================================================
+travel (Initial)               rules/travel.py
+gradient (Algorithm 1, 2:8)    rules/gradient.py
+detection (Algorithm 7)        rules/detection.py
+coverage (Algorithm 2)         rules/coverage.py (edge following, boundary fill, giving way)
+arrival (Algorithm 2's stops)  rules/arrival.py
+inter-group (Section 4.3)      rules/intergroup.py (the rule sets, GGCParams.ruleset)
+deadlock (Algorithms 5-6)      rules/deadlock.py
+surplus                        rules/surplus.py
+aggregation (Algorithms 3-4)   rules/aggregation.py (the scattered start)
+=============================  =============================================================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from controllers.gradient import COLOURINGS, SILENT
+from swarmsim.controller import (
+    DecideBatch,
+    NeighbourBatch,
+    RobotSetup,
+    message_dtype,
+    register,
+    run_message_fields,
+)
+
+from .params import GGCParams
+from .state import MAX_GROUPS, message_fields
+from .statuses import SETTLED, STATUSES
+from .swarm import GGCSwarm
+
+
+@register
+class GGC:
+    """Gradient-and-grouping coverage (paper Sections 3-4): declarations only."""
+
+    name = "ggc-next"
+    Params = GGCParams
+    STATUSES = STATUSES
+    SETTLED_STATUSES = SETTLED
+    MESSAGE_FIELDS = message_fields(MAX_GROUPS)
+    SILENT = SILENT
+    COLOURINGS = COLOURINGS
+    LEADER_FIELD = "leader"
+    GROUP_FIELD = "group"
+    INITIAL_STATUSES = ("Initial",)
+    COVERING_STATUSES = ("Coverage",)
+    default_start = "formation"
+    max_groups = MAX_GROUPS
+    requires_beacon = True
+    probe_params = ("probe_distance", "boundary_probe")
+    """Parameters that are floor-probe lengths (checked against the probe range)."""
+
+    @classmethod
+    def message_fields_for(cls, groups: int) -> list[tuple]:
+        """GGC's broadcast fields for a run with ``groups`` groups."""
+        return message_fields(groups)
+
+    @classmethod
+    def sensing_range(cls, params: GGCParams) -> float:
+        """Robots hear broadcasts within R_c (and at least far enough to edge-follow)."""
+        return max(params.R_c, params.gradient_reach * params.d_cover, params.d_cover + 2)
+
+    @classmethod
+    def create_swarm(cls, setups: Sequence[RobotSetup], params: GGCParams,
+                     rngs: Sequence[np.random.Generator]) -> GGCSwarm:
+        """The run's robots (row i: robot i)."""
+        return GGCSwarm(setups, params, rngs)
+
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile (first time on a machine, about a minute) or load the rules' driver for a
+        run's types: two robots of a made-up chunk decided."""
+        setups = [RobotSetup(0, leader=True, group=1), RobotSetup(1, group=1)]
+        swarm = GGCSwarm(setups, cls.Params(), [np.random.default_rng(s) for s in (0, 1)])
+        messages = np.zeros(2, dtype=message_dtype(run_message_fields(cls, 1)))
+        messages["id"] = [1, 0]
+        batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
+                            np.array([[1.0, 0.0], [-1.0, 0.0]]), [False, False],
+                            np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None,
+                            lambda ks, offsets: np.zeros(len(ks), dtype=bool))
+        swarm.decide(np.arange(2), batch)
+
+
+__all__ = ["GGC", "GGCParams", "GGCSwarm"]
