@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.controller import Action, ChunkActions, DecideBatch, NeighbourBatch, RobotSetup
+from swarmsim.controller import Action, ChunkActions, DecideBatch, RobotSetup
 
 
 class RobotSwarm:
@@ -72,4 +72,4 @@ class RobotSwarm:
         return summary
 
 
-__all__ = ["NeighbourBatch", "RobotSwarm"]
+__all__ = ["RobotSwarm"]
