@@ -4,10 +4,12 @@ import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
-from controllers.ggc.robot import ARRIVE, COVERAGE, DETECTION, INITIAL
+from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STATUSES
 from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError, Simulation
 from swarmsim.world import world_from_dict
+
+from .ggc_bot import ggc_state
 
 
 def small_world(width=30.0, height=24.0):
@@ -40,30 +42,34 @@ def test_small_world_is_covered_fully(small_run):
     assert s["max_overlap"] < 0.05 * 0.4
 
 
+def bits(*statuses: int) -> int:
+    return sum(1 << s for s in statuses)
+
+
 def test_status_sequences_follow_figure_3(small_run):
-    sim, _ = small_run
+    """Every robot's statuses were a prefix of Initial -> Detection -> Coverage -> Arrive
+    (the leader: Initial -> Arrive), by the statuses each robot has had."""
+    state = ggc_state(small_run[0])
+    leaders = state[state["leader"]]
+    assert len(leaders) == 1 and leaders["visited"][0] == bits(INITIAL, ARRIVE)
     full = [INITIAL, DETECTION, COVERAGE, ARRIVE]
-    leaders = [c for c in sim.swarm.robots if c.leader]
-    assert len(leaders) == 1 and leaders[0].history == [INITIAL, ARRIVE]
-    arrived = 0
-    for c in sim.swarm.robots:
-        if c.leader:
-            continue
-        assert c.history == full[:len(c.history)], c.history
-        arrived += c.history == full
-    assert arrived >= 20
+    prefixes = {bits(*full[:k]) for k in range(1, 5)}
+    others = state[~state["leader"]]
+    had = {tuple(s for s in range(len(STATUSES)) if v >> s & 1) for v in others["visited"]}
+    assert set(others["visited"].tolist()) <= prefixes, had
+    assert (others["visited"] == bits(*full)).sum() >= 20
 
 
 def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
     sim, _ = small_run
-    arrived = np.array([c.status == ARRIVE and not c.leader for c in sim.swarm.robots])
+    state = ggc_state(sim)
+    arrived = (state["status"] == ARRIVE) & ~state["leader"]
     on = sim.floor.on_target(sim.positions)
     assert on[arrived].mean() > 0.95
-    moved_far = [c for c in sim.swarm.robots if c.status == ARRIVE and c.grad == INF_GRADIENT]
-    assert not moved_far
+    assert not ((state["status"] == ARRIVE) & (state["grad"] == INF_GRADIENT)).any()
     # spacing: each arrived robot's nearest arrived neighbour about d_cover (6) away (rule b
     # stops at d_cover - arrive_tolerance or more; a deadlocked mover may stop a little closer)
-    settled = sim.positions[np.array([c.status == ARRIVE for c in sim.swarm.robots])]
+    settled = sim.positions[state["status"] == ARRIVE]
     gaps = np.hypot(*(settled[:, None] - settled[None]).transpose(2, 0, 1))
     np.fill_diagonal(gaps, np.inf)
     nearest = gaps.min(axis=1)
@@ -76,9 +82,10 @@ def test_gradient_grows_outward_from_the_leader():
     sim = Simulation(small_world(), controller="ggc", robots=60, groups=1, seed=2,
                      max_ticks=40)
     sim.run()
-    leader = next(i for i, c in enumerate(sim.swarm.robots) if c.leader)
+    state = ggc_state(sim)
+    leader = int(np.flatnonzero(state["leader"])[0])
     d = np.hypot(*(sim.positions - sim.positions[leader]).T)
-    grads = np.array([c.grad for c in sim.swarm.robots])
+    grads = state["grad"]
     assert grads[leader] == 0
     assert (grads < INF_GRADIENT).all()
     assert np.corrcoef(d, grads)[0, 1] > 0.9  # hop count follows distance
@@ -102,7 +109,7 @@ def test_sleep_changes_nothing_at_d_cover_1_where_movers_push_the_formation():
     movers push that neighbour out of d_cover it must wake too (it slept on: coverage 0.159
     with sleep against 0.187 without, tiny, 1,500 ticks)."""
     def summary(allow_sleep):
-        sim = Simulation("tiny", seed=0, max_ticks=1500, d_cover=1.0,
+        sim = Simulation("tiny", controller="ggc", seed=0, max_ticks=1500, d_cover=1.0,
                          settings={"allow_sleep": allow_sleep})
         result = sim.run()
         fewest_awake = min(x["awake"] for x in result.timeseries[1:])
@@ -181,3 +188,17 @@ def test_lattice_stop_still_covers_the_small_world():
 def test_without_lattice_stop_the_small_world_is_covered_too():
     s = run_small(seed=3, lattice_stop=False)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
+
+
+def test_the_warm_up_compiles_every_signature_a_run_needs():
+    """GGC.warm_up compiles (or loads) the driver before a run's clock starts: runs with one
+    group or several, in formation or scattered, then need no other compiled signature."""
+    from controllers.ggc import GGC
+    from controllers.ggc.decide import decide_chunk
+
+    GGC.warm_up()
+    compiled = len(decide_chunk.signatures)
+    Simulation("tiny", controller="ggc", robots=20, groups=1, seed=0, max_ticks=30).run()
+    Simulation("tiny", controller="ggc", robots=20, groups=3, seed=0, max_ticks=30,
+               settings={"start": "random"}).run()
+    assert len(decide_chunk.signatures) == compiled  # no signature compiled during the runs

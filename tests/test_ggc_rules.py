@@ -1,483 +1,366 @@
-"""GGC's inter-group rules on hand-made perceptions (no simulation): which robots a mover
-follows and which movers make it Stop."""
+"""GGC's rules on hand-made neighbourhoods (no simulation): one robot decided by the run's
+driver (tests/ggc_bot.py), or one rule called alone on a view."""
 
-import dataclasses
+import math
 
 import numpy as np
 import pytest
 
 from controllers.ggc import GGCParams
-from controllers.ggc.robot import (
+from controllers.ggc.rules.coverage import edge_rows, valley
+from controllers.ggc.rules.deadlock import may_arrive_when_stuck, wedged
+from controllers.ggc.rules.detection import (
+    BY_WAITING,
+    NOT_BLOCKED,
+    blocked,
+    nobody_to_yield_to,
+)
+from controllers.ggc.rules.intergroup import stops
+from controllers.ggc.statuses import (
     ARRIVE,
+    CMD_HALT,
+    CMD_TRAVEL,
     COVERAGE,
     DETECTION,
-    MESSAGE_FIELDS,
+    INITIAL,
     STOP,
     SURPLUS,
-    GGCRobot,
 )
-from swarmsim.controller import Perception, RobotSetup, message_dtype
 
-
-def robot(groups: int = 3, **params) -> GGCRobot:
-    setup = RobotSetup(5, leader=False, group=1, groups=groups)
-    return GGCRobot(setup, GGCParams(**params), np.random.default_rng(0))
-
-
-def perception(rows: list[tuple[tuple[float, float], int, int, int]]) -> Perception:
-    """rows: (offset, id, group, status), nearest first."""
-    messages = np.zeros(len(rows), dtype=message_dtype(MESSAGE_FIELDS))
-    offsets = np.array([r[0] for r in rows], dtype=float)
-    for k, (_, rid, group, status) in enumerate(rows):
-        messages[k]["id"], messages[k]["group"], messages[k]["status"] = rid, group, status
-        messages[k]["moving"] = status == COVERAGE
-    return Perception(tick=10, offsets=offsets, distances=np.hypot(*offsets.T),
-                      messages=messages, on_target=False, probe=lambda offset: False,
-                      beacon=None, moved=np.zeros(2))
-
+from .ggc_bot import Bot, view
 
 NEIGHBOURS = [((1.0, 0.0), 7, 2, DETECTION),   # another group's formation
               ((2.0, 0.0), 8, 1, DETECTION),   # my group's formation
               ((3.0, 0.0), 9, 3, ARRIVE)]      # another group's arrived robot
 
 
-def test_with_follow_other_formations_movers_follow_every_formation():
-    r = robot(follow_other_formations=True)  # the paper's rule
-    assert r.edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
-
-
-def test_by_default_other_groups_formations_are_not_edges():
-    r = robot()
-    assert r.edge_robots(perception(NEIGHBOURS)).tolist() == [False, True, True]
-    # one group: the option changes nothing
-    one = robot(groups=1, follow_other_formations=False)
-    assert one.edge_robots(perception(NEIGHBOURS)).tolist() == [True, True, True]
+def test_other_groups_formations_are_not_edges():
+    bot = Bot()
+    assert edge_rows(view(NEIGHBOURS), bot.me, bot.swarm.rules) == (1, 2)
+    one = Bot(groups=1)  # one group: every stationary robot is an edge
+    assert edge_rows(view(NEIGHBOURS, groups=1), one.me, one.swarm.rules) == (0, 1)
 
 
 def test_another_groups_mover_with_priority_makes_a_mover_stop():
-    behind = perception([((-2.0, 0.0), 9, 2, COVERAGE)])
-    lower_id = perception([((2.0, 0.0), 3, 2, COVERAGE)])
-    r = robot()
-    r.heading = np.array([1.0, 0.0])
-    assert r.other_group_mover(behind)            # the paper's rule: anywhere within d_cover
-    assert not r.other_group_mover(lower_id)      # ids break the symmetry
-    ahead_only = robot(stop_ahead_only=True)
-    ahead_only.heading = np.array([1.0, 0.0])
-    assert not ahead_only.other_group_mover(behind)
-    assert ahead_only.other_group_mover(perception([((2.0, 0.5), 9, 2, COVERAGE)]))
+    bot = Bot()
+    sense = None  # the paper's rule reads no sensor
+    behind = view([((-2.0, 0.0), 9, 2, COVERAGE)])
+    lower_id = view([((2.0, 0.0), 3, 2, COVERAGE)])
+    far = view([((6.5, 0.0), 9, 2, COVERAGE)])
+    mine = view([((2.0, 0.0), 9, 1, COVERAGE)])
+    assert stops(behind, bot.me, sense, bot.swarm.rules)       # anywhere within d_cover
+    assert not stops(lower_id, bot.me, sense, bot.swarm.rules)  # ids break the symmetry
+    assert not stops(far, bot.me, sense, bot.swarm.rules)
+    assert not stops(mine, bot.me, sense, bot.swarm.rules)
+    one = Bot(groups=1)
+    assert not stops(view([((-2.0, 0.0), 9, 2, COVERAGE)], groups=1), one.me, sense,
+                     one.swarm.rules)
 
 
-def _yielder_view(enclosed: list[bool], with_leader: bool) -> Perception:
+def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
+    bot = Bot()
+    rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
+    bot.step(rows)
+    assert bot.me["status"] == STOP and bot.me["collision_stops"] == 1
+    bot.step(rows)
+    assert bot.me["status"] == STOP
+    bot.step(rows[1:])
+    assert bot.me["status"] == COVERAGE
+
+
+def _yielder_view(enclosed: list[bool], with_leader: bool):
     """A wedged rim robot: waiting robots of its group on one side (one row of a formation),
     and, with_leader, an arrived robot on the other side closing the ring."""
     rows = [((1.0, 0.0), 7, 1, DETECTION), ((0.5, 0.87), 8, 1, DETECTION),
             ((-0.5, 0.87), 9, 1, DETECTION), ((-1.0, 0.0), 10, 1, DETECTION)]
     if with_leader:
         rows.append(((0.0, -1.0), 1, 1, ARRIVE))
-    p = perception(rows)
-    p.messages["enclosed"][:4] = enclosed
-    return p
+    return rows, {"enclosed": enclosed + [False] * with_leader}
 
 
 def test_a_yielding_rim_robot_stops_yielding_when_everyone_around_it_yields():
-    r = robot(groups=1, d_cover=2.0)
-    r.status, r.yield_count = DETECTION, 4
-    assert r.nobody_to_yield_to(_yielder_view([True, True, True, True], with_leader=False))
-    r.detection(_yielder_view([True, True, True, True], with_leader=False))
-    assert r.yield_count == 0 and r.status == DETECTION  # it waits one tick, then takes turns
-    # a waiting neighbour that may still leave first: keep yielding
-    assert not r.nobody_to_yield_to(_yielder_view([True, False, True, True], with_leader=False))
-    # closed in by the formation's leader (inside the formation): keep yielding
-    assert not r.nobody_to_yield_to(_yielder_view([True, True, True, True], with_leader=True))
+    bot = Bot(groups=1, d_cover=2.0, status=DETECTION)
+    bot.me["yield_count"] = 4
+    P = bot.swarm.rules
+    rows, fields = _yielder_view([True, True, True, True], with_leader=False)
+    assert nobody_to_yield_to(view(rows, 1, **fields), P)
+    bot.step(rows, **fields)
+    assert bot.me["yield_count"] == 0 and bot.me["status"] == DETECTION  # waits, then turns
+    rows, fields = _yielder_view([True, False, True, True], with_leader=False)
+    assert not nobody_to_yield_to(view(rows, 1, **fields), P)  # one may still leave first
+    rows, fields = _yielder_view([True, True, True, True], with_leader=True)
+    assert not nobody_to_yield_to(view(rows, 1, **fields), P)  # inside the formation
 
 
 def test_yield_release_is_off_above_its_d_cover_bound():
-    r = robot(groups=1, d_cover=6.0)  # default bound 4: d_cover 6 runs unchanged
-    r.status, r.yield_count = DETECTION, 4
-    r.detection(_yielder_view([True, True, True, True], with_leader=False))
-    assert r.yield_count == 4
+    bot = Bot(groups=1, d_cover=6.0, status=DETECTION)  # default bound 4
+    bot.me["yield_count"] = 4
+    rows, fields = _yielder_view([True, True, True, True], with_leader=False)
+    bot.step(rows, **fields)
+    assert bot.me["yield_count"] == 4
 
 
 def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_groups():
-    beside = perception([((1.2, 0.0), 7, 1, DETECTION), ((0.0, 1.1), 9, 1, ARRIVE)])
-    assert robot(groups=1, d_cover=2.0).wedged(beside)       # a formation neighbour: rejoin
-    assert not robot(groups=1, d_cover=6.0).wedged(beside)   # d_cover 6: only when touching
-    touching = perception([((0.85, 0.0), 7, 1, DETECTION)])
-    assert robot(groups=1, d_cover=6.0).wedged(touching)
-    assert robot(groups=3, d_cover=6.0).wedged(beside)       # with groups: at any d_cover
-    other_group = perception([((1.2, 0.0), 7, 2, DETECTION)])
-    assert not robot(groups=3, d_cover=6.0).wedged(other_group)  # only my own formation
+    def is_wedged(rows, groups, d_cover):
+        bot = Bot(groups=groups, d_cover=d_cover)
+        return wedged(view(rows, groups), bot.me, bot.swarm.rules)
+
+    beside = [((1.2, 0.0), 7, 1, DETECTION), ((0.0, 1.1), 9, 1, ARRIVE)]
+    assert is_wedged(beside, 1, 2.0)            # a formation neighbour: rejoin
+    assert not is_wedged(beside, 1, 6.0)        # d_cover 6: only when touching
+    assert is_wedged([((0.85, 0.0), 7, 1, DETECTION)], 1, 6.0)
+    assert is_wedged(beside, 3, 6.0)            # with groups: at any d_cover
+    assert not is_wedged([((1.2, 0.0), 7, 2, DETECTION)], 3, 6.0)  # only my own formation
 
 
 def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped():
     """Algorithm 5, line 5: deadlock on the target and a Stop robot near: Arrive."""
     close = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, STOP)]
     no_stop = [((2.0, 0.0), 8, 1, ARRIVE), ((4.0, 0.0), 9, 2, COVERAGE)]
-    assert robot().may_arrive_when_stuck(perception(close), 0)
-    assert not robot().may_arrive_when_stuck(perception(no_stop), 0)
-    # the earlier rule: only at covering distance from the nearest stationary robot
-    spaced = robot(spaced_deadlock_arrive=True)
-    assert not spaced.may_arrive_when_stuck(perception(close), 0)
-    far = [((6.0, 0.0), 8, 1, ARRIVE), ((7.0, 0.0), 9, 2, STOP)]
-    assert spaced.may_arrive_when_stuck(perception(far), 0)
-    # one group: anywhere
-    assert robot(groups=1).may_arrive_when_stuck(perception(no_stop), 0)
-
+    P3, P1 = Bot().swarm.rules, Bot(groups=1).swarm.rules
+    assert may_arrive_when_stuck(view(close), P3)
+    assert not may_arrive_when_stuck(view(no_stop), P3)
+    assert may_arrive_when_stuck(view(no_stop, groups=1), P1)  # one group: anywhere
+    # through the driver: stuck on the target beside a robot in Stop
+    bot = Bot()
+    bot.me["progress_tick"] = 0
+    bot.step(close, on_target=True, probe=lambda offset: True, moved=(0.0, 0.0), tick=100)
+    assert bot.me["status"] == ARRIVE and bot.me["deadlocks"] == 1
 
 
 def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
     """Algorithm 7 waits for neighbours of larger gradient; with groups, one in Stop (Section
     4.3) has left already, and may wait there for another group's mover for good."""
-    from controllers.ggc.batch import BLOCKED_BY_WAITING, NOT_BLOCKED
-
-    p = perception([((3.0, 0.0), 9, 1, STOP)])
-    p.messages["gradient"][0] = 7
-    for groups, expected in ((3, NOT_BLOCKED), (1, BLOCKED_BY_WAITING)):
-        r = robot(groups=groups)
-        r.status, r.grad = DETECTION, 5
-        assert r.blocked(p) == expected, groups
-
-
-def lap_view(rows, on_target: bool = False, free_outward: bool = False,
-             moved: tuple[float, float] = (0.1, 0.0),
-             beacon_deg: float | None = None) -> Perception:
-    """A mover's view for the surplus rule: ``free_outward`` says what the floor probe finds
-    (target floor beyond the robot, away from the structure, or not)."""
-    p = perception(rows)
-    return Perception(tick=p.tick, offsets=p.offsets, distances=p.distances,
-                      messages=p.messages, on_target=on_target,
-                      probe=lambda offset: free_outward, moved=np.array(moved),
-                      beacon=None if beacon_deg is None else
-                      np.array([np.cos(np.radians(beacon_deg)), np.sin(np.radians(beacon_deg))]))
+    rows = [((3.0, 0.0), 9, 1, STOP)]
+    for groups, expected in ((3, NOT_BLOCKED), (1, BY_WAITING)):
+        bot = Bot(groups=groups, status=DETECTION)
+        bot.me["grad"] = 5
+        assert blocked(view(rows, groups, gradient=7), bot.me, bot.swarm.rules) == expected
 
 
 ARRIVED_ONLY = [((6.0, 0.0), 40, 1, ARRIVE)]            # away: no waiting robot heard
 BACK_HOME = [((6.0, 0.0), 8, 1, DETECTION)]             # beside my group's formation
 
 
-def mover(**params) -> GGCRobot:
-    r = robot(groups=1, d_cover=8.0, **params)
-    r.set_status(COVERAGE)
-    return r
+def mover(**params) -> Bot:
+    return Bot(groups=1, d_cover=8.0, **params)
 
 
 def test_a_mover_back_at_its_formation_after_a_lap_past_no_free_floor_is_surplus():
-    r = mover()
-    r.coverage(lap_view(ARRIVED_ONLY))                  # out of hearing of the formation
-    assert r.away and r.status == COVERAGE
-    action = r.coverage(lap_view(BACK_HOME))
-    assert r.status == SURPLUS and action.message[1] == SURPLUS and r.surplus == 1
-    assert action.velocity == (0.0, 0.0)
+    bot = mover()
+    bot.step(ARRIVED_ONLY)                              # out of hearing of the formation
+    assert bot.me["away"] and bot.me["status"] == COVERAGE
+    d = bot.step(BACK_HOME)
+    assert bot.me["status"] == SURPLUS and d.broadcast["status"][0] == SURPLUS
+    assert bot.me["surplus"] == 1 and d.velocities[0].tolist() == [0.0, 0.0]
 
 
 def test_a_lap_past_free_target_floor_goes_round_again():
-    r = mover()
+    bot = mover()
     for _ in range(30):  # 3 units on the target with target floor outward: a frontier
-        r.coverage(lap_view(ARRIVED_ONLY, on_target=True, free_outward=True))
-    assert r.frontier > r.p.surplus_frontier
-    r.coverage(lap_view(BACK_HOME))
-    assert r.status == COVERAGE and not r.away and r.frontier == 0.0
+        bot.step(ARRIVED_ONLY, on_target=True, probe=lambda offset: True)
+    assert bot.me["frontier"] > bot.swarm.params.surplus_frontier
+    bot.step(BACK_HOME)
+    assert bot.me["status"] == COVERAGE and not bot.me["away"] and bot.me["frontier"] == 0.0
 
 
 def test_a_mover_that_never_left_its_formations_hearing_is_not_surplus():
-    r = mover()
-    r.coverage(lap_view(BACK_HOME))
-    assert r.status == COVERAGE and r.surplus == 0
+    bot = mover()
+    bot.step(BACK_HOME)
+    assert bot.me["status"] == COVERAGE and bot.me["surplus"] == 0
 
 
 def test_after_turning_round_only_the_next_whole_lap_counts():
-    r = mover()
-    r.coverage(lap_view(ARRIVED_ONLY))
-    r.restart_lap(whole=False)  # what a mover does when it turns round at a dead end
-    r.coverage(lap_view(ARRIVED_ONLY))  # retracing its way, out of hearing again
-    r.coverage(lap_view(BACK_HOME))
-    assert r.status == COVERAGE and r.lap_whole  # home early: now a whole lap starts
-    r.coverage(lap_view(ARRIVED_ONLY))
-    r.coverage(lap_view(BACK_HOME))
-    assert r.status == SURPLUS
+    bot = mover()
+    bot.step(ARRIVED_ONLY)
+    bot.me["lap_whole"], bot.me["away"] = False, False  # as turning round at a dead end does
+    bot.step(ARRIVED_ONLY)  # retracing its way, out of hearing again
+    bot.step(BACK_HOME)
+    assert bot.me["status"] == COVERAGE and bot.me["lap_whole"]  # home early: a whole lap
+    bot.step(ARRIVED_ONLY)
+    bot.step(BACK_HOME)
+    assert bot.me["status"] == SURPLUS
 
 
 def test_the_news_spreads_through_my_group_only():
-    r = mover()
-    r.coverage(lap_view([((8.0, 0.0), 9, 1, SURPLUS)]))
-    assert r.status == SURPLUS                        # a mover reaching a Surplus robot
+    bot = mover()
+    bot.step([((8.0, 0.0), 9, 1, SURPLUS)])
+    assert bot.me["status"] == SURPLUS                  # a mover reaching a Surplus robot
     other = mover()
-    other.coverage(lap_view([((8.0, 0.0), 9, 2, SURPLUS)]))
-    assert other.status == COVERAGE                   # another group's: just an edge
-    waiting = robot(groups=1, d_cover=8.0)
-    waiting.set_status(DETECTION)
-    waiting.detection(lap_view([((1.0, 0.0), 9, 1, SURPLUS)]))
-    assert waiting.status == SURPLUS                  # the formation stays where it is
-    waiting3 = robot(groups=1, d_cover=8.0)
-    waiting3.set_status(DETECTION)
-    waiting3.detection(lap_view([((1.0, 0.0), 9, 2, SURPLUS)]))
-    assert waiting3.status != SURPLUS
+    other.step([((8.0, 0.0), 9, 2, SURPLUS)])
+    assert other.me["status"] == COVERAGE               # another group's: just an edge
+    waiting = mover(status=DETECTION)
+    waiting.step([((1.0, 0.0), 9, 1, SURPLUS)])
+    assert waiting.me["status"] == SURPLUS              # the formation stays where it is
+    waiting2 = mover(status=DETECTION)
+    waiting2.step([((1.0, 0.0), 9, 2, SURPLUS)])
+    assert waiting2.me["status"] != SURPLUS
 
 
 def test_the_surplus_rule_is_off_when_disabled_at_small_d_cover_or_with_groups():
-    for r in (mover(surplus_stop=False), robot(groups=1, d_cover=4.0),
-              robot(groups=3, d_cover=8.0)):
-        r.set_status(COVERAGE)
-        r.coverage(lap_view(ARRIVED_ONLY))
-        r.coverage(lap_view(BACK_HOME))
-        assert r.status == COVERAGE and r.surplus == 0
+    for bot in (mover(surplus_stop=False), Bot(groups=1, d_cover=4.0),
+                Bot(groups=3, d_cover=8.0)):
+        bot.step(ARRIVED_ONLY)
+        bot.step(BACK_HOME)
+        assert bot.me["status"] == COVERAGE and bot.me["surplus"] == 0
 
 
 def test_movers_off_the_target_that_hear_a_surplus_robot_of_their_group_stop():
     heard = [((3.0, 0.0), 40, 1, ARRIVE), ((12.0, 0.0), 9, 1, SURPLUS)]
-    r = mover()
-    r.coverage(lap_view(heard))
-    assert r.status == SURPLUS
+    bot = mover()
+    bot.step(heard)
+    assert bot.me["status"] == SURPLUS
     on_target = mover()  # on the target a place may be near: carry on
-    on_target.coverage(lap_view(heard, on_target=True))
-    assert on_target.status == COVERAGE
+    on_target.step(heard, on_target=True, probe=lambda offset: True)
+    assert on_target.me["status"] == COVERAGE
     no_spread = mover(surplus_spread=False)
-    no_spread.coverage(lap_view(heard))
-    assert no_spread.status == COVERAGE
+    no_spread.step(heard)
+    assert no_spread.me["status"] == COVERAGE
 
 
 def test_a_lap_counts_only_if_it_went_round_the_beacon():
-    # into a bay of the structure's edge and back out beside the formation: the bearing to
-    # the beacon swung by 90 degrees and back, so the lap did not go round the structure
-    bay = mover()
+    bay = mover()  # into a bay and back out: the bearing swung 90 degrees and back
     for deg in [*range(0, 91, 10), *range(90, -1, -10)]:
-        bay.coverage(lap_view(ARRIVED_ONLY, beacon_deg=deg))
-    bay.coverage(lap_view(BACK_HOME, beacon_deg=0))
-    assert bay.status == COVERAGE and bay.surplus == 0 and not bay.away
-    # all the way round (bearing turned 300 degrees, past surplus_winding = 270)
-    lap = mover()
+        bay.step(ARRIVED_ONLY, beacon_deg=deg)
+    bay.step(BACK_HOME, beacon_deg=0)
+    assert bay.me["status"] == COVERAGE and bay.me["surplus"] == 0 and not bay.me["away"]
+    lap = mover()  # all the way round: 300 degrees, past surplus_winding = 270
     for deg in range(0, 301, 20):
-        lap.coverage(lap_view(ARRIVED_ONLY, beacon_deg=deg))
-    assert abs(np.degrees(lap.winding) - 300) < 1e-6
-    lap.coverage(lap_view(BACK_HOME, beacon_deg=300))
-    assert lap.status == SURPLUS
+        lap.step(ARRIVED_ONLY, beacon_deg=deg)
+    assert abs(np.degrees(lap.me["winding"]) - 300) < 1e-6
+    lap.step(BACK_HOME, beacon_deg=300)
+    assert lap.me["status"] == SURPLUS
 
 
-def _travel_then_leave(r: GGCRobot, vx: float, vy: float) -> None:
-    """Drive ``r`` through its formation's travel (its parent broadcasts TRAVEL (vx, vy), then
-    HALT) and on into Coverage."""
-    from controllers.ggc.robot import CMD_HALT, CMD_TRAVEL, INITIAL
-
+def _travel_then_leave(bot: Bot, vx: float, vy: float) -> None:
+    """Drive ``bot`` through its formation's travel (its parent broadcasts TRAVEL (vx, vy),
+    then HALT) and on into Coverage."""
+    bot.me["status"] = INITIAL
+    group = int(bot.me["group"])
     for cmd in (CMD_TRAVEL, CMD_HALT):
-        p = perception([((1.0, 0.0), 0, r.group, INITIAL)])   # my gradient parent: the leader
-        p.messages["gradient"], p.messages["cmd"] = 0, cmd
-        p.messages["vx"], p.messages["vy"] = vx, vy
-        r.initial(p)
-    assert r.status == DETECTION
-    r.start_coverage(perception([((1.0, 0.0), 0, r.group, ARRIVE)]))
+        bot.step([((1.0, 0.0), 0, group, INITIAL)], gradient=0, cmd=cmd, vx=vx, vy=vy)
+    assert bot.me["status"] == DETECTION
+    bot.step([((8.0, 0.0), 0, group, ARRIVE)])
+    assert bot.me["status"] == COVERAGE
+
+
+def test_a_formation_robot_copies_its_parents_travel_and_halts_with_it():
+    bot = Bot(groups=1, status=INITIAL)
+    d = bot.step([((1.0, 0.0), 0, 1, INITIAL), ((2.0, 0.0), 3, 1, INITIAL)],
+                 gradient=[0, 1], cmd=CMD_TRAVEL, vx=0.05, vy=0.08)
+    assert bot.me["grad"] == 1 and d.velocities[0].tolist() == [np.float32(0.05),
+                                                                np.float32(0.08)]
+    d = bot.step([((1.0, 0.0), 0, 1, INITIAL)], gradient=0, cmd=CMD_HALT)
+    assert bot.me["status"] == DETECTION and d.velocities[0].tolist() == [0.0, 0.0]
 
 
 def test_each_group_orbits_away_from_the_beacon_side_it_came_from():
     senses = {}
     for vx in (0.05, -0.05):
-        r = robot(groups=3)
-        _travel_then_leave(r, vx, 0.087)             # up toward the beacon, from its left/right
-        senses[vx] = r.sense
-    assert senses == {0.05: -1, -0.05: 1}          # came from the left: clockwise, heads left
-    r = robot(groups=3)
-    _travel_then_leave(r, 0.05, -0.087)             # from above-left: counter-clockwise
-    assert r.sense == 1
-
-
-def test_group_orbit_same_alternate_and_one_group_keep_their_rules():
-    for groups, rule, group, expected in [(1, "away", 1, 1), (3, "same", 1, 1),
-                                          (3, "alternate", 1, 1), (3, "alternate", 2, -1)]:
-        r = robot(groups=groups, group_orbit=rule)
-        r.group = group
-        _travel_then_leave(r, 0.05, 0.087)
-        assert r.sense == expected, (groups, rule, group)
-
-
-def test_group_orbit_must_be_a_known_rule():
-    with pytest.raises(ValueError, match="group_orbit"):
-        GGCParams(group_orbit="left")
-
-
-def test_with_stop_on_target_only_a_mover_off_the_target_does_not_stop_for_other_groups():
-    rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
-    for flag, expected in ((False, STOP), (True, COVERAGE)):
-        r = robot(stop_on_target_only=flag)
-        r.status = COVERAGE
-        r.coverage(perception(rows))  # off the target (perception's floor sensor says so)
-        assert r.status == expected, flag
-
-
-def test_after_stop_patience_ticks_in_stop_a_robot_goes_on_and_passes_for_T_s():
-    view = perception([((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)])
-
-    def at(tick: int) -> Perception:
-        return dataclasses.replace(view, tick=tick)
-
-    r = robot(stop_patience=300, T_s=100)
-    r.status = COVERAGE
-    r.coverage(at(10))
-    assert r.status == STOP  # Section 4.3: another group's mover with priority
-    r.stopped(at(309))
-    assert r.status == STOP  # still there, and patience not yet used up
-    r.stopped(at(310))
-    assert r.status == COVERAGE  # waited stop_patience ticks: goes on
-    r.coverage(at(409))
-    assert r.status == COVERAGE  # and passes that mover for T_s ticks
-    r.coverage(at(410))
-    assert r.status == STOP
-    patient = robot()  # the default (0): waits as long as the mover is there
-    patient.status = COVERAGE
-    patient.coverage(at(10))
-    patient.stopped(at(100_000))
-    assert patient.status == STOP
-
-
-def test_on_the_target_a_robot_in_stop_waits_whatever_its_stop_patience():
-    view = dataclasses.replace(perception([((2.0, 0.5), 9, 2, COVERAGE)]), on_target=True,
-                               probe=lambda offset: True)
-    r = robot(stop_patience=300, T_s=100)
-    r.status = STOP
-    r.stop_since = 10
-    r.stopped(dataclasses.replace(view, tick=5000))
-    assert r.status == STOP  # the mover is still there: on the target, the paper's rule
-    r.stopped(dataclasses.replace(view, tick=5001, on_target=False))
-    assert r.status == COVERAGE  # off the target the same wait has used up its patience
-
-
-def test_stop_patience_counts_from_a_deadlock_stop_too():
-    view = perception([((2.0, 0.5), 9, 2, COVERAGE)])
-    r = robot(stop_patience=300, T_s=100)
-    r.status = COVERAGE
-    r.deadlock_stop(dataclasses.replace(view, tick=1000))
-    r.stopped(dataclasses.replace(view, tick=1100))  # T_s is over, the mover is still there
-    assert r.status == STOP
-    r.stopped(dataclasses.replace(view, tick=1300))
-    assert r.status == COVERAGE
-
-
-def test_stop_patience_must_not_be_negative():
-    with pytest.raises(ValueError, match="stop_patience"):
-        GGCParams(stop_patience=-1)
+        bot = Bot(groups=3)
+        _travel_then_leave(bot, vx, 0.087)             # up toward the beacon
+        senses[vx] = bot.me["sense"]
+    assert senses == {0.05: -1, -0.05: 1}
+    bot = Bot(groups=3)
+    _travel_then_leave(bot, 0.05, -0.087)               # from above-left
+    assert bot.me["sense"] == 1
+    one = Bot(groups=1)
+    _travel_then_leave(one, 0.05, 0.087)                # one group: the orbit parameter
+    assert one.me["sense"] == 1
 
 
 def test_deadlock_episodes_open_at_a_detection_and_close_on_progress_or_settling():
-    r = robot()
-    r.set_status(COVERAGE)
-    view = lap_view(ARRIVED_ONLY)
+    bot = Bot()
+    T = bot.swarm.params.T_r
+    here = [((6.0, 0.0), 40, 1, ARRIVE), ((6.0, 3.0), 41, 1, ARRIVE)]
 
-    def sample(moved: float, tick: int) -> bool:
-        r.odometer[:] = (moved, 0.0)
-        return r.stuck(Perception(tick=tick, offsets=view.offsets, distances=view.distances,
-                                  messages=view.messages, on_target=False, probe=view.probe,
-                                  beacon=None, moved=np.zeros(2)))
+    def sample(moved: float, tick: int) -> None:
+        bot.me["odo_x"], bot.me["odo_y"] = moved, 0.0
+        bot.me["circ_id"] = -1  # no full circle
+        bot.step(here, moved=(0.0, 0.0), tick=tick)
 
-    T = r.p.T_r
-    assert sample(0.0, T) and sample(0.5, 2 * T)            # two detections, one episode
-    assert (r.deadlocks, r.deadlock_episodes, r.in_deadlock) == (2, 1, True)
-    assert not sample(5.0, 3 * T) and r.deadlocks_released == 1 and not r.in_deadlock
-    assert sample(0.0, 4 * T) and r.deadlock_episodes == 2  # a new episode ...
-    r.set_status(ARRIVE)                                     # ... ends when it settles
-    assert r.deadlocks_released == 2 and not r.in_deadlock
-
-
-def _beside_other_groups_robots(second: bool) -> Perception:
-    """On the target at d_cover from another group's arrived robot (gradients not comparable:
-    my gradient is far larger than its); ``second``: a second arrived robot of that group
-    within d_cover + arrive_tolerance, so that stopping here closes a triangle."""
-    rows = [((6.0, 0.0), 8, 2, ARRIVE)] + ([((3.0, 5.5), 9, 2, ARRIVE)] if second else [])
-    p = perception(rows)
-    p.messages["gradient"] = 3
-    return dataclasses.replace(p, on_target=True, probe=lambda offset: True)
+    sample(0.0, T)
+    bot.me["status"] = COVERAGE
+    sample(0.5, 2 * T)                                      # two detections, one episode
+    assert (bot.me["deadlocks"], bot.me["episodes"], bot.me["in_deadlock"]) == (2, 1, True)
+    bot.me["status"] = COVERAGE
+    sample(5.0, 3 * T)
+    assert not bot.me["in_deadlock"] and bot.swarm.summarize()["deadlocks_released"] == 1
+    sample(0.0, 4 * T)
+    assert bot.me["episodes"] == 2 and bot.me["in_deadlock"]
+    bot.me["status"] = COVERAGE
+    bot.step(here, on_target=True, probe=lambda offset: False)  # arrives: the episode ends
+    assert bot.me["status"] == ARRIVE and not bot.me["in_deadlock"]
+    assert bot.swarm.summarize()["deadlocks_released"] == 2
 
 
-def test_junction_stop_decides_rule_b_beside_another_groups_arrived_robot():
-    expected = {"always": (True, True), "lattice": (False, True), "never": (False, False)}
-    for rule, (alone, triangle) in expected.items():
-        r = robot(junction_stop=rule)
-        r.grad = 40
-        assert r.should_arrive(_beside_other_groups_robots(False), 0) == alone, rule
-        assert r.should_arrive(_beside_other_groups_robots(True), 0) == triangle, rule
-    own = robot(junction_stop="lattice")  # my own group's robots: the gradient rule as before
-    own.grad = 2
-    p = _beside_other_groups_robots(False)
-    p.messages["group"] = 1
-    assert own.should_arrive(p, 0)
+def _beside_other_groups_robots(second: bool):
+    """On the target at d_cover from another group's arrived robot; ``second``: a second
+    arrived robot of that group within d_cover + arrive_tolerance (a triangle closes)."""
+    return [((6.0, 0.0), 8, 2, ARRIVE)] + ([((3.0, 5.5), 9, 2, ARRIVE)] if second else [])
 
 
-def test_junction_stop_must_be_a_known_rule():
-    with pytest.raises(ValueError, match="junction_stop"):
-        GGCParams(junction_stop="sometimes")
+def test_rule_b_beside_another_groups_arrived_robot_needs_a_triangle():
+    for second, arrives in ((False, False), (True, True)):
+        bot = Bot()
+        bot.me["grad"] = 40
+        bot.step(_beside_other_groups_robots(second), on_target=True,
+                 probe=lambda offset: True, gradient=3)
+        assert (bot.me["status"] == ARRIVE) == arrives, second
+    own = Bot()  # my own group's robot: the gradient rule
+    own.me["grad"] = 2
+    own.step([((6.0, 0.0), 8, 1, ARRIVE)], on_target=True, probe=lambda offset: True,
+             gradient=3)
+    assert own.me["status"] == ARRIVE
 
 
-def _outside_beside_an_arrived_robot() -> Perception:
-    """Off the target, d_cover from an arrived robot of my group, target floor toward it:
-    the strip between the structure and the boundary is uncovered."""
-    return dataclasses.replace(perception([((6.0, 0.0), 8, 1, ARRIVE)]),
-                               probe=lambda offset: True)
-
-
-def test_boundary_fill_steps_in_with_one_group_by_default_and_as_told_with_groups():
-    expected = {("one-group", 1): True, ("one-group", 3): False, ("always", 3): True,
-                ("never", 1): False, (True, 3): True, ("false", 1): False}
-    for (rule, groups), steps_in in expected.items():
-        r = robot(groups=groups, boundary_fill=rule)
-        r.set_status(COVERAGE)
-        action = r.coverage(_outside_beside_an_arrived_robot())
-        assert r.stepping_in == steps_in, (rule, groups)
+def test_boundary_fill_steps_in_with_one_group_only():
+    for groups, steps_in in ((1, True), (3, False)):
+        bot = Bot(groups=groups)
+        d = bot.step([((6.0, 0.0), 8, 1, ARRIVE)], probe=lambda offset: True)
+        assert bool(bot.me["stepping"]) == steps_in, groups
         if steps_in:  # straight toward the arrived robot
-            assert action.velocity[0] > 0 and action.velocity[1] == 0
+            assert d.velocities[0, 0] > 0 and d.velocities[0, 1] == 0
 
 
-def test_boundary_fill_must_be_a_known_rule():
-    assert GGCParams(boundary_fill=False).boundary_fill == "never"  # it was a bool
-    with pytest.raises(ValueError, match="boundary_fill must be one of one-group"):
-        GGCParams(boundary_fill="sometimes")
-
-
-def _valley_with_numpy(r, p, a, b):
-    """valley_follow as it was written on numpy 2-vectors (the reference)."""
-    from controllers.ggc.geometry import unit
-
-    ra, rb = p.offsets[a] / p.distances[a], p.offsets[b] / p.distances[b]
-    if ra @ rb >= 0:
-        return None
-    axis = unit(ra - rb)
-    along = np.array([axis[1], -axis[0]])
-    reference = r.heading if np.any(r.heading) else np.array([ra[1], -ra[0]]) * r.sense
-    if along @ reference < 0:
-        along = -along
-    centring = max(-1.0, min(1.0, (p.distances[a] - p.distances[b]) * r.p.radial_gain))
-    return unit(along + 0.5 * centring * axis) * r.p.v
-
-
-def test_valley_following_in_floats_matches_numpy_to_the_bit():
-    rng = np.random.default_rng(3)
-    r = robot()
-    checked = 0
-    for _ in range(300):
-        offsets = rng.normal(size=(2, 2)) * 4
-        p = perception([(tuple(o), 8 + k, 1, ARRIVE) for k, o in enumerate(offsets)])
-        r.heading = rng.normal(size=2) if rng.random() < 0.7 else np.zeros(2)
-        r.sense = 1 if rng.random() < 0.5 else -1
-        got, want = r.valley_follow(p, 0, 1), _valley_with_numpy(r, p, 0, 1)
-        assert (got is None) == (want is None)
-        if want is not None:
-            assert got.tobytes() == want.tobytes()
-            checked += 1
-    assert checked > 100  # robots on opposite sides: the valley case itself was compared
+def test_valley_following_goes_along_the_valley_the_way_it_was_heading():
+    bot = Bot()
+    P = bot.swarm.rules
+    between = view([((0.0, 2.0), 8, 1, ARRIVE), ((0.0, -3.0), 9, 1, ARRIVE)])
+    bot.me["head_x"], bot.me["head_y"] = -1.0, 0.1
+    ok, vx, vy = valley(between, bot.me, 0, 1, P)
+    assert ok and vx < 0 and math.isclose(math.hypot(vx, vy), P.v)
+    assert vy < 0  # centring: toward the middle, away from the nearer robot above
+    same_side = view([((0.0, 2.0), 8, 1, ARRIVE), ((1.0, 3.0), 9, 1, ARRIVE)])
+    assert not valley(same_side, bot.me, 0, 1, P)[0]
 
 
 def test_a_mover_stuck_in_a_closed_valley_turns_round_when_it_goes_again():
     """A robot leaving an uneven formation from a corner of two touching formation robots
-    follows the 'valley' between them by its heading, which pointed into the corner. At the
-    dead end it flipped only its orbit sense, which a valley ignores: rejoining and leaving
-    again it pushed into the same corner for good, and two such robots took turns at it
-    while the rest of the formation waited (K, 1 group, scattered start, seed 4: 229 robots
-    never left). Rejoining, it now turns its heading round too."""
-    corner = perception([((0.01, -0.8), 7, 1, DETECTION), ((0.8, 0.02), 8, 1, DETECTION)])
+    follows the valley between them by its heading. Rejoining at the dead end, it turns its
+    heading round too, so that it leaves the other way (K, 1 group, scattered, seed 4)."""
+    corner = [((0.01, -0.8), 7, 1, DETECTION), ((0.8, 0.02), 8, 1, DETECTION)]
     into = np.array([0.7, -0.7])  # toward the corner between the two
-    r = robot(groups=1)
-    r.start_coverage(corner)
-    r.heading = into.copy()
-    assert r.coverage(corner).velocity @ into > 0  # the heading leads it into the corner
-    r.odometer[:] = 0.0
-    at_dead_end = dataclasses.replace(corner, tick=corner.tick + r.p.T_r)
-    r.coverage(at_dead_end)
-    assert r.status == DETECTION and r.yield_count == 2  # wedged: it waits its turn again
-    r.start_coverage(at_dead_end)
-    assert r.coverage(at_dead_end).velocity @ into < 0  # and then leaves the other way
+    bot = Bot(groups=1)
+    bot.me["head_x"], bot.me["head_y"] = into
+    bot.me["progress_tick"] = bot.tick
+    assert bot.step(corner).velocities[0] @ into > 0  # the heading leads into the corner
+    bot.me["odo_x"] = bot.me["odo_y"] = 0.0
+    bot.step(corner, moved=(0.0, 0.0), tick=bot.tick + bot.swarm.params.T_r)
+    assert bot.me["status"] == DETECTION and bot.me["yield_count"] == 2  # waits its turn
+    bot.me["status"] = COVERAGE
+    assert bot.step(corner).velocities[0] @ into < 0  # and then leaves the other way
+
+
+def test_a_lone_mover_wanders_toward_the_beacon_and_stops_where_the_floor_ends():
+    bot = Bot(groups=1)
+    d = bot.step([], beacon_deg=90.0)
+    assert np.allclose(d.velocities[0], [0.0, 0.1])
+    bot.step([], on_target=True, probe=lambda offset: False, beacon_deg=90.0)
+    assert bot.me["status"] == ARRIVE
+
+
+@pytest.mark.parametrize("bad", ["left", "", "PAPER"])
+def test_ruleset_must_be_a_known_rule_set(bad):
+    with pytest.raises(ValueError, match="ruleset must be one of paper"):
+        GGCParams(ruleset=bad)

@@ -105,22 +105,22 @@ RULE_PARAMETERS = {
     "nearest", "a", "b", "r", "reach", "status", "whole", "sender",  # rows, numbers, codes
     "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
     "dist", "wake_range", "wake_on_motion", "wake_tick"}
-"""Every parameter name a ggc-next rule function may take: none is anyone's position."""
+"""Every parameter name a GGC rule function may take: none is anyone's position."""
 
 
 def test_ggc_rules_take_only_local_arguments():
-    """Locality by signature: the rules (controllers/ggc_next/rules) get one robot's view, state
+    """Locality by signature: the rules (controllers/ggc/rules) get one robot's view, state
     row, sensors and probe, and import nothing but numerics and the controller API."""
     import importlib
     import inspect
 
-    rules = sorted((CONTROLLERS / "ggc_next" / "rules").glob("*.py"))
+    rules = sorted((CONTROLLERS / "ggc" / "rules").glob("*.py"))
     seen = set()
     for f in rules:
         allowed = {"__future__", "math", "numpy", "numba", "collections", "controllers.gradient",
                    "swarmsim.controller"}
         assert imported_modules(f) <= allowed, f.name
-        module = importlib.import_module(f"controllers.ggc_next.rules.{f.stem}")
+        module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
         for name, fn in vars(module).items():
             py = getattr(fn, "py_func", None)
             if py is None or py.__module__ != module.__name__:
@@ -133,11 +133,11 @@ def test_ggc_rules_take_only_local_arguments():
 
 
 def ggc_imports() -> dict[str, set[str]]:
-    """Each module of controllers/ggc_next (dotted) -> the controllers.ggc_next modules it imports
+    """Each module of controllers/ggc (dotted) -> the controllers.ggc modules it imports
     (relative imports resolved; "from . import x" is the module x)."""
     root = CONTROLLERS.parent
     graph: dict[str, set[str]] = {}
-    for path in (CONTROLLERS / "ggc_next").rglob("*.py"):
+    for path in (CONTROLLERS / "ggc").rglob("*.py"):
         parts = path.relative_to(root).with_suffix("").parts
         name = ".".join(parts).removesuffix(".__init__")
         package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
@@ -154,13 +154,13 @@ def ggc_imports() -> dict[str, set[str]]:
                     found.add(sub if is_module else module)
             elif isinstance(node, ast.Import):
                 found.update(a.name for a in node.names)
-        graph[name] = {m for m in found if m.startswith("controllers.ggc_next") and m != name}
+        graph[name] = {m for m in found if m.startswith("controllers.ggc") and m != name}
     return graph
 
 
 def test_ggc_has_no_import_circles():
     graph = ggc_imports()
-    assert "controllers.ggc_next.rules.coverage" in graph
+    assert "controllers.ggc.rules.coverage" in graph
     state: dict[str, int] = {}
 
     def visit(m: str, path: list[str]) -> None:

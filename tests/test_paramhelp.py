@@ -62,7 +62,7 @@ def test_the_six_descriptions_once_cut_are_whole() -> None:
     sim, params = attribute_docs(SimConfig), attribute_docs(ggc)
     assert "drawn in index order" in sim["decide_order"][-1]
     assert "turns it off" in sim["batch_decide"][-1]
-    for name in ("gradient_reach", "boundary_fill", "surplus_stop", "lattice_stop"):
+    for name in ("gradient_reach", "boundary_probe", "surplus_stop", "lattice_stop"):
         text = " ".join(params[name])
         assert text.count("(") == text.count(")"), f"{name}: {text[-80:]!r}"
         assert text.rstrip().endswith((".", ")")), f"{name}: {text[-80:]!r}"

@@ -309,7 +309,7 @@ def test_the_python_api_and_the_command_line_run_the_same_controller_by_default(
     cli_default = build_parser().parse_args(["run", "tiny"]).controller
     sim = Simulation("tiny", controller=cli_default, max_ticks=1)
     assert sim.controller_name == Simulation("tiny", max_ticks=1).controller_name == "ggc"
-    assert type(sim.swarm.robots[0]).__module__.startswith("controllers.ggc")
+    assert type(sim.swarm).__module__.startswith("controllers.ggc")
 
 
 def test_a_world_file_may_name_the_controller_and_the_start(tmp_path):

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from controllers.ggc_next import GGC, GGCParams, GGCSwarm
-from controllers.ggc_next.rules.common import View
-from controllers.ggc_next.statuses import COVERAGE
-from controllers.ggc_next.swarm import COLUMNS
+from controllers.ggc import GGC, GGCParams, GGCSwarm
+from controllers.ggc.rules.common import View
+from controllers.ggc.statuses import COVERAGE
+from controllers.ggc.swarm import COLUMNS
 from swarmsim.controller import (
     ChunkActions,
     DecideBatch,

@@ -21,7 +21,7 @@ def run_in_process(out: Path, *args: str) -> tuple[dict, list[dict]]:
 
 
 def test_same_seed_same_run_in_two_processes(tmp_path):
-    args = ("--controller", "ggc-next", "--groups", "3", "--seed", "3", "--max-ticks", "1500",
+    args = ("--controller", "ggc", "--groups", "3", "--seed", "3", "--max-ticks", "1500",
             "--set", "start=random")
     a = run_in_process(tmp_path / "a", *args)
     b = run_in_process(tmp_path / "b", *args)

@@ -6,8 +6,8 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from controllers.ggc_next import GGCParams
-from controllers.ggc_next.statuses import (
+from controllers.ggc import GGCParams
+from controllers.ggc.statuses import (
     APPROACH,
     ARRIVE,
     COVERAGE,
@@ -21,7 +21,7 @@ from controllers.ggc_next.statuses import (
 from swarmsim import Simulation
 from swarmsim.world import world_from_dict
 
-from .ggc_next_bot import Bot, ggc_state
+from .ggc_bot import Bot, ggc_state
 from .test_ggc import small_world
 
 SELECTION = (GGCParams().h_max + 1) * GGCParams().T_settle
@@ -29,7 +29,7 @@ SELECTION = (GGCParams().h_max + 1) * GGCParams().T_settle
 
 
 def scattered(world, robots, groups, seed, **settings):
-    return Simulation(world, controller="ggc-next", robots=robots, groups=groups, seed=seed,
+    return Simulation(world, controller="ggc", robots=robots, groups=groups, seed=seed,
                       max_ticks=20000, settings={"start": "random", **settings})
 
 
@@ -102,7 +102,7 @@ def test_two_groups_meeting_head_on_resolve_without_deadlock():
     """The corridor world: two formations enter a band from its two ends and meet."""
     from swarmsim.world import load_world
 
-    sim = Simulation(load_world("corridor"), controller="ggc-next", robots=60, groups=2, seed=0,
+    sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
                      max_ticks=20000)
     s = sim.run().summary
     assert s["stop_reason"] in ("complete", "plateau"), s  # never stalled or out of ticks
@@ -124,7 +124,7 @@ def test_too_many_groups_is_a_clear_error():
     from swarmsim import ConfigError
 
     with pytest.raises(ConfigError, match="groups.*20.*at most 16"):
-        Simulation(small_world(), controller="ggc-next", robots=60, groups=20, seed=0)
+        Simulation(small_world(), controller="ggc", robots=60, groups=20, seed=0)
 
 
 @pytest.mark.parametrize("groups", [1, 3])
