@@ -141,6 +141,15 @@ def is_waiting(status):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def group_status_heard(view, me, status, reach):  # pragma: no cover - compiled
+    """Is a robot of my group with ``status`` within ``reach``?"""
+    for r in range(within(view.dist, reach)):
+        if view.status[r] == status and view.group[r] == me.group:
+            return True
+    return False
+
+
+@njit(cache=True)
 def waiting_near(view, P):  # pragma: no cover - compiled
     """How many neighbours within 1.5 d_min wait to move (Initial, Detection)."""
     n = 0

@@ -14,7 +14,7 @@ import math
 from numba import njit
 
 from ..statuses import DETECTION, STOP
-from .common import NO, set_status, still, turn_between, within
+from .common import NO, group_status_heard, set_status, still, turn_between
 
 
 @njit(cache=True)
@@ -69,10 +69,7 @@ def wedged(view, me, P):  # pragma: no cover - compiled
     reach = 0.9 * P.d_safe
     if P.d_cover <= P.yield_release or P.groups > 1:
         reach = 1.5 * P.d_min
-    for r in range(within(view.dist, reach)):
-        if view.status[r] == DETECTION and view.group[r] == me.group:
-            return True
-    return False
+    return group_status_heard(view, me, DETECTION, reach)
 
 
 @njit(cache=True)

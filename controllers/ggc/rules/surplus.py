@@ -14,7 +14,15 @@ import math
 from numba import njit
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
-from .common import NO, is_waiting, probe, set_status, still, turn_between, within
+from .common import (
+    NO,
+    group_status_heard,
+    is_waiting,
+    probe,
+    set_status,
+    still,
+    turn_between,
+)
 
 
 @njit(cache=True)
@@ -36,15 +44,6 @@ def track_winding(me, sense):  # pragma: no cover - compiled
     if not math.isnan(me.beacon_angle):
         me.winding += turn_between(me.beacon_angle, angle)
     me.beacon_angle = angle
-
-
-@njit(cache=True)
-def group_status_heard(view, me, status, reach):  # pragma: no cover - compiled
-    """Is a robot of my group with ``status`` within ``reach``?"""
-    for r in range(within(view.dist, reach)):
-        if view.status[r] == status and view.group[r] == me.group:
-            return True
-    return False
 
 
 @njit(cache=True)
