@@ -18,6 +18,7 @@ from swarmsim.registry import available_controllers, get_controller
 from swarmsim.sim import Simulation
 from swarmsim.summary import SummaryCollector
 from tests.conftest import square_world
+from tests.import_graph import assert_no_circles
 
 ROOT = Path(__file__).resolve().parents[1]
 ENGINE = ROOT / "swarmsim"
@@ -56,21 +57,8 @@ def test_the_engine_imports_nothing_from_controllers():
 def test_the_engine_has_no_import_circles():
     graph = engine_imports()
     modules = set(graph)
-    edges = {m: {d for d in deps if d in modules and d != m} for m, deps in graph.items()}
-    state: dict[str, int] = {}
-
-    def visit(m: str, path: list[str]) -> None:
-        state[m] = 1
-        for d in sorted(edges[m]):
-            if state.get(d) == 1:
-                raise AssertionError(" -> ".join([*path[path.index(d):], d]))
-            if d not in state:
-                visit(d, [*path, d])
-        state[m] = 2
-
-    for m in sorted(modules):
-        if m not in state:
-            visit(m, [m])
+    assert_no_circles({m: {d for d in deps if d in modules and d != m}
+                       for m, deps in graph.items()})
 
 
 def test_importing_the_controller_api_loads_no_physics_or_drawing():

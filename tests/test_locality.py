@@ -16,6 +16,7 @@ from swarmsim.controller import (
     get_controller,
 )
 from swarmsim.sensing import FloorProbe, FloorSensor
+from tests.import_graph import assert_no_circles
 
 CONTROLLERS = Path(__file__).resolve().parent.parent / "controllers"
 FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics", "swarmsim.sim",
@@ -161,19 +162,6 @@ def ggc_imports() -> dict[str, set[str]]:
 def test_ggc_has_no_import_circles():
     graph = ggc_imports()
     assert "controllers.ggc.rules.coverage" in graph
-    state: dict[str, int] = {}
-
-    def visit(m: str, path: list[str]) -> None:
-        state[m] = 1
-        for d in sorted(graph.get(m, ())):
-            if d not in graph or m.startswith(d + "."):
-                continue  # a package's own __init__ runs first: not a circle
-            if state.get(d) == 1:
-                raise AssertionError(" -> ".join([*path[path.index(d):], d]))
-            if d not in state:
-                visit(d, [*path, d])
-        state[m] = 2
-
-    for m in sorted(graph):
-        if m not in state:
-            visit(m, [m])
+    # a package's own __init__ runs first: importing it is not a circle
+    assert_no_circles({m: {d for d in deps if not m.startswith(d + ".")}
+                       for m, deps in graph.items()})
