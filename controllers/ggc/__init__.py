@@ -23,6 +23,7 @@ aggregation (Algorithms 3-4)   rules/aggregation.py (the scattered start)
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -35,6 +36,10 @@ from swarmsim.controller import (
     register,
     run_message_fields,
 )
+
+from .kernelcache import drop_stale_kernels
+
+drop_stale_kernels(Path(__file__).parent)  # before any rule is compiled or loaded
 
 from .params import GGCParams
 from .state import MAX_GROUPS, message_fields
