@@ -68,6 +68,19 @@ def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
     assert bot.me["status"] == COVERAGE
 
 
+def test_under_the_yield_rule_set_another_groups_mover_parks_no_one():
+    """ruleset "yield": no Stop between groups; a larger-id mover close ahead of any group is
+    given way to (coverage.give_way), one behind is not."""
+    rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
+    paper, yielding = Bot(), Bot(ruleset="yield")
+    assert stops(view(rows), yielding.me, None, yielding.swarm.rules) is False
+    assert stops(view(rows), paper.me, None, paper.swarm.rules)
+    yielding.step(rows)
+    assert yielding.me["status"] == COVERAGE and yielding.me["collision_stops"] == 0
+    behind = [((-2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
+    assert np.hypot(*yielding.step(behind).velocities[0]) > 0  # nobody ahead: it moves on
+
+
 def _yielder_view(enclosed: list[bool], with_leader: bool):
     """A wedged rim robot: waiting robots of its group on one side (one row of a formation),
     and, with_leader, an arrived robot on the other side closing the ring."""

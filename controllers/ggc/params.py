@@ -76,7 +76,9 @@ class GGCParams:
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
             of its group stops as Surplus too.
         ruleset: the inter-group rule (rules/intergroup.py): "paper" (Section 4.3: a mover
-            stops while another group's mover in Coverage with a larger id is within d_cover).
+            stops while another group's mover in Coverage with a larger id is within d_cover)
+            or "yield" (no Stop between groups: movers of all groups give way to a larger-id
+            mover close ahead, as movers of one group do).
     """
 
     d_safe: float = 1.0

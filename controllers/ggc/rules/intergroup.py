@@ -7,6 +7,9 @@ RULESETS and a branch in each of these two functions.
 
 * "paper" (Section 4.3): a mover that hears another group's mover in Coverage within
   d_cover with a larger id stops until no such mover is left.
+* "yield": no Stop between groups: movers of every group give way to each other as movers
+  of one group do (coverage.give_way: a larger-id mover close ahead), so no robot is parked
+  as structure for another group.
 """
 
 from __future__ import annotations
@@ -16,8 +19,8 @@ from numba import njit
 from ..statuses import COVERAGE
 from .common import within
 
-PAPER = 0
-RULESETS = {"paper": PAPER}
+PAPER, YIELD = 0, 1
+RULESETS = {"paper": PAPER, "yield": YIELD}
 """Rule set names and their codes."""
 
 
@@ -46,3 +49,4 @@ def keeps_waiting(view, me, sense, P):  # pragma: no cover - compiled
     if P.ruleset == PAPER:
         return other_group_mover(view, me, P)
     return False
+
