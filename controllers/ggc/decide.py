@@ -17,6 +17,8 @@ from .rules.aggregation import gather, select_leaders
 from .rules.common import Probe, Sense, View
 from .rules.coverage import coverage, stopped
 from .rules.detection import detection
+from .rules.holes import cover_radius, settled
+from .rules.intergroup import FILL
 from .rules.travel import initial
 from .statuses import (
     APPROACH,
@@ -58,6 +60,8 @@ def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
         return detection(view, me, sense, pb, P)
     if s == STOP:
         return stopped(view, me, sense, pb, P)
+    if s == ARRIVE and P.ruleset & FILL:
+        return settled(view, me, sense, pb, P)
     if s == ARRIVE or s == SURPLUS:
         return 0.0, 0.0, True, 0.0, True, -1
     return gather(view, me, sense, pb, P)
@@ -74,6 +78,8 @@ def listen_range(status, P):  # pragma: no cover - compiled
         return 1.5 * P.d_min
     if status == DETECTION:
         return max(P.d_cover, 1.5 * P.d_min)
+    if status == ARRIVE and P.ruleset & FILL:
+        return P.d_cover + cover_radius(P)
     return P.d_safe  # Arrive, Surplus
 
 
@@ -98,7 +104,7 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
         view = View(c[1][a:b], c[2][a:b], c[3][a:b], c[4][a:b], c[5][a:b], c[6][a:b],
                     c[7][a:b], c[8][a:b], c[9][a:b], c[10][a:b], c[11][a:b], c[12][a:b],
                     c[13][a:b], c[14][a:b], c[15][a:b], c[16][a:b], c[17][a:b], c[18][a:b],
-                    c[19][a:b])
+                    c[19][a:b], c[20][a:b], c[21][a:b], c[22][a:b])
         sense = Sense(tick, on_target[j], moved[j, 0], moved[j, 1], has_beacon,
                       beacons[j, 0], beacons[j, 1])
         calls[j] = 0

@@ -17,6 +17,7 @@ from swarmsim.controller import NO_SENDER, RobotSetup
 
 from .rules.aggregation import FAR
 from .rules.coverage import NO_WAY_SLOTS
+from .rules.holes import NO_HOLE
 from .statuses import APPROACH, FORMED, INITIAL, MOVING_STATUSES
 
 MAX_GROUPS = 16
@@ -45,6 +46,9 @@ STATE_DTYPE = np.dtype([
     # the scattered start
     ("h", "i1"), ("handover", "i4"), ("handover_tick", "i8"), ("quiet", "i4"),
     ("ldist", "f8", (MAX_GROUPS,)), ("lepoch", "i8", (MAX_GROUPS,)),
+    # holes inside the structure (rules/holes.py): hops to the nearest, its offset (units)
+    ("hole", "i1"), ("hole_x", "f8"), ("hole_y", "f8"),
+    ("seen_x", "f8"), ("seen_y", "f8"), ("seen_since", "i8"), ("hole_rest", "i8"),
     # my own random stream (xorshift64*)
     ("rng", "u8"),
 ])
@@ -55,11 +59,12 @@ ALL_MESSAGE_FIELDS = [("gradient", "i4"), ("group", "i2"), ("leader", "?"), ("cm
                       ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                       ("enclosed", "?"), ("h", "i1"), ("handover", "i4"),
                       ("ldist", "f4", (MAX_GROUPS,)), ("lepoch", "i4", (MAX_GROUPS,)),
-                      ("quiet", "i4")]
+                      ("quiet", "i4"), ("hole", "i1"), ("hx", "f4"), ("hy", "f4")]
 """GGC's broadcast fields (beside the engine's id, status, moving) for up to MAX_GROUPS
 groups; a run has one ldist and lepoch entry per group (:func:`message_fields`)."""
 
-SOURCES = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y"}
+SOURCES = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y", "hx": "hole_x",
+           "hy": "hole_y"}
 """Broadcast field -> state field, where the names differ."""
 
 
@@ -94,6 +99,8 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
     s["handover"] = NO_SENDER
     s["handover_tick"] = -1
     s["ldist"] = FAR
+    s["hole"] = NO_HOLE
+    s["seen_since"] = -1
     for i in np.flatnonzero(leader):
         s["ldist"][i, s["group"][i] - 1] = 0.0
     s["rng"] = [int(rng.integers(1, 2**63)) for rng in rngs]

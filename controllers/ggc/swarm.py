@@ -25,7 +25,7 @@ from .state import broadcast_rows, new_state
 from .statuses import STATUSES
 
 COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
-           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch")
+           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch", "hole", "hx", "hy")
 """The broadcast columns a rule's view holds, in View's order (after off, dist)."""
 SCATTERED_COLUMNS = ("h", "handover", "quiet", "ldist", "lepoch")
 """Columns only the scattered start's rules read (left empty in a formation start)."""

@@ -20,7 +20,7 @@ from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
 
 View = namedtuple("View", ["off", "dist", "id", "status", "grad", "group", "leader", "moving",
                            "cmd", "vx", "vy", "touch", "stepped", "enclosed", "h", "handover",
-                           "quiet", "ldist", "lepoch"])
+                           "quiet", "ldist", "lepoch", "hole", "hx", "hy"])
 """One robot's neighbours, nearest first: offsets (k, 2) relative to it and distances (k,),
 units, then the columns of their last broadcasts (k,) ((k, groups) for ldist and lepoch)."""
 Sense = namedtuple("Sense", ["tick", "on_target", "moved_x", "moved_y", "has_beacon",

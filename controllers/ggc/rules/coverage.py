@@ -30,7 +30,8 @@ from .common import (
 )
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
 from .gradient import follow_gradient
-from .intergroup import keeps_waiting, stops
+from .holes import HOLE_REST, hole_heard, to_hole
+from .intergroup import FILL, keeps_waiting, stops
 from .surplus import give_up, is_surplus, restart_lap, track_winding
 
 NO_WAY_SLOTS = 8
@@ -166,6 +167,10 @@ def give_way(view, me, vx, vy, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     """One tick of Coverage (see the module docstring)."""
+    if P.ruleset & FILL:
+        found, hx, hy = hole_heard(view, me, sense, P)
+        if found:
+            return fill_hole(view, me, sense, pb, hx, hy, P)
     a, b = edge_rows(view, me, P)
     if a < 0:
         return wander(view, me, sense, pb, P)
@@ -197,6 +202,25 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
             me.head_x, me.head_y = -me.head_x, -me.head_y
             me.yield_count = waiting_near(view, P)
             return still()
+    if stops(view, me, sense, P):
+        set_status(me, STOP)
+        me.collision_stops += 1
+        return still()
+    return give_way(view, me, vx, vy, P)
+
+
+@njit(cache=True)
+def fill_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
+    """Go for a hole arrived robots report (rules/holes.py); stuck, rest from holes."""
+    if stuck(me, sense, P):
+        me.hole_rest = sense.tick + HOLE_REST
+        return still()
+    arrived, vx, vy = to_hole(view, me, sense, pb, hx, hy, P)
+    if arrived:
+        a, _ = edge_rows(view, me, P)
+        if a >= 0:
+            follow_gradient(view, me, a, P)
+        return still()
     if stops(view, me, sense, P):
         set_status(me, STOP)
         me.collision_stops += 1

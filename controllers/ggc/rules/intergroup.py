@@ -19,9 +19,10 @@ from numba import njit
 from ..statuses import COVERAGE
 from .common import within
 
-PAPER, YIELD = 0, 1
-RULESETS = {"paper": PAPER, "yield": YIELD}
-"""Rule set names and their codes."""
+PAPER, YIELD, FILL = 0, 1, 2
+RULESETS = {"paper": PAPER, "yield": YIELD, "fill": PAPER | FILL, "yield-fill": YIELD | FILL}
+"""Rule set names and their codes: bit YIELD, no Stop between groups; bit FILL, movers fill
+the holes arrived robots report (rules/holes.py)."""
 
 
 @njit(cache=True)
@@ -38,15 +39,15 @@ def other_group_mover(view, me, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def stops(view, me, sense, P):  # pragma: no cover - compiled
     """Does a mover in Coverage Stop now, for another group's movers?"""
-    if P.ruleset == PAPER:
-        return other_group_mover(view, me, P)
-    return False
+    if P.ruleset & YIELD:
+        return False
+    return other_group_mover(view, me, P)
 
 
 @njit(cache=True)
 def keeps_waiting(view, me, sense, P):  # pragma: no cover - compiled
     """Does a robot in Stop (not waiting out a deadlock) wait on?"""
-    if P.ruleset == PAPER:
-        return other_group_mover(view, me, P)
-    return False
+    if P.ruleset & YIELD:
+        return False
+    return other_group_mover(view, me, P)
 

@@ -1,0 +1,217 @@
+"""Holes: arrived robots point movers at uncovered spots inside the structure (our addition).
+
+Robots that arrive a little too far apart leave spots inside the structure that no robot
+covers, and movers, which follow the structure's edge, never reach them: runs then end on a
+plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure").
+
+* **Finding a hole.** An arrived robot inside the structure (its arrived neighbours within
+  hole reach, d_cover + r, leave no angular gap of HOLE_GAP or more) looks at each triangle it
+  makes with two angularly consecutive arrived neighbours. A triangle whose circumcentre lies
+  inside it and farther than r + HOLE_MARGIN (r: the coverage radius, lattice_reach /
+  sqrt(3)) from every stationary robot heard has a hole there. It reports the hole once it has seen it for
+  HOLE_AGE ticks (the structure's growing edge is not a hole).
+* **Passing it on.** Such a robot broadcasts hops 0 and the hole's offset from itself; an
+  arrived robot that finds none takes 1 + the fewest hops an arrived neighbour broadcasts,
+  with that neighbour's hole seen from itself, up to HOLE_HOPS hops, and only while it cannot
+  see the hole covered. Arrived robots look again every HOLE_PERIOD ticks.
+* **Filling it.** A mover that hears a hole that no stationary robot it sees covers, and that
+  no mover it sees is nearer to, goes straight for it, through the structure, sidestepping the robots in its way, and arrives there; or,
+  on the target, where its floor probe finds the hole off the target (a triangle across a
+  concave corner of the target). A mover stuck on its way rests from holes HOLE_REST
+  ticks.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..statuses import ARRIVE
+from .common import probe, rest, scaled, set_status, within
+
+NO_HOLE = 127
+"""Hops broadcast by a robot that knows of no hole."""
+HOLE_HOPS = 12
+"""How far (hops through arrived robots) news of a hole travels."""
+HOLE_PERIOD = 50
+"""Ticks between an arrived robot's looks for holes."""
+HOLE_MARGIN = 0.5
+"""Only a triangle whose circumradius is more than r + HOLE_MARGIN (units) has a hole worth a
+robot (a slightly wide triangle leaves a sliver uncovered, and filling it costs a whole
+robot)."""
+HOLE_GAP = math.radians(150)
+"""An arrived robot whose arrived neighbours leave an angular gap this wide is on the
+structure's edge: it reports no hole (the open side is the movers' business)."""
+HOLE_AGE = 1000
+"""Ticks an arrived robot must have seen the same hole before it reports it: while the
+structure grows, movers following its edge fill its gaps; a hole still open this long is
+sealed in."""
+HOLE_SAME = 1.0
+"""A hole seen again within this distance (units) of where it was is the same hole."""
+HOLE_REST = 500
+"""Ticks a mover that got stuck on its way to a hole ignores holes."""
+HOLE_REACHED = 0.5
+"""A mover this close to its hole (units) arrives."""
+HOLE_PROBE = 1.9
+"""A mover this close to its hole (units, within the engine's probe range) probes it."""
+
+
+@njit(cache=True)
+def cover_radius(P):  # pragma: no cover - compiled
+    """r, the coverage radius: lattice_reach is r * sqrt(3)."""
+    return P.lattice_reach / math.sqrt(3.0)
+
+
+@njit(cache=True)
+def covered(view, px, py, r):  # pragma: no cover - compiled
+    """Is (px, py) (relative to me) within r of a stationary robot I hear?"""
+    for k in range(len(view.dist)):
+        if not view.moving[k] and math.hypot(view.off[k, 0] - px, view.off[k, 1] - py) <= r:
+            return True
+    return False
+
+
+@njit(cache=True)
+def circumcentre(bx, by, cx, cy):  # pragma: no cover - compiled
+    """Circumcentre of the triangle (0, B, C); (False, 0, 0) if degenerate."""
+    d = 2.0 * (bx * cy - by * cx)
+    if abs(d) < 1e-9:
+        return False, 0.0, 0.0
+    b2, c2 = bx * bx + by * by, cx * cx + cy * cy
+    return True, (cy * b2 - by * c2) / d, (bx * c2 - cx * b2) / d
+
+
+@njit(cache=True)
+def inside(px, py, bx, by, cx, cy):  # pragma: no cover - compiled
+    """Is P inside the triangle (0, B, C)?"""
+    d1 = -px * by + py * bx
+    d2 = (bx - px) * (cy - by) - (by - py) * (cx - bx)
+    d3 = (cx - px) * (-cy) - (cy - py) * (-cx)
+    neg = d1 < 0 or d2 < 0 or d3 < 0
+    pos = d1 > 0 or d2 > 0 or d3 > 0
+    return not (neg and pos)
+
+
+@njit(cache=True)
+def find_hole(view, sense, P):  # pragma: no cover - compiled
+    """The widest hole beside me (see the module docstring): (found, x, y) relative to me."""
+    r = cover_radius(P)
+    k = within(view.dist, P.d_cover + r)
+    rows = np.empty(max(k, 1), dtype=np.int64)
+    angles = np.empty(max(k, 1))
+    n = 0
+    for j in range(k):
+        if view.status[j] == ARRIVE and not view.moving[j]:
+            rows[n] = j
+            angles[n] = math.atan2(view.off[j, 1], view.off[j, 0])
+            n += 1
+    if n < 3:
+        return False, 0.0, 0.0
+    order = np.argsort(angles[:n])
+    widest, best, hx, hy = 0.0, r + HOLE_MARGIN, 0.0, 0.0
+    for i in range(n):
+        a, b = order[i], order[(i + 1) % n]
+        gap = (angles[b] - angles[a]) % (2 * math.pi)
+        widest = max(widest, gap if n > 1 else 2 * math.pi)
+        bx, by = view.off[rows[a], 0], view.off[rows[a], 1]
+        cx, cy = view.off[rows[b], 0], view.off[rows[b], 1]
+        ok, ox, oy = circumcentre(bx, by, cx, cy)
+        if not ok or not inside(ox, oy, bx, by, cx, cy):
+            continue
+        radius = math.hypot(ox, oy)
+        if radius > best and not covered(view, ox, oy, r):
+            best, hx, hy = radius, ox, oy
+    if widest >= HOLE_GAP or best <= r + HOLE_MARGIN or not sense.on_target:
+        return False, 0.0, 0.0
+    return True, hx, hy
+
+
+@njit(cache=True)
+def relay(view, P):  # pragma: no cover - compiled
+    """1 + the fewest hops an arrived neighbour broadcasts (within hole reach), and that hole
+    seen from me; NO_HOLE if none is heard within HOLE_HOPS or I see it covered."""
+    r = cover_radius(P)
+    hops, hx, hy = NO_HOLE, 0.0, 0.0
+    for j in range(within(view.dist, P.d_cover + r)):
+        h = int(view.hole[j]) + 1
+        if view.status[j] != ARRIVE or view.moving[j] or h >= hops or h > HOLE_HOPS:
+            continue
+        px, py = view.off[j, 0] + view.hx[j], view.off[j, 1] + view.hy[j]
+        if covered(view, px, py, r):
+            continue
+        hops, hx, hy = h, px, py
+    return hops, hx, hy
+
+
+@njit(cache=True)
+def settled(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """An arrived robot's tick: with hole filling, look for holes and pass news of them on,
+    then sleep until the next look."""
+    found, hx, hy = find_hole(view, sense, P)
+    if not found:
+        me.seen_since = -1
+    elif me.seen_since < 0 or math.hypot(hx - me.seen_x, hy - me.seen_y) > HOLE_SAME:
+        me.seen_since = sense.tick
+    me.seen_x, me.seen_y = hx, hy
+    if found and sense.tick - me.seen_since >= HOLE_AGE:
+        me.hole, me.hole_x, me.hole_y = 0, hx, hy
+    else:
+        me.hole, me.hole_x, me.hole_y = relay(view, P)
+    return rest(0.0, True, sense.tick + HOLE_PERIOD)
+
+
+@njit(cache=True)
+def nearer_mover(view, px, py, d):  # pragma: no cover - compiled
+    """Is a mover I see nearer than ``d`` to (px, py) (relative to me)?"""
+    for k in range(len(view.dist)):
+        if view.moving[k] and math.hypot(view.off[k, 0] - px, view.off[k, 1] - py) < d:
+            return True
+    return False
+
+
+@njit(cache=True)
+def hole_heard(view, me, sense, P):  # pragma: no cover - compiled
+    """The nearest-by-hops hole that arrived robots I hear report, that no stationary robot
+    I see covers (within 0.75 r) and that no mover I see is nearer to: (found, x, y)
+    relative to me. None while I rest from holes."""
+    if sense.tick < me.hole_rest:
+        return False, 0.0, 0.0
+    r = cover_radius(P)
+    hops, best, hx, hy = NO_HOLE, math.inf, 0.0, 0.0
+    for j in range(len(view.dist)):
+        h = int(view.hole[j])
+        if view.status[j] != ARRIVE or view.moving[j] or h > hops or h >= NO_HOLE:
+            continue
+        px, py = view.off[j, 0] + view.hx[j], view.off[j, 1] + view.hy[j]
+        d = math.hypot(px, py)
+        if (h == hops and d >= best) or covered(view, px, py, 0.75 * r):
+            continue
+        if nearer_mover(view, px, py, d):
+            continue
+        hops, best, hx, hy = h, d, px, py
+    return hops < NO_HOLE, hx, hy
+
+
+@njit(cache=True)
+def to_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
+    """Head for the hole at (hx, hy), sidestepping a robot close ahead; arrive on it (or,
+    on the target, where the probe finds it off the target). (arrived, vx, vy)."""
+    d = math.hypot(hx, hy)
+    if sense.on_target and (d <= HOLE_REACHED or (d <= HOLE_PROBE and not probe(pb, hx, hy))):
+        set_status(me, ARRIVE)
+        return True, 0.0, 0.0
+    ux, uy = hx / max(d, 1e-9), hy / max(d, 1e-9)
+    for j in range(within(view.dist, 2.0 * P.d_safe)):
+        if view.dist[j] >= d:
+            break
+        ahead = view.off[j, 0] * ux + view.off[j, 1] * uy
+        side = view.off[j, 0] * -uy + view.off[j, 1] * ux
+        if ahead > 0:  # pass it on the side away from it
+            s = -1.0 if side > 0 else 1.0
+            ux, uy = scaled(ux - s * uy, uy + s * ux, 1.0)
+            break
+    me.head_x, me.head_y = ux, uy
+    speed = min(P.v, d)
+    return False, ux * speed, uy * speed

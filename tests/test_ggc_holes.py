@@ -1,0 +1,113 @@
+"""Hole filling (rules/holes.py) on hand-made neighbourhoods: arrived robots find holes inside
+the structure and pass news of them on; movers go and fill them."""
+
+import math
+
+import numpy as np
+import pytest
+
+from controllers.ggc.rules.holes import HOLE_AGE, HOLE_HOPS, HOLE_PERIOD, NO_HOLE
+from controllers.ggc.statuses import ARRIVE, COVERAGE
+
+from .ggc_bot import Bot
+
+
+def ring(spacing: float, first_id: int = 10, skip: tuple = ()) -> list:
+    """Six arrived robots round me, ``spacing`` away, at 0, 60, ... 300 degrees."""
+    rows = []
+    for k in range(6):
+        if k in skip:
+            continue
+        a = math.radians(60 * k)
+        rows.append(((spacing * math.cos(a), spacing * math.sin(a)), first_id + k, 1, ARRIVE))
+    return rows
+
+
+def arrived_bot(ruleset: str = "yield-fill") -> Bot:
+    return Bot(status=ARRIVE, ruleset=ruleset)
+
+
+def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_three():
+    tight = arrived_bot()
+    actions = tight.step(ring(6.0), on_target=True)
+    assert tight.me["hole"] == NO_HOLE  # spacing 6: every triangle's centre is within r = 4
+    assert actions.sleep[0] and actions.wake_tick[0] == tight.tick - 1 + HOLE_PERIOD
+    wide = arrived_bot()
+    wide.step(ring(8.0), on_target=True, tick=100)
+    assert wide.me["hole"] == NO_HOLE  # seen, not reported yet: it may still be filled
+    wide.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE - 1)
+    assert wide.me["hole"] == NO_HOLE
+    wide.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE)
+    assert wide.me["hole"] == 0  # the same hole for HOLE_AGE ticks: sealed in
+    # the circumcentre of (me, two neighbours 8 apart at 60 degrees): 8 / sqrt(3) away
+    assert math.hypot(wide.me["hole_x"], wide.me["hole_y"]) == pytest.approx(8 / math.sqrt(3))
+    assert wide.swarm.rules.ruleset & 2
+
+
+def test_a_robot_on_the_structures_edge_reports_no_hole():
+    edge = arrived_bot()
+    for tick in (100, 100 + HOLE_AGE):
+        edge.step(ring(8.0, skip=(3, 4)), on_target=True, tick=tick)  # the open side: left
+    assert edge.me["hole"] == NO_HOLE and edge.me["seen_since"] == -1
+
+
+def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
+    relay = arrived_bot()
+    rows = ring(6.0)
+    relay.step(rows, on_target=True, hole=[0, NO_HOLE, 3, NO_HOLE, NO_HOLE, NO_HOLE],
+               hx=[2.0, 0, 0, 0, 0, 0], hy=[5.0, 0, 0, 0, 0, 0])
+    assert relay.me["hole"] == 1  # a neighbour at (6, 0) has a hole at (2, 5) from it
+    assert (relay.me["hole_x"], relay.me["hole_y"]) == pytest.approx((8.0, 5.0))
+    covered = arrived_bot()
+    covered.step(rows + [((8.0, 4.0), 30, 1, ARRIVE)], on_target=True,
+                 hole=[0, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE],
+                 hx=[2.0, 0, 0, 0, 0, 0, 0], hy=[5.0, 0, 0, 0, 0, 0, 0])
+    assert covered.me["hole"] == NO_HOLE  # a robot 1 unit from that hole covers it
+    far = arrived_bot()
+    far.step(rows, on_target=True, hole=[HOLE_HOPS] + [NO_HOLE] * 5)
+    assert far.me["hole"] == NO_HOLE  # news travels HOLE_HOPS hops at most
+
+
+def test_a_mover_that_hears_of_a_hole_goes_for_it_and_arrives_on_it():
+    mover = Bot(ruleset="yield-fill")
+    wall = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
+    hole = dict(hole=[2, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # the hole at (8, 0)
+    v = mover.step(wall, on_target=True, **hole).velocities[0]
+    assert v[0] > 0 and abs(v[1]) < 1e-9 and mover.me["status"] == COVERAGE
+    near = [((2.6, 3.0), 20, 1, ARRIVE), ((0.0, -3.0), 21, 1, ARRIVE)]
+    mover.step(near, on_target=True, hole=[0, NO_HOLE], hx=[-2.3, 0.0], hy=[-3.0, 0.0])
+    assert mover.me["status"] == ARRIVE  # 0.3 from the hole
+
+
+def test_only_the_mover_nearest_to_a_hole_goes_for_it_and_a_stuck_one_rests_from_holes():
+    mover = Bot(ruleset="yield-fill")
+    rows = [((3.0, 3.0), 20, 1, ARRIVE), ((6.0, 0.5), 30, 2, COVERAGE)]
+    fields = dict(hole=[0, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # the hole at (8, 0)
+    v = mover.step(rows, on_target=True, **fields).velocities[0]
+    assert not (v[0] > 0 and abs(v[1]) < 1e-9)  # the mover at (6, 0.5) is nearer: not mine
+    alone = Bot(ruleset="yield-fill")
+    alone.me["progress_tick"] = 0
+    alone.step(rows[:1], on_target=True, tick=500, hole=[0], hx=[5.0], hy=[-3.0])  # no progress over T_r ticks
+    assert alone.me["hole_rest"] > 500
+
+
+def test_a_mover_arrives_short_of_a_hole_its_probe_finds_off_the_target():
+    mover = Bot(ruleset="yield-fill")
+    rows = [((3.0, 3.0), 20, 1, ARRIVE)]
+    mover.step(rows, on_target=True, probe=lambda offset: False,
+               hole=[0], hx=[-1.5], hy=[-3.0])  # the hole 1.5 units ahead, off the target
+    assert mover.me["status"] == ARRIVE
+
+
+@pytest.mark.parametrize("ruleset", ["paper", "yield"])
+def test_without_hole_filling_arrived_robots_sleep_for_good_and_movers_follow_the_edge(ruleset):
+    bot = arrived_bot(ruleset)
+    bot.step(ring(8.0), on_target=True, tick=100)
+    actions = bot.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE)
+    assert bot.me["hole"] == NO_HOLE and actions.sleep[0] and actions.wake_tick[0] == -1
+    mover = Bot(ruleset=ruleset)
+    wall = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
+    v = mover.step(wall, on_target=True, hole=[0, NO_HOLE], hx=[5.0, 0.0],
+                   hy=[-3.0, 0.0]).velocities[0]
+    assert not (v[0] > 0 and abs(v[1]) < 1e-9)
+    assert np.hypot(*v) > 0
