@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from controllers.ggc.rules.holes import HOLE_AGE, HOLE_HOPS, HOLE_PERIOD, NO_HOLE
+from controllers.ggc.rules.holes import HOLE_AGE, HOLE_HOPS, HOLE_PATH, HOLE_PERIOD, NO_HOLE
 from controllers.ggc.statuses import ARRIVE, COVERAGE
 
 from .ggc_bot import Bot
@@ -25,6 +25,13 @@ def ring(spacing: float, first_id: int = 10, skip: tuple = ()) -> list:
 
 def arrived_bot(ruleset: str = "yield-fill") -> Bot:
     return Bot(status=ARRIVE, ruleset=ruleset)
+
+
+def mover(ruleset: str = "yield-fill", walked: float = HOLE_PATH) -> Bot:
+    """A mover that has walked ``walked`` units since it left its formation."""
+    bot = Bot(ruleset=ruleset)
+    bot.me["path"] = walked
+    return bot
 
 
 def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_three():
@@ -68,35 +75,47 @@ def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
     assert far.me["hole"] == NO_HOLE  # news travels HOLE_HOPS hops at most
 
 
+WALL = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
+HOLE_AT_8_0 = dict(hole=[2, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # news of a hole at (8, 0)
+
+
+def heads_for_8_0(v) -> bool:
+    return v[0] > 0 and abs(v[1]) < 1e-9
+
+
 def test_a_mover_that_hears_of_a_hole_goes_for_it_and_arrives_on_it():
-    mover = Bot(ruleset="yield-fill")
-    wall = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
-    hole = dict(hole=[2, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # the hole at (8, 0)
-    v = mover.step(wall, on_target=True, **hole).velocities[0]
-    assert v[0] > 0 and abs(v[1]) < 1e-9 and mover.me["status"] == COVERAGE
+    bot = mover()
+    assert heads_for_8_0(bot.step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0])
+    assert bot.me["status"] == COVERAGE
     near = [((2.6, 3.0), 20, 1, ARRIVE), ((0.0, -3.0), 21, 1, ARRIVE)]
-    mover.step(near, on_target=True, hole=[0, NO_HOLE], hx=[-2.3, 0.0], hy=[-3.0, 0.0])
-    assert mover.me["status"] == ARRIVE  # 0.3 from the hole
+    bot.step(near, on_target=True, hole=[0, NO_HOLE], hx=[-2.3, 0.0], hy=[-3.0, 0.0])
+    assert bot.me["status"] == ARRIVE  # 0.3 from the hole
+
+
+def test_a_mover_fresh_from_its_formation_keeps_to_the_edge():
+    fresh = mover(walked=HOLE_PATH - 1)
+    v = fresh.step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0]
+    assert np.hypot(*v) > 0 and not heads_for_8_0(v)
 
 
 def test_only_the_mover_nearest_to_a_hole_goes_for_it_and_a_stuck_one_rests_from_holes():
-    mover = Bot(ruleset="yield-fill")
+    bot = mover()
     rows = [((3.0, 3.0), 20, 1, ARRIVE), ((6.0, 0.5), 30, 2, COVERAGE)]
     fields = dict(hole=[0, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # the hole at (8, 0)
-    v = mover.step(rows, on_target=True, **fields).velocities[0]
-    assert not (v[0] > 0 and abs(v[1]) < 1e-9)  # the mover at (6, 0.5) is nearer: not mine
-    alone = Bot(ruleset="yield-fill")
+    v = bot.step(rows, on_target=True, **fields).velocities[0]
+    assert not heads_for_8_0(v)  # the mover at (6, 0.5) is nearer: not mine
+    alone = mover()
     alone.me["progress_tick"] = 0
     alone.step(rows[:1], on_target=True, tick=500, hole=[0], hx=[5.0], hy=[-3.0])  # no progress over T_r ticks
     assert alone.me["hole_rest"] > 500
 
 
 def test_a_mover_arrives_short_of_a_hole_its_probe_finds_off_the_target():
-    mover = Bot(ruleset="yield-fill")
+    bot = mover()
     rows = [((3.0, 3.0), 20, 1, ARRIVE)]
-    mover.step(rows, on_target=True, probe=lambda offset: False,
-               hole=[0], hx=[-1.5], hy=[-3.0])  # the hole 1.5 units ahead, off the target
-    assert mover.me["status"] == ARRIVE
+    bot.step(rows, on_target=True, probe=lambda offset: False,
+             hole=[0], hx=[-1.5], hy=[-3.0])  # the hole 1.5 units ahead, off the target
+    assert bot.me["status"] == ARRIVE
 
 
 @pytest.mark.parametrize("ruleset", ["paper", "yield"])
@@ -105,9 +124,5 @@ def test_without_hole_filling_arrived_robots_sleep_for_good_and_movers_follow_th
     bot.step(ring(8.0), on_target=True, tick=100)
     actions = bot.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE)
     assert bot.me["hole"] == NO_HOLE and actions.sleep[0] and actions.wake_tick[0] == -1
-    mover = Bot(ruleset=ruleset)
-    wall = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
-    v = mover.step(wall, on_target=True, hole=[0, NO_HOLE], hx=[5.0, 0.0],
-                   hy=[-3.0, 0.0]).velocities[0]
-    assert not (v[0] > 0 and abs(v[1]) < 1e-9)
-    assert np.hypot(*v) > 0
+    v = mover(ruleset).step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0]
+    assert np.hypot(*v) > 0 and not heads_for_8_0(v)

@@ -49,6 +49,7 @@ STATE_DTYPE = np.dtype([
     # holes inside the structure (rules/holes.py): hops to the nearest, its offset (units)
     ("hole", "i1"), ("hole_x", "f8"), ("hole_y", "f8"),
     ("seen_x", "f8"), ("seen_y", "f8"), ("seen_since", "i8"), ("hole_rest", "i8"),
+    ("path", "f8"),
     # my own random stream (xorshift64*)
     ("rng", "u8"),
 ])

@@ -167,6 +167,7 @@ def give_way(view, me, vx, vy, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     """One tick of Coverage (see the module docstring)."""
+    me.path += math.hypot(sense.moved_x, sense.moved_y)
     if P.ruleset & FILL:
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:

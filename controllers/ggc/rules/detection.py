@@ -105,6 +105,7 @@ def start_coverage(me, sense, P):  # pragma: no cover - compiled
     restart_lap(me, True)
     set_status(me, COVERAGE)
     me.odo_x, me.odo_y = 0.0, 0.0
+    me.path = 0.0
     me.progress_tick = sense.tick
 
 

@@ -15,7 +15,7 @@ plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure").
   with that neighbour's hole seen from itself, up to HOLE_HOPS hops, and only while it cannot
   see the hole covered. Arrived robots look again every HOLE_PERIOD ticks.
 * **Filling it.** A mover that hears a hole that no stationary robot it sees covers, and that
-  no mover it sees is nearer to, goes straight for it, through the structure, sidestepping the robots in its way, and arrives there; or,
+  no mover it sees is nearer to, goes straight for it once it has walked HOLE_PATH units, through the structure, sidestepping the robots in its way, and arrives there; or,
   on the target, where its floor probe finds the hole off the target (a triangle across a
   concave corner of the target). A mover stuck on its way rests from holes HOLE_REST
   ticks.
@@ -50,6 +50,10 @@ structure grows, movers following its edge fill its gaps; a hole still open this
 sealed in."""
 HOLE_SAME = 1.0
 """A hole seen again within this distance (units) of where it was is the same hole."""
+HOLE_PATH = 250.0
+"""A mover goes for holes only once it has walked this far (units) since it left its
+formation without finding a place: while the structure grows, movers are better spent on
+its edge."""
 HOLE_REST = 500
 """Ticks a mover that got stuck on its way to a hole ignores holes."""
 HOLE_REACHED = 0.5
@@ -176,7 +180,7 @@ def hole_heard(view, me, sense, P):  # pragma: no cover - compiled
     """The nearest-by-hops hole that arrived robots I hear report, that no stationary robot
     I see covers (within 0.75 r) and that no mover I see is nearer to: (found, x, y)
     relative to me. None while I rest from holes."""
-    if sense.tick < me.hole_rest:
+    if sense.tick < me.hole_rest or me.path < HOLE_PATH:
         return False, 0.0, 0.0
     r = cover_radius(P)
     hops, best, hx, hy = NO_HOLE, math.inf, 0.0, 0.0
