@@ -364,12 +364,18 @@ class RunMetrics:
         within plateau_delta of the coverage the run ends with, and ``distance_at_settle`` the
         total distance moved by then (units): unlike total_distance it leaves out the walking
         of robots that could no longer add coverage (surplus robots looking for a place).
+        ``robots_placed``: robots settled (the controller's settled statuses) on the target at
+        the end; ``distance_per_placed_robot``: total_distance / robots_placed (units; None
+        when none is placed).
         """
         c = self.physics.contacts
         spacing = nearest_neighbour_spacing(positions[on_target])
         settle_tick, settle_distance = self.settled_at()
+        placed = int((self.settled.settled & np.asarray(on_target, dtype=bool)).sum())
+        per_placed = round(self.total_distance / placed, 3) if placed else None
         return {"coverage": round(self.coverage, 6), "completion_tick": self.completion_tick,
                 "total_distance": round(self.total_distance, 3),
+                "robots_placed": placed, "distance_per_placed_robot": per_placed,
                 "settle_tick": settle_tick, "distance_at_settle": round(settle_distance, 3),
                 "robots_on_target": int(on_target.sum()),
                 "collisions_robot_robot": c.robot_robot, "collisions_robot_wall": c.robot_wall,

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import shapely
 
+from controllers.ggc.statuses import ARRIVE
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
 
@@ -379,3 +380,14 @@ def test_floor_sensors_follow_every_robot_that_moved():
         assert np.array_equal(sim.on_target, sim.floor.on_target(sim.positions))
         flips += int((before != sim.on_target).sum())
     assert flips > 10  # robots crossed the target's edge
+
+
+def test_the_summary_gives_the_distance_per_placed_robot():
+    """robots_placed: robots in a settled status (GGC: Arrive) on the target at the end."""
+    sim = Simulation("tiny", seed=1, max_ticks=1500)
+    sim.run()
+    s = sim.summary()
+    statuses = sim.swarm.state["status"]
+    placed = int(((statuses == ARRIVE) & sim.on_target).sum())
+    assert placed > 0 and s["robots_placed"] == placed
+    assert s["distance_per_placed_robot"] == pytest.approx(s["total_distance"] / placed, abs=1e-3)
