@@ -23,11 +23,15 @@ def ring(spacing: float, first_id: int = 10, skip: tuple = ()) -> list:
     return rows
 
 
-def arrived_bot(ruleset: str = "yield-fill") -> Bot:
+def on_target(offset) -> bool:
+    return True
+
+
+def arrived_bot(ruleset: str = "yield-holes") -> Bot:
     return Bot(status=ARRIVE, ruleset=ruleset)
 
 
-def mover(ruleset: str = "yield-fill", walked: float = HOLE_PATH) -> Bot:
+def mover(ruleset: str = "yield-holes", walked: float = HOLE_PATH) -> Bot:
     """A mover that has walked ``walked`` units since it left its formation."""
     bot = Bot(ruleset=ruleset)
     bot.me["path"] = walked
@@ -36,15 +40,15 @@ def mover(ruleset: str = "yield-fill", walked: float = HOLE_PATH) -> Bot:
 
 def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_three():
     tight = arrived_bot()
-    actions = tight.step(ring(6.0), on_target=True)
+    actions = tight.step(ring(6.0), on_target=True, probe=on_target)
     assert tight.me["hole"] == NO_HOLE  # spacing 6: every triangle's centre is within r = 4
     assert actions.sleep[0] and actions.wake_tick[0] == tight.tick - 1 + HOLE_PERIOD
     wide = arrived_bot()
-    wide.step(ring(8.0), on_target=True, tick=100)
+    wide.step(ring(8.0), on_target=True, probe=on_target, tick=100)
     assert wide.me["hole"] == NO_HOLE  # seen, not reported yet: it may still be filled
-    wide.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE - 1)
+    wide.step(ring(8.0), on_target=True, probe=on_target, tick=100 + HOLE_AGE - 1)
     assert wide.me["hole"] == NO_HOLE
-    wide.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE)
+    wide.step(ring(8.0), on_target=True, probe=on_target, tick=100 + HOLE_AGE)
     assert wide.me["hole"] == 0  # the same hole for HOLE_AGE ticks: sealed in
     # the circumcentre of (me, two neighbours 8 apart at 60 degrees): 8 / sqrt(3) away
     assert math.hypot(wide.me["hole_x"], wide.me["hole_y"]) == pytest.approx(8 / math.sqrt(3))
@@ -53,9 +57,18 @@ def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_thr
 
 def test_a_robot_on_the_structures_edge_reports_no_hole():
     edge = arrived_bot()
-    for tick in (100, 100 + HOLE_AGE):
-        edge.step(ring(8.0, skip=(3, 4)), on_target=True, tick=tick)  # the open side: left
+    for tick in (100, 100 + HOLE_AGE):  # the open side: left
+        edge.step(ring(8.0, skip=(3, 4)), on_target=True, probe=on_target, tick=tick)
     assert edge.me["hole"] == NO_HOLE and edge.me["seen_since"] == -1
+
+
+def test_a_hole_whose_way_leaves_the_target_is_no_hole():
+    """A triangle across a concave corner of the target has its centre off the target: the
+    probe toward it finds no target floor."""
+    corner = arrived_bot()
+    for tick in (100, 100 + HOLE_AGE):
+        corner.step(ring(8.0), on_target=True, probe=lambda offset: False, tick=tick)
+    assert corner.me["hole"] == NO_HOLE
 
 
 def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
@@ -76,7 +89,7 @@ def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
 
 
 WALL = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
-HOLE_AT_8_0 = dict(hole=[2, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # news of a hole at (8, 0)
+HOLE_AT_8_0 = {"hole": [2, NO_HOLE], "hx": [5.0, 0.0], "hy": [-3.0, 0.0]}  # news of a hole at (8, 0)
 
 
 def heads_for_8_0(v) -> bool:
@@ -101,7 +114,7 @@ def test_a_mover_fresh_from_its_formation_keeps_to_the_edge():
 def test_only_the_mover_nearest_to_a_hole_goes_for_it_and_a_stuck_one_rests_from_holes():
     bot = mover()
     rows = [((3.0, 3.0), 20, 1, ARRIVE), ((6.0, 0.5), 30, 2, COVERAGE)]
-    fields = dict(hole=[0, NO_HOLE], hx=[5.0, 0.0], hy=[-3.0, 0.0])  # the hole at (8, 0)
+    fields = {"hole": [0, NO_HOLE], "hx": [5.0, 0.0], "hy": [-3.0, 0.0]}  # the hole at (8, 0)
     v = bot.step(rows, on_target=True, **fields).velocities[0]
     assert not heads_for_8_0(v)  # the mover at (6, 0.5) is nearer: not mine
     alone = mover()
@@ -116,13 +129,17 @@ def test_a_mover_arrives_short_of_a_hole_its_probe_finds_off_the_target():
     bot.step(rows, on_target=True, probe=lambda offset: False,
              hole=[0], hx=[-1.5], hy=[-3.0])  # the hole 1.5 units ahead, off the target
     assert bot.me["status"] == ARRIVE
+    outside = mover()
+    outside.step(rows, on_target=False, probe=lambda offset: False, tick=300,
+                 hole=[0], hx=[-1.5], hy=[-3.0])  # off the target myself: not mine to fill
+    assert outside.me["status"] == COVERAGE and outside.me["hole_rest"] > 300
 
 
 @pytest.mark.parametrize("ruleset", ["paper", "yield"])
 def test_without_hole_filling_arrived_robots_sleep_for_good_and_movers_follow_the_edge(ruleset):
     bot = arrived_bot(ruleset)
-    bot.step(ring(8.0), on_target=True, tick=100)
-    actions = bot.step(ring(8.0), on_target=True, tick=100 + HOLE_AGE)
+    bot.step(ring(8.0), on_target=True, probe=on_target, tick=100)
+    actions = bot.step(ring(8.0), on_target=True, probe=on_target, tick=100 + HOLE_AGE)
     assert bot.me["hole"] == NO_HOLE and actions.sleep[0] and actions.wake_tick[0] == -1
     v = mover(ruleset).step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0]
     assert np.hypot(*v) > 0 and not heads_for_8_0(v)

@@ -42,7 +42,7 @@ def test_other_groups_formations_are_not_edges():
 
 
 def test_another_groups_mover_with_priority_makes_a_mover_stop():
-    bot = Bot()
+    bot = Bot(ruleset="paper")
     sense = None  # the paper's rule reads no sensor
     behind = view([((-2.0, 0.0), 9, 2, COVERAGE)])
     lower_id = view([((2.0, 0.0), 3, 2, COVERAGE)])
@@ -52,13 +52,13 @@ def test_another_groups_mover_with_priority_makes_a_mover_stop():
     assert not stops(lower_id, bot.me, sense, bot.swarm.rules)  # ids break the symmetry
     assert not stops(far, bot.me, sense, bot.swarm.rules)
     assert not stops(mine, bot.me, sense, bot.swarm.rules)
-    one = Bot(groups=1)
+    one = Bot(groups=1, ruleset="paper")
     assert not stops(view([((-2.0, 0.0), 9, 2, COVERAGE)], groups=1), one.me, sense,
                      one.swarm.rules)
 
 
 def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
-    bot = Bot()
+    bot = Bot(ruleset="paper")
     rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
     bot.step(rows)
     assert bot.me["status"] == STOP and bot.me["collision_stops"] == 1
@@ -68,11 +68,12 @@ def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
     assert bot.me["status"] == COVERAGE
 
 
-def test_under_the_yield_rule_set_another_groups_mover_parks_no_one():
-    """ruleset "yield": no Stop between groups; a larger-id mover close ahead of any group is
+@pytest.mark.parametrize("ruleset", ["yield", "yield-holes"])
+def test_under_the_yield_rule_sets_another_groups_mover_parks_no_one(ruleset):
+    """The YIELD flag: no Stop between groups; a larger-id mover close ahead of any group is
     given way to (coverage.give_way), one behind is not."""
     rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
-    paper, yielding = Bot(), Bot(ruleset="yield")
+    paper, yielding = Bot(ruleset="paper"), Bot(ruleset=ruleset)
     assert stops(view(rows), yielding.me, None, yielding.swarm.rules) is False
     assert stops(view(rows), paper.me, None, paper.swarm.rules)
     yielding.step(rows)
@@ -375,5 +376,5 @@ def test_a_lone_mover_wanders_toward_the_beacon_and_stops_where_the_floor_ends()
 
 @pytest.mark.parametrize("bad", ["left", "", "PAPER"])
 def test_ruleset_must_be_a_known_rule_set(bad):
-    with pytest.raises(ValueError, match="ruleset must be one of paper"):
+    with pytest.raises(ValueError, match="ruleset must be one of yield-holes, paper"):
         GGCParams(ruleset=bad)

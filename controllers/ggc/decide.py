@@ -18,7 +18,7 @@ from .rules.common import Probe, Sense, View
 from .rules.coverage import coverage, stopped
 from .rules.detection import detection
 from .rules.holes import cover_radius, settled
-from .rules.intergroup import FILL
+from .rules.rulesets import HOLES
 from .rules.travel import initial
 from .statuses import (
     APPROACH,
@@ -60,7 +60,7 @@ def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
         return detection(view, me, sense, pb, P)
     if s == STOP:
         return stopped(view, me, sense, pb, P)
-    if s == ARRIVE and P.ruleset & FILL:
+    if s == ARRIVE and P.ruleset & HOLES:
         return settled(view, me, sense, pb, P)
     if s == ARRIVE or s == SURPLUS:
         return 0.0, 0.0, True, 0.0, True, -1
@@ -78,7 +78,7 @@ def listen_range(status, P):  # pragma: no cover - compiled
         return 1.5 * P.d_min
     if status == DETECTION:
         return max(P.d_cover, 1.5 * P.d_min)
-    if status == ARRIVE and P.ruleset & FILL:
+    if status == ARRIVE and P.ruleset & HOLES:
         return P.d_cover + cover_radius(P)
     return P.d_safe  # Arrive, Surplus
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .rules.intergroup import RULESETS
+from .rules.rulesets import DEFAULT_RULESET, RULESETS
 
 
 @dataclass(frozen=True)
@@ -75,10 +75,12 @@ class GGCParams:
         surplus_winding: see surplus_stop (degrees the bearing to the beacon must turn).
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
             of its group stops as Surplus too.
-        ruleset: the inter-group rule (rules/intergroup.py): "paper" (Section 4.3: a mover
-            stops while another group's mover in Coverage with a larger id is within d_cover)
-            or "yield" (no Stop between groups: movers of all groups give way to a larger-id
-            mover close ahead, as movers of one group do).
+        ruleset: which of our rules beyond the paper's apply (rules/rulesets.py):
+            "yield-holes" (default): no Stop between groups (movers of all groups give way
+            to a larger-id mover close ahead, as movers of one group do) and movers fill
+            holes sealed inside the structure (rules/holes.py); "paper": the paper's rules
+            (Section 4.3: a mover stops while another group's mover in Coverage with a
+            larger id is within d_cover); "yield" and "paper-holes": one of the two.
     """
 
     d_safe: float = 1.0
@@ -110,7 +112,7 @@ class GGCParams:
     yield_release: float = 4.0
     lattice_stop: bool = True
     lattice_reach: float = 6.93
-    ruleset: str = "paper"
+    ruleset: str = DEFAULT_RULESET
 
     def __post_init__(self) -> None:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",

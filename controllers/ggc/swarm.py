@@ -20,7 +20,7 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.intergroup import RULESETS
+from .rules.rulesets import RULESETS
 from .state import broadcast_rows, new_state
 from .statuses import STATUSES
 

@@ -31,7 +31,8 @@ from .common import (
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
 from .gradient import follow_gradient
 from .holes import HOLE_REST, hole_heard, to_hole
-from .intergroup import FILL, keeps_waiting, stops
+from .intergroup import keeps_waiting, stops
+from .rulesets import HOLES
 from .surplus import give_up, is_surplus, restart_lap, track_winding
 
 NO_WAY_SLOTS = 8
@@ -168,7 +169,7 @@ def give_way(view, me, vx, vy, P):  # pragma: no cover - compiled
 def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     """One tick of Coverage (see the module docstring)."""
     me.path += math.hypot(sense.moved_x, sense.moved_y)
-    if P.ruleset & FILL:
+    if P.ruleset & HOLES:
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:
             return fill_hole(view, me, sense, pb, hx, hy, P)

@@ -17,8 +17,8 @@ plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure").
 * **Filling it.** A mover that hears a hole that no stationary robot it sees covers, and that
   no mover it sees is nearer to, goes straight for it once it has walked HOLE_PATH units, through the structure, sidestepping the robots in its way, and arrives there; or,
   on the target, where its floor probe finds the hole off the target (a triangle across a
-  concave corner of the target). A mover stuck on its way rests from holes HOLE_REST
-  ticks.
+  concave corner of the target). A mover stuck on its way, or off the target and finding the
+  hole off it too, rests from holes HOLE_REST ticks.
 """
 
 from __future__ import annotations
@@ -59,7 +59,8 @@ HOLE_REST = 500
 HOLE_REACHED = 0.5
 """A mover this close to its hole (units) arrives."""
 HOLE_PROBE = 1.9
-"""A mover this close to its hole (units, within the engine's probe range) probes it."""
+"""How far the floor probe looks toward a hole (units, within the engine's probe range): a
+mover probes its hole from this close, an arrived robot the floor this far toward it."""
 
 
 @njit(cache=True)
@@ -99,7 +100,7 @@ def inside(px, py, bx, by, cx, cy):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def find_hole(view, sense, P):  # pragma: no cover - compiled
+def find_hole(view, sense, pb, P):  # pragma: no cover - compiled
     """The widest hole beside me (see the module docstring): (found, x, y) relative to me."""
     r = cover_radius(P)
     k = within(view.dist, P.d_cover + r)
@@ -129,6 +130,9 @@ def find_hole(view, sense, P):  # pragma: no cover - compiled
             best, hx, hy = radius, ox, oy
     if widest >= HOLE_GAP or best <= r + HOLE_MARGIN or not sense.on_target:
         return False, 0.0, 0.0
+    reach = min(HOLE_PROBE, best) / best  # the floor on my way to it: a triangle across a
+    if not probe(pb, hx * reach, hy * reach):  # concave corner has its centre off the target
+        return False, 0.0, 0.0
     return True, hx, hy
 
 
@@ -153,7 +157,7 @@ def relay(view, P):  # pragma: no cover - compiled
 def settled(view, me, sense, pb, P):  # pragma: no cover - compiled
     """An arrived robot's tick: with hole filling, look for holes and pass news of them on,
     then sleep until the next look."""
-    found, hx, hy = find_hole(view, sense, P)
+    found, hx, hy = find_hole(view, sense, pb, P)
     if not found:
         me.seen_since = -1
     elif me.seen_since < 0 or math.hypot(hx - me.seen_x, hy - me.seen_y) > HOLE_SAME:
@@ -203,9 +207,13 @@ def to_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
     """Head for the hole at (hx, hy), sidestepping a robot close ahead; arrive on it (or,
     on the target, where the probe finds it off the target). (arrived, vx, vy)."""
     d = math.hypot(hx, hy)
-    if sense.on_target and (d <= HOLE_REACHED or (d <= HOLE_PROBE and not probe(pb, hx, hy))):
+    off_target = d <= HOLE_PROBE and not probe(pb, hx, hy)
+    if sense.on_target and (d <= HOLE_REACHED or off_target):
         set_status(me, ARRIVE)
         return True, 0.0, 0.0
+    if off_target:  # news of a hole off the target: not mine to fill
+        me.hole_rest = sense.tick + HOLE_REST
+        return False, 0.0, 0.0
     ux, uy = hx / max(d, 1e-9), hy / max(d, 1e-9)
     for j in range(within(view.dist, 2.0 * P.d_safe)):
         if view.dist[j] >= d:

@@ -1,15 +1,12 @@
-"""The inter-group rule: what a mover does about other groups' movers (rule sets).
+"""The inter-group rule: what a mover does about other groups' movers.
 
-A rule set is one integer code (``GGCParams.ruleset`` by name, see RULESETS) and the
-functions it selects here: :func:`stops` (does a mover in Coverage Stop now?) and
-:func:`keeps_waiting` (does a robot in Stop wait on?). Adding a rule set is an entry in
-RULESETS and a branch in each of these two functions.
+:func:`stops` (does a mover in Coverage Stop now?) and :func:`keeps_waiting` (does a robot in
+Stop wait on?), by the run's rule set (rules/rulesets.py):
 
-* "paper" (Section 4.3): a mover that hears another group's mover in Coverage within
-  d_cover with a larger id stops until no such mover is left.
-* "yield": no Stop between groups: movers of every group give way to each other as movers
-  of one group do (coverage.give_way: a larger-id mover close ahead), so no robot is parked
-  as structure for another group.
+* the paper's (Section 4.3): a mover that hears another group's mover in Coverage within
+  d_cover with a larger id stops until no such mover is left;
+* with the YIELD flag: no Stop between groups; movers of every group give way to each other
+  as movers of one group do (coverage.give_way).
 """
 
 from __future__ import annotations
@@ -18,11 +15,7 @@ from numba import njit
 
 from ..statuses import COVERAGE
 from .common import within
-
-PAPER, YIELD, FILL = 0, 1, 2
-RULESETS = {"paper": PAPER, "yield": YIELD, "fill": PAPER | FILL, "yield-fill": YIELD | FILL}
-"""Rule set names and their codes: bit YIELD, no Stop between groups; bit FILL, movers fill
-the holes arrived robots report (rules/holes.py)."""
+from .rulesets import YIELD
 
 
 @njit(cache=True)

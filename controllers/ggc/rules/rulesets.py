@@ -1,0 +1,29 @@
+"""Rule sets: which of our rules beyond the paper's a GGC run uses (``GGCParams.ruleset``).
+
+A rule set is a name for a set of flags, the bits of one integer (``RuleParams.ruleset``);
+each flag switches on the functions of one module:
+
+* YIELD (rules/intergroup.py): no Section 4.3 Stop between groups. Movers of every group
+  give way to each other as movers of one group do (coverage.give_way: a larger-id mover
+  close ahead), so no robot is parked as structure for another group.
+* HOLES (rules/holes.py): arrived robots report holes sealed inside the structure, and
+  movers that have walked a while without finding a place go and fill them.
+
+Adding a rule set is an entry in RULESETS; adding a flag is a bit here and a branch where its
+rule applies. docs/ggc-findings.md has each rule set's measurements.
+"""
+
+from __future__ import annotations
+
+YIELD, HOLES = 1, 2
+"""The flags."""
+RULESETS = {
+    "yield-holes": YIELD | HOLES,
+    "paper": 0,
+    "yield": YIELD,
+    "paper-holes": HOLES,
+}
+"""Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
+groups, nothing reported about holes)."""
+DEFAULT_RULESET = "yield-holes"
+"""GGC's default rule set."""
