@@ -98,12 +98,25 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     assert formed >= 0.9 * len(visited)
 
 
-def test_two_groups_meeting_head_on_resolve_without_deadlock():
-    """The corridor world: two formations enter a band from its two ends and meet."""
+def test_under_yield_holes_two_groups_meeting_head_on_park_no_one():
+    """The default rule set on the corridor: no Stop between groups, yet no deadlock."""
     from swarmsim.world import load_world
 
     sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
                      max_ticks=20000)
+    s = sim.run().summary
+    assert sim.swarm.params.ruleset == "yield-holes"
+    assert s["stop_reason"] in ("complete", "plateau") and s["coverage"] >= 0.96, s
+    assert s["collision_stops"] == 0 and s["deadlocks_open"] == 0, s
+
+
+def test_two_groups_meeting_head_on_resolve_without_deadlock():
+    """The corridor world: two formations enter a band from its two ends and meet (the
+    paper's rule set: Section 4.3's Stop between groups)."""
+    from swarmsim.world import load_world
+
+    sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
+                     max_ticks=20000, settings={"ruleset": "paper"})
     s = sim.run().summary
     assert s["stop_reason"] in ("complete", "plateau"), s  # never stalled or out of ticks
     # One robot's coverage disc is 4 % of this small band, and a hole where the groups meet

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from controllers.ggc.rules.holes import HOLE_AGE, HOLE_HOPS, HOLE_PATH, HOLE_PERIOD, NO_HOLE
+from controllers.ggc.rules.rulesets import HOLES, YIELD
 from controllers.ggc.statuses import ARRIVE, COVERAGE
 
 from .ggc_bot import Bot
@@ -52,7 +53,7 @@ def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_thr
     assert wide.me["hole"] == 0  # the same hole for HOLE_AGE ticks: sealed in
     # the circumcentre of (me, two neighbours 8 apart at 60 degrees): 8 / sqrt(3) away
     assert math.hypot(wide.me["hole_x"], wide.me["hole_y"]) == pytest.approx(8 / math.sqrt(3))
-    assert wide.swarm.rules.ruleset & 2
+    assert wide.swarm.rules.ruleset & HOLES
 
 
 def test_a_robot_on_the_structures_edge_reports_no_hole():
@@ -143,3 +144,10 @@ def test_without_hole_filling_arrived_robots_sleep_for_good_and_movers_follow_th
     assert bot.me["hole"] == NO_HOLE and actions.sleep[0] and actions.wake_tick[0] == -1
     v = mover(ruleset).step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0]
     assert np.hypot(*v) > 0 and not heads_for_8_0(v)
+
+
+def test_holes_are_filled_only_where_the_lattice_covers():
+    """At d_cover 8 a lattice leaves holes by design (8 > r sqrt(3)): nobody reports them."""
+    assert Bot(ruleset="yield-holes").swarm.rules.ruleset & HOLES
+    wide = Bot(ruleset="yield-holes", d_cover=8.0)
+    assert not wide.swarm.rules.ruleset & HOLES and wide.swarm.rules.ruleset & YIELD

@@ -105,7 +105,8 @@ RULE_PARAMETERS = {
     "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
     "nearest", "a", "b", "r", "reach", "status", "whole", "sender",  # rows, numbers, codes
     "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
-    "dist", "wake_range", "wake_on_motion", "wake_tick"}
+    "dist", "wake_range", "wake_on_motion", "wake_tick",
+    "px", "py", "bx", "by", "cx", "cy", "hx", "hy"}  # points relative to me
 """Every parameter name a GGC rule function may take: none is anyone's position."""
 
 

@@ -20,7 +20,7 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import RULESETS
+from .rules.rulesets import HOLES, RULESETS
 from .state import broadcast_rows, new_state
 from .statuses import STATUSES
 
@@ -51,7 +51,17 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
         surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release and one),
         boundary_fill=one, selection_ticks=int(selection),
         gather_deadline=int(selection + p.aggregation_timeout + 1),
-        ruleset=int(RULESETS[p.ruleset]))
+        ruleset=rule_flags(p))
+
+
+def rule_flags(p: GGCParams) -> int:
+    """The rule set's flags (rules/rulesets.py) as they apply at this d_cover: holes are filled
+    only while d_cover + arrive_tolerance <= lattice_reach (a wider lattice leaves holes by
+    design, as the paper's d_cover 8 and 10 do)."""
+    flags = RULESETS[p.ruleset]
+    if p.d_cover + p.arrive_tolerance > p.lattice_reach:
+        flags &= ~HOLES
+    return int(flags)
 
 
 class GGCSwarm:

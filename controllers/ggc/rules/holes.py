@@ -2,7 +2,9 @@
 
 Robots that arrive a little too far apart leave spots inside the structure that no robot
 covers, and movers, which follow the structure's edge, never reach them: runs then end on a
-plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure").
+plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure"). Applies while
+d_cover + arrive_tolerance <= lattice_reach (swarm.rule_flags): a wider lattice leaves holes
+by design.
 
 * **Finding a hole.** An arrived robot inside the structure (its arrived neighbours within
   hole reach, d_cover + r, leave no angular gap of HOLE_GAP or more) looks at each triangle it
