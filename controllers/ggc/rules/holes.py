@@ -1,8 +1,8 @@
 """Holes: arrived robots point movers at uncovered spots inside the structure (our addition).
 
 Robots that arrive a little too far apart leave spots inside the structure that no robot
-covers, and movers, which follow the structure's edge, never reach them: runs then end on a
-plateau near 0.985 (docs/ggc-findings.md, "Holes inside the structure"). Applies while
+covers, and movers, which follow the structure's edge, never reach them, and runs end on a plateau short
+of completion (docs/ggc-findings.md, "Holes sealed inside the structure"). Applies while
 d_cover + arrive_tolerance <= lattice_reach (swarm.rule_flags): a wider lattice leaves holes
 by design.
 
