@@ -1,26 +1,29 @@
 """Holes: arrived robots point movers at uncovered spots inside the structure (our addition).
 
 Robots that arrive a little too far apart leave spots inside the structure that no robot
-covers, and movers, which follow the structure's edge, never reach them, and runs end on a plateau short
-of completion (docs/ggc-findings.md, "Holes sealed inside the structure"). Applies while
-d_cover + arrive_tolerance <= lattice_reach (swarm.rule_flags): a wider lattice leaves holes
-by design.
+covers. Movers follow the structure's outer edge and never reach them, so runs end on a
+plateau short of completion (docs/ggc-findings.md, "Holes sealed inside the structure").
+Applies while d_cover + arrive_tolerance <= lattice_reach (swarm.rule_flags): a wider lattice
+leaves holes by design.
 
 * **Finding a hole.** An arrived robot inside the structure (its arrived neighbours within
   hole reach, d_cover + r, leave no angular gap of HOLE_GAP or more) looks at each triangle it
   makes with two angularly consecutive arrived neighbours. A triangle whose circumcentre lies
-  inside it and farther than r + HOLE_MARGIN (r: the coverage radius, lattice_reach /
-  sqrt(3)) from every stationary robot heard has a hole there. It reports the hole once it has seen it for
-  HOLE_AGE ticks (the structure's growing edge is not a hole).
+  inside it, farther than r + HOLE_MARGIN from every stationary robot heard (r: the coverage
+  radius, lattice_reach / sqrt(3)), has a hole there, if the floor probe finds target floor
+  on the way to it (a triangle across a concave corner of the target has its centre off the
+  target). The robot reports the hole once it has seen it for HOLE_AGE ticks (the growing
+  edge of the structure is not a hole).
 * **Passing it on.** Such a robot broadcasts hops 0 and the hole's offset from itself; an
   arrived robot that finds none takes 1 + the fewest hops an arrived neighbour broadcasts,
   with that neighbour's hole seen from itself, up to HOLE_HOPS hops, and only while it cannot
   see the hole covered. Arrived robots look again every HOLE_PERIOD ticks.
-* **Filling it.** A mover that hears a hole that no stationary robot it sees covers, and that
-  no mover it sees is nearer to, goes straight for it once it has walked HOLE_PATH units, through the structure, sidestepping the robots in its way, and arrives there; or,
-  on the target, where its floor probe finds the hole off the target (a triangle across a
-  concave corner of the target). A mover stuck on its way, or off the target and finding the
-  hole off it too, rests from holes HOLE_REST ticks.
+* **Filling it.** A mover that has walked HOLE_PATH units since it left its formation, hears
+  a hole that no stationary robot it sees covers, and sees no mover nearer to it, goes
+  straight for it through the structure, sidestepping robots in its way, and arrives there
+  (or, on the target, where its floor probe finds the hole off the target). A mover stuck on
+  its way, or off the target and finding the hole off it too, rests from holes HOLE_REST
+  ticks.
 """
 
 from __future__ import annotations
