@@ -6,6 +6,8 @@ neighbour's gradient plus one, and arrives by arrival.py's rules. Off the target
 stops, except: boundary fill (one group: step in across a strip the structure leaves
 uncovered), the surplus lap, the inter-group rule (Stop) and giving way to a moving robot
 with a larger id close ahead. With groups, other groups' waiting formations are not edges.
+With the rule set's HOLES flag, a mover that has walked a while without finding a place goes
+for a hole that arrived robots report instead (rules/holes.py).
 """
 
 from __future__ import annotations
