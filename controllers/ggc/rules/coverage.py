@@ -206,6 +206,12 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
             me.head_x, me.head_y = -me.head_x, -me.head_y
             me.yield_count = waiting_near(view, P)
             return still()
+    return drive(view, me, sense, vx, vy, P)
+
+
+@njit(cache=True)
+def drive(view, me, sense, vx, vy, P):  # pragma: no cover - compiled
+    """Stop for the inter-group rule, or else drive at (vx, vy), giving way."""
     if stops(view, me, sense, P):
         set_status(me, STOP)
         me.collision_stops += 1
@@ -225,11 +231,7 @@ def fill_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
         if a >= 0:
             follow_gradient(view, me, a, P)
         return still()
-    if stops(view, me, sense, P):
-        set_status(me, STOP)
-        me.collision_stops += 1
-        return still()
-    return give_way(view, me, vx, vy, P)
+    return drive(view, me, sense, vx, vy, P)
 
 
 @njit(cache=True)
