@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.config import SimConfig, parse_value
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, interrupts_unwrapped
 from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
@@ -467,7 +467,8 @@ def _dispatch(args: argparse.Namespace) -> int:
 
     commands = {"sweep": cmd_sweep, "reproduce": cmd_reproduce, "study": cmd_study}
     try:
-        return commands[args.command](args)
+        with interrupts_unwrapped():
+            return commands[args.command](args)
     except SweepError as exc:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
         return 1
@@ -507,17 +508,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _main(args: argparse.Namespace) -> int:
     try:
-        if args.command == "worlds":
-            return cmd_worlds(args)
-        if args.command == "make-world":
-            return cmd_make_world(args)
-        if args.command == "controllers":
-            return cmd_controllers()
-        if args.command == "params":
-            return cmd_params(args.controller)
-        if args.command in ("sweep", "reproduce", "study"):
-            return _dispatch(args)
-        return cmd_run(args)
+        with interrupts_unwrapped():
+            return _command(args)
     except ConfigError as exc:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
         return 2
@@ -525,6 +517,19 @@ def _main(args: argparse.Namespace) -> int:
         print("swarmsim: interrupted", file=sys.stderr)
         return 130
 
+
+def _command(args: argparse.Namespace) -> int:
+    if args.command == "worlds":
+        return cmd_worlds(args)
+    if args.command == "make-world":
+        return cmd_make_world(args)
+    if args.command == "controllers":
+        return cmd_controllers()
+    if args.command == "params":
+        return cmd_params(args.controller)
+    if args.command in ("sweep", "reproduce", "study"):
+        return _dispatch(args)
+    return cmd_run(args)
 
 if __name__ == "__main__":
     sys.exit(main())

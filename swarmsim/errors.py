@@ -7,6 +7,9 @@ offending value, so that the command line can print one clear line instead of a 
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator
+
 
 class ConfigError(ValueError):
     """Bad user input: a world file, a parameter or a spec that cannot be used."""
@@ -20,3 +23,31 @@ class ConfigError(ValueError):
         if key:
             where += f"key '{key}': "
         super().__init__(f"{where}{message}")
+
+
+def interrupt_within(exc: BaseException | None) -> bool:
+    """Whether ``exc`` is a KeyboardInterrupt or was raised from one.
+
+    Ctrl-C (or SIGTERM, which the command line treats alike) that arrives while compiled code
+    calls back into Python, as numba does when it loads a cached kernel, leaves that code as a
+    ``SystemError`` whose cause is the KeyboardInterrupt.
+    """
+    seen: set[int] = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
+@contextlib.contextmanager
+def interrupts_unwrapped() -> Iterator[None]:
+    """Re-raise an error that an interrupt caused (see :func:`interrupt_within`) as the
+    KeyboardInterrupt it is, so that it ends a run or a sweep as Ctrl-C does."""
+    try:
+        yield
+    except Exception as exc:
+        if interrupt_within(exc):
+            raise KeyboardInterrupt from exc
+        raise

@@ -783,3 +783,19 @@ def test_a_second_spec_in_the_same_folder_says_the_first_ones_runs_are_not_in_it
     line = run_sweep(second, out, workers=1, progress=False).line()
     assert "note: 1 other runs in the runs folder" in line
     assert len(read_table(out / "results.csv")) == 2
+
+
+def test_an_interrupt_inside_compiled_code_is_not_recorded_as_a_failed_run(monkeypatch):
+    """Ctrl-C that numba wraps in a SystemError stops the sweep; the run is not 'failed'."""
+    from swarmsim.experiments.runner import execute_run
+
+    def interrupted(*_args, **_kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("returned a result with an exception set") from exc
+
+    monkeypatch.setattr(Simulation, "step", interrupted)
+    run = spec_from_dict({"world": "tiny", "controller": "dispersion"}).runs()[0]
+    with pytest.raises(KeyboardInterrupt):
+        execute_run(run)

@@ -71,3 +71,32 @@ def test_sigterm_during_a_video_run_ends_like_ctrl_c_and_leaves_no_partial_file(
     assert proc.returncode == 130, err
     assert "interrupted" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def _interrupted_inside_compiled_code(*_args, **_kwargs):
+    """What Ctrl-C does when it arrives while numba calls back into Python (CI saw it)."""
+    try:
+        raise KeyboardInterrupt
+    except KeyboardInterrupt as exc:
+        raise SystemError("CPUDispatcher returned a result with an exception set") from exc
+
+
+def test_an_interrupt_inside_compiled_code_ends_a_video_run_like_ctrl_c(tmp_path, monkeypatch,
+                                                                       capsys):
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(Simulation, "step", _interrupted_inside_compiled_code)
+    assert main(["run", "tiny", "--video", "v.mp4", "--quiet"]) == 130
+    assert "interrupted" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_other_errors_inside_compiled_code_are_not_taken_for_interrupts(tmp_path, monkeypatch):
+    import pytest
+
+    def broken(*_args, **_kwargs):
+        raise SystemError("a real fault")
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(Simulation, "step", broken)
+    with pytest.raises(SystemError, match="a real fault"):
+        main(["run", "tiny", "--quiet"])

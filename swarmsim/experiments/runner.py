@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from swarmsim.errors import interrupt_within
 from swarmsim.experiments import claims
 from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
@@ -58,7 +59,9 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
         result = sim.run(progress=False)
         return {"summary": result.summary, "timeseries": result.timeseries,
                 "robots": result.robots, "coverage": sim.grid.arrays(sim.positions)}
-    except Exception as exc:  # noqa: BLE001 - a failing run is recorded, the sweep goes on
+    except Exception as exc:  # a failing run is recorded, the sweep goes on
+        if interrupt_within(exc):  # Ctrl-C inside compiled code: not the run's failure
+            raise KeyboardInterrupt from exc
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
 
