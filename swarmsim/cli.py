@@ -98,6 +98,8 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit of every run")
     r.add_argument("--world", help="world instead of the paper's 'K'")
     r.add_argument("--robots", type=int, help="robot count (default: the world's; K: 603)")
+    r.add_argument("--rulesets", type=_names, metavar="A,B",
+                   help="GGC's rule sets judged side by side (default: yield-holes,paper)")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="another setting for every run")
     r.add_argument("--dry-run", action="store_true", dest="dry_run",
@@ -427,12 +429,18 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return 1 if report.failed else 0
 
 
+def _names(text: str) -> list[str]:
+    """A comma-separated list of names (``a,b``), spaces stripped."""
+    return [n.strip() for n in text.split(",")]
+
+
 def cmd_reproduce(args: argparse.Namespace) -> int:
     from swarmsim.experiments import reproduce as rp
     from swarmsim.experiments.executors import check_workers
 
     check_workers(args.workers)
-    setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set))
+    setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set),
+                          args.rulesets)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
                                args.retry_failed))

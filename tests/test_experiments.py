@@ -548,8 +548,27 @@ def _by(runs, key, value):
     return [r for r in runs if r.settings.get(key) == value]
 
 
+def test_reproduce_judges_ggc_under_its_default_and_the_papers_rule_sets():
+    both = rp.plan("all", rp.PAPER, reps=3)
+    assert len(both["fig17"]) == 2 * 18
+    assert {r.settings["ruleset"] for r in both["fig17"]} == {"yield-holes", "paper"}
+    # the baselines of Figure 24 have no rule sets: run once, shown in both columns
+    baselines = [r for r in both["fig24"] if r.controller != "ggc"]
+    assert baselines and all("ruleset" not in r.settings for r in baselines)
+    assert len(baselines) == len(set(_ids(baselines)))
+    paper = rp.setup_with(rp.PAPER, extra={"ruleset": "paper"})
+    assert paper == rp.setup_with(rp.PAPER, rulesets=["paper"])
+    assert {r.settings["ruleset"] for r in rp.plan("fig17", paper)["fig17"]} == {"paper"}
+    with pytest.raises(ConfigError, match="disagree"):
+        rp.setup_with(rp.PAPER, rulesets=["yield"], extra={"ruleset": "paper"})
+    with pytest.raises(ConfigError, match="--rulesets"):
+        rp.setup_with(rp.PAPER, rulesets=["paper", "paper"])
+    with pytest.raises(ConfigError, match="ruleset"):
+        rp.plan("fig17", rp.setup_with(rp.PAPER, rulesets=["paper", "nosuch"]), reps=1)
+
+
 def test_registry_expands_to_the_papers_runs():
-    plan = rp.plan("all", rp.PAPER, reps=3)
+    plan = rp.plan("all", rp.setup_with(rp.PAPER, rulesets=["paper"]), reps=3)
     assert list(plan) == [f"fig{n}" for n in range(17, 25)]
     fig17, fig18, fig21, fig23 = plan["fig17"], plan["fig18"], plan["fig21"], plan["fig23"]
     assert len(fig17) == 18 and {r.settings["d_cover"] for r in fig17} == {1, 2, 4, 6, 8, 10}
@@ -593,7 +612,9 @@ def test_registry_setup_is_easy_to_change():
 def test_reproduce_dry_run_lists_runs(capsys):
     assert main(["reproduce", "all", "--dry-run", "--reps", "2"]) == 0
     out = capsys.readouterr().out
-    assert "fig17: 12 runs" in out and "total:" in out
+    assert "fig17: 24 runs" in out and "total:" in out  # two rule sets
+    assert main(["reproduce", "fig17", "--dry-run", "--reps", "2", "--rulesets", "paper"]) == 0
+    assert "fig17: 12 runs" in capsys.readouterr().out
 
 
 def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
@@ -799,3 +820,26 @@ def test_an_interrupt_inside_compiled_code_is_not_recorded_as_a_failed_run(monke
     run = spec_from_dict({"world": "tiny", "controller": "dispersion"}).runs()[0]
     with pytest.raises(KeyboardInterrupt):
         execute_run(run)
+
+
+def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
+    setup = rp.PaperSetup(world="tiny", d_cover_values=(6,), groups=1)
+    out = tmp_path / "repro"
+    result = rp.reproduce("fig17", out, setup, reps=1, max_ticks=30, workers=1, progress=False)
+    assert result.runs == 2 and result.failed == 0
+    rows = read_table(out / "fig17" / "results.csv")
+    assert sorted(r["ruleset"] for r in rows) == ["paper", "yield-holes"]
+    conditions = read_table(out / "fig17" / "conditions.csv")
+    assert sorted(r["ruleset"] for r in conditions) == ["paper", "yield-holes"]
+    claims = read_table(out / "fig17" / "claims.csv")
+    assert {r["ruleset"] for r in claims} == {"paper", "yield-holes"}
+    section = (out / "fig17" / "REPORT.md").read_text()
+    assert "### Rule set `yield-holes`" in section and "### Rule set `paper`" in section
+    assert "| paper's claim | yield-holes: measured | verdict | paper: measured | verdict |" \
+        in section
+    report = (out / "REPORT.md").read_text()
+    assert "## Claims" in report and "| yield-holes: verdict | paper: verdict |" in report
+    assert "Rule sets judged side by side: yield-holes, paper." in report
+    import imageio.v3 as iio
+
+    assert iio.imread(out / "fig17" / "fig17.png").shape[0] >= 2 * 450  # one row per rule set

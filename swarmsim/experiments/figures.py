@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -37,6 +37,10 @@ class PaperSetup:
         comparison: Figure 24's controllers (the first is the one under study); unregistered
             ones are skipped with a note.
         extra: any other run setting applied to every run (e.g. {"eps0": 0.02}).
+        rulesets: the rule sets judged side by side, one column each, for a controller that
+            has a ``ruleset`` parameter (GGC: its default and the paper's); ignored for others.
+        ruleset: the rule set of this column's runs (set by :meth:`columns`); None = the
+            controller's default, not named in the runs' settings.
     """
 
     world: str = "K"
@@ -49,6 +53,15 @@ class PaperSetup:
     failure_counts: tuple[int, ...] = (0, 1, 5, 10, 20)
     comparison: tuple[str, ...] = ("ggc", "kilobot", "dash", "fcdfs", "cvt", "meanshift")
     extra: Mapping[str, Any] = field(default_factory=dict)
+    rulesets: tuple[str, ...] = ("yield-holes", "paper")
+    ruleset: str | None = None
+
+    def columns(self) -> list[PaperSetup]:
+        """One setup per rule set judged (:attr:`rulesets`), or just this one when the
+        controller under study has no ``ruleset`` parameter."""
+        if not self.rulesets or not _has_parameter(self.controller, "ruleset"):
+            return [self]
+        return [replace(self, ruleset=r) for r in self.rulesets]
 
     def settings(self, controller: str | None = None, **values: Any) -> dict[str, Any]:
         """Run settings: robots (if set), the given values, then ``extra``.
@@ -57,8 +70,10 @@ class PaperSetup:
         controllers that have no use for groups with their start (see drop_unused_groups)."""
         out: dict[str, Any] = {} if self.robots is None else {"robots": self.robots}
         out.update(values)
-        if "d_cover" in out and not _has_d_cover(controller or self.controller):
+        if "d_cover" in out and not _has_parameter(controller or self.controller, "d_cover"):
             del out["d_cover"]
+        if self.ruleset is not None and _has_parameter(controller or self.controller, "ruleset"):
+            out["ruleset"] = self.ruleset
         out.update(self.extra)
         return drop_unused_groups(controller or self.controller, out)
 
@@ -66,10 +81,10 @@ class PaperSetup:
 PAPER = PaperSetup()
 
 
-def _has_d_cover(controller: str) -> bool:
+def _has_parameter(controller: str, name: str) -> bool:
     from swarmsim.controller import get_controller
 
-    return "d_cover" in getattr(get_controller(controller).Params, "__dataclass_fields__", {})
+    return name in getattr(get_controller(controller).Params, "__dataclass_fields__", {})
 
 
 def _registered(name: str) -> bool:

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
+import csv
 import json
 import os
 import secrets
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from swarmsim.experiments.figures import (
+    Claim,
     CondStats,
     Context,
     Figure,
@@ -26,42 +29,56 @@ from swarmsim.output import atomic_write_text, write_csv
 
 
 # ----------------------------------------------------------------------------- outputs
-def plot_figure(fig: Figure, panels: Sequence[Panel], stats_by_panel: Sequence[list[CondStats]],
-                out_png: Path) -> Path:
-    """Mean curves with a min-max band per condition, one axes per panel (PNG, atomic)."""
-    return plot_bands(fig.title, panels, stats_by_panel, out_png)
+@dataclass(frozen=True)
+class Column:
+    """One rule set's share of a figure: its context, panels and their measurements."""
+
+    ctx: Context
+    panels: tuple[Panel, ...]
+    stats: tuple[list[CondStats], ...]
+
+    @property
+    def name(self) -> str:
+        """The rule set's name ('' when the controller has no rule sets)."""
+        return self.ctx.setup.ruleset or ""
+
+    @classmethod
+    def of(cls, fig: Figure, ctx: Context) -> Column:
+        panels = ctx.panels(fig.key)
+        return cls(ctx, panels, tuple(ctx.stats(fig.key, i) for i in range(len(panels))))
+
+
+def plot_figure(fig: Figure, columns: Sequence[Column], out_png: Path) -> Path:
+    """Mean curves with a min-max band per condition: one row of axes per rule set, one axes
+    per panel (PNG, atomic)."""
+    rows = [(f"rule set {c.name}: " if c.name else "", c.panels, c.stats) for c in columns]
+    return plot_band_rows(fig.title, rows, out_png)
 
 
 def plot_bands(title: str, panels: Sequence[Panel], stats_by_panel: Sequence[list[CondStats]],
                out_png: Path) -> Path:
     """Mean curves with a min-max band per condition (their ``bands``), one axes per panel,
     under ``title`` (PNG, atomic)."""
+    return plot_band_rows(title, [("", panels, stats_by_panel)], out_png)
+
+
+def plot_band_rows(title: str,
+                   rows: Sequence[tuple[str, Sequence[Panel], Sequence[list[CondStats]]]],
+                   out_png: Path) -> Path:
+    """:func:`plot_bands` for several rows of panels, each row's titles prefixed by its
+    first element."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure as MplFigure
 
-    mfig = MplFigure(figsize=(7 * len(panels), 5), dpi=100, layout="constrained")
+    width = max(len(panels) for _, panels, _ in rows)
+    mfig = MplFigure(figsize=(7 * width, 5 * len(rows)), dpi=100, layout="constrained")
     FigureCanvasAgg(mfig)
-    axes = mfig.subplots(1, len(panels), squeeze=False)[0]
-    for ax, panel, st in zip(axes, panels, stats_by_panel, strict=True):
-        scale = 100.0 if panel.metric == "coverage" else 1.0
-        for i, s in enumerate(st):
-            band = s.bands.get(panel.metric)
-            if band is None:
-                continue
-            color = f"C{i % 10}"
-            ax.plot(band.ticks, scale * band.mean, color=color, lw=1.6,
-                    label=f"{s.cond.label} (n={band.n})")
-            ax.fill_between(band.ticks, scale * band.lo, scale * band.hi, color=color,
-                            alpha=0.18, lw=0)
-        ax.set_title(panel.title)
-        ax.set_xlabel("tick")
-        ax.set_ylabel("coverage (%)" if panel.metric == "coverage"
-                      else "total distance moved (units)")
-        if panel.metric == "coverage":
-            ax.set_ylim(0, 102)
-        ax.grid(True, alpha=0.3)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=8, loc="lower right" if panel.metric == "coverage" else "best")
+    axes = mfig.subplots(len(rows), width, squeeze=False)
+    for row_axes, (prefix, panels, stats_by_panel) in zip(axes, rows, strict=True):
+        for ax, panel, st in zip(row_axes, panels, stats_by_panel, strict=False):
+            _plot_panel(ax, prefix + panel.title, panel, st)
+        for ax in row_axes[len(panels):]:
+            ax.set_visible(False)
     mfig.suptitle(f"{title}\n(mean, band = min-max over runs)")  # one panel: too wide for a line
     out_png.parent.mkdir(parents=True, exist_ok=True)
     tmp = out_png.with_name(f".{out_png.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp.png")
@@ -72,6 +89,28 @@ def plot_bands(title: str, panels: Sequence[Panel], stats_by_panel: Sequence[lis
         tmp.unlink(missing_ok=True)
         raise
     return out_png
+
+
+def _plot_panel(ax: Any, title: str, panel: Panel, st: list[CondStats]) -> None:
+    scale = 100.0 if panel.metric == "coverage" else 1.0
+    for i, s in enumerate(st):
+        band = s.bands.get(panel.metric)
+        if band is None:
+            continue
+        color = f"C{i % 10}"
+        ax.plot(band.ticks, scale * band.mean, color=color, lw=1.6,
+                label=f"{s.cond.label} (n={band.n})")
+        ax.fill_between(band.ticks, scale * band.lo, scale * band.hi, color=color,
+                        alpha=0.18, lw=0)
+    ax.set_title(title)
+    ax.set_xlabel("tick")
+    ax.set_ylabel("coverage (%)" if panel.metric == "coverage"
+                  else "total distance moved (units)")
+    if panel.metric == "coverage":
+        ax.set_ylim(0, 102)
+    ax.grid(True, alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8, loc="lower right" if panel.metric == "coverage" else "best")
 
 
 def _cond_row(panel: Panel, s: CondStats) -> dict[str, Any]:
@@ -97,54 +136,89 @@ def _mean_sd(x: tuple[float | None, float | None, int], fmt: Callable) -> str:
     return "n/a" if x[0] is None else f"{fmt(x[0])} ± {fmt(x[1])}"
 
 
-def figure_section(fig: Figure, ctx: Context, panels: Sequence[Panel],
-                   stats_by_panel: Sequence[list[CondStats]], image: str) -> str:
-    """The markdown section of one figure: setup, measurements, claims and verdicts."""
-    n_runs = sum(s.runs for st in stats_by_panel for s in st)
-    n_done = sum(s.done for st in stats_by_panel for s in st)
-    n_failed = sum(s.failed for st in stats_by_panel for s in st)
-    parts = [f"## {fig.title}", "", f"![{fig.key}]({image})", "",
-             f"Runs: {n_done} of {n_runs} done, {n_failed} failed "
-             f"(seeds 0..{ctx.reps - 1}" + (f", max_ticks {ctx.max_ticks}" if ctx.max_ticks else "")
-             + f"). {setup_line(ctx.setup)} {versions_line(figure_versions(fig, ctx))}"]
-    for panel, st in zip(panels, stats_by_panel, strict=True):
-        rows = [[s.cond.label, f"{s.done}/{s.runs}", s.stop_text(), _mean_sd(s.coverage, _pct),
-                 f"{_tick(s.completion[0])} ({s.completion[2]}/{s.done})",
-                 _mean_sd(s.settle_cov, _tick), _mean_sd(s.distance, _tick)] for s in st]
-        parts += ["", f"**{panel.title}**", "", _md_table(
-            rows, ["condition", "runs", "stopped by", "final coverage", "completion tick (completed)",
-                   "tick at 99% of final coverage", "total distance"])]
-        parts += [f"\n_Note: {n}_" for n in panel.notes]
-        errors = sorted({e for s in st for e in s.errors})
-        parts += [f"\n_Failed runs: {e}_" for e in errors[:3]]
-    claims = fig.claims(ctx)
-    parts += ["", "| paper's claim | measured | verdict |", "|---|---|---|"]
-    parts += [f"| {c.text} | {c.measured.replace('|', '/')} | **{c.verdict}** |" for c in claims]
+def figure_section(fig: Figure, columns: Sequence[Column],
+                   claims: Sequence[Sequence[Claim]], image: str) -> str:
+    """The markdown section of one figure: per rule set its setup and measurements, then the
+    paper's claims with each rule set's measurement and verdict side by side."""
+    parts = [f"## {fig.title}", "", f"![{fig.key}]({image})"]
+    for col in columns:
+        if col.name:
+            parts += ["", f"### Rule set `{col.name}`"]
+        parts += ["", _runs_line(fig, col)]
+        for panel, st in zip(col.panels, col.stats, strict=True):
+            parts += ["", f"**{panel.title}**", "", _conditions_table(st)]
+            parts += [f"\n_Note: {n}_" for n in panel.notes]
+            errors = sorted({e for s in st for e in s.errors})
+            parts += [f"\n_Failed runs: {e}_" for e in errors[:3]]
+    parts += ["", claims_table([c.name for c in columns], claims)]
     return "\n".join(parts) + "\n"
 
 
-def write_figure(fig: Figure, ctx: Context, out: Path) -> Path:
-    """Write DIR/<fig>/results.csv, conditions.csv, <fig>.png and REPORT.md."""
-    panels = ctx.panels(fig.key)
-    stats_by_panel = [ctx.stats(fig.key, i) for i in range(len(panels))]
-    fig_dir = out / fig.key
+def _runs_line(fig: Figure, col: Column) -> str:
+    ctx = col.ctx
+    n_runs = sum(s.runs for st in col.stats for s in st)
+    n_done = sum(s.done for st in col.stats for s in st)
+    n_failed = sum(s.failed for st in col.stats for s in st)
+    return (f"Runs: {n_done} of {n_runs} done, {n_failed} failed "
+            f"(seeds 0..{ctx.reps - 1}" + (f", max_ticks {ctx.max_ticks}" if ctx.max_ticks else "")
+            + f"). {setup_line(ctx.setup)} {versions_line(figure_versions(fig, ctx))}")
+
+
+def _conditions_table(st: list[CondStats]) -> str:
+    rows = [[s.cond.label, f"{s.done}/{s.runs}", s.stop_text(), _mean_sd(s.coverage, _pct),
+             f"{_tick(s.completion[0])} ({s.completion[2]}/{s.done})",
+             _mean_sd(s.settle_cov, _tick), _mean_sd(s.distance, _tick)] for s in st]
+    return _md_table(rows, ["condition", "runs", "stopped by", "final coverage",
+                            "completion tick (completed)", "tick at 99% of final coverage",
+                            "total distance"])
+
+
+def claims_table(names: Sequence[str], claims: Sequence[Sequence[Claim]]) -> str:
+    """The paper's claims, one row each, with each rule set's measurement and verdict side by
+    side (``names[i]`` made ``claims[i]``; '' for a controller without rule sets)."""
+    by_text: dict[str, list[Claim | None]] = {}
+    for i, column in enumerate(claims):
+        for c in column:
+            by_text.setdefault(c.text, [None] * len(claims))[i] = c
+    head = ["paper's claim"]
+    for name in names:
+        head += [f"{name}: measured" if name else "measured", "verdict"]
     rows = []
-    for panel, runs_by_cond in zip(panels, [panel_runs(p, ctx.setup, ctx.reps, ctx.max_ticks)
-                                            for p in panels], strict=True):
-        for cond, runs in zip(panel.conditions, runs_by_cond, strict=True):
-            for run in runs:
-                row = ctx.sweep.row(run)
-                if row is not None:
-                    rows.append({"panel": panel.title, "condition": cond.label, **row})
+    for text, found in by_text.items():
+        cells = [text]
+        for c in found:
+            cells += ["n/a", "-"] if c is None else [c.measured, f"**{c.verdict}**"]
+        rows.append(cells)
+    return _md_table(rows, head)
+
+
+def write_figure(fig: Figure, contexts: Sequence[Context], out: Path) -> Path:
+    """Write DIR/<fig>/results.csv, conditions.csv, claims.csv, <fig>.png and REPORT.md, with
+    one column (rule set) per context."""
+    columns = [Column.of(fig, ctx) for ctx in contexts]
+    fig_dir = out / fig.key
+    rows, cond_rows, claim_rows, claims = [], [], [], []
+    for col in columns:
+        tag = {"ruleset": col.name} if col.name else {}
+        runs = [panel_runs(p, col.ctx.setup, col.ctx.reps, col.ctx.max_ticks)
+                for p in col.panels]
+        for panel, runs_by_cond in zip(col.panels, runs, strict=True):
+            for cond, cond_runs in zip(panel.conditions, runs_by_cond, strict=True):
+                rows += [{**tag, "panel": panel.title, "condition": cond.label, **row}
+                         for row in map(col.ctx.sweep.row, cond_runs) if row is not None]
+        cond_rows += [{**tag, **_cond_row(p, s)}
+                      for p, st in zip(col.panels, col.stats, strict=True) for s in st]
+        claims.append(fig.claims(col.ctx))
+        claim_rows += [{"figure": fig.key, **tag, "claim": c.text, "measured": c.measured,
+                        "verdict": c.verdict} for c in claims[-1]]
     write_table(fig_dir / "results.csv", rows)
-    write_csv(fig_dir / "conditions.csv",
-              [_cond_row(p, s) for p, st in zip(panels, stats_by_panel, strict=True) for s in st])
-    plot_figure(fig, panels, stats_by_panel, fig_dir / f"{fig.key}.png")
+    write_csv(fig_dir / "conditions.csv", cond_rows)
+    write_csv(fig_dir / "claims.csv", claim_rows)
+    plot_figure(fig, columns, fig_dir / f"{fig.key}.png")
     atomic_write_text(fig_dir / "REPORT.md",
-                      figure_section(fig, ctx, panels, stats_by_panel, f"{fig.key}.png"))
+                      figure_section(fig, columns, claims, f"{fig.key}.png"))
     atomic_write_text(fig_dir / "section.md",
-                      figure_section(fig, ctx, panels, stats_by_panel,
-                                     f"{fig.key}/{fig.key}.png"))
+                      figure_section(fig, columns, claims, f"{fig.key}/{fig.key}.png"))
     return fig_dir
 
 
@@ -153,6 +227,7 @@ def setup_line(setup: PaperSetup) -> str:
     return (f"World {setup.world!r}, controller {setup.controller!r}, robots "
             f"{setup.robots or 'world default'}, d_cover {num_text(setup.d_cover)} and "
             f"{setup.groups} groups where not varied"
+            + (f", rule set {setup.ruleset!r}" if setup.ruleset else "")
             + (f", extra settings {dict(setup.extra)}" if setup.extra else "") + ".")
 
 
@@ -203,9 +278,11 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
     reproduced so far in DIR."""
     sections = [(out / k / "section.md").read_text() for k in keys
                 if (out / k / "section.md").is_file()]
+    judged = [c.ruleset for c in setup.columns() if c.ruleset]
     head = ["# Reproduction of the paper's Section 6 experiments", "",
-            (f"This run of the command: {setup_line(setup)} Each figure's section names the "
-             "setup and code it was made with."),
+            (f"This run of the command: {setup_line(setup)}"
+             + (f" Rule sets judged side by side: {', '.join(judged)}." if judged else "")
+             + " Each figure's section names the setup and code it was made with."),
             ("Curves are means over seeds on a common tick grid (a run that stopped holds its "
              "last value); bands span min-max. Verdicts compare the measured means with the "
              "paper's statements; 'tick at 99% of final coverage' is when a curve becomes flat."),
@@ -214,6 +291,29 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
         head[-1:-1] = [versions_line(versions), ""]
     if run_seconds is not None and versions:
         head[-1:-1] = [run_time_line(run_seconds, sum(versions.values())), ""]
+    summary = claims_summary(out, keys)
     path = out / "REPORT.md"
-    atomic_write_text(path, "\n".join(head) + "\n" + "\n".join(sections))
+    atomic_write_text(path, "\n".join(head) + "\n" + summary + "\n".join(sections))
     return path
+
+
+def claims_summary(out: Path, keys: Sequence[str]) -> str:
+    """'## Claims': every figure's claims (from DIR/<fig>/claims.csv) with one verdict column
+    per rule set, for the top of DIR/REPORT.md ('' before any figure is written)."""
+    verdicts: dict[tuple[str, str], dict[str, str]] = {}
+    names: dict[str, None] = {}
+    for key in keys:
+        path = out / key / "claims.csv"
+        if not path.is_file():
+            continue
+        with path.open(newline="") as f:
+            for row in csv.DictReader(f):
+                name = row.get("ruleset") or ""
+                names[name] = None
+                verdicts.setdefault((key, row["claim"]), {})[name] = row["verdict"]
+    if not verdicts:
+        return ""
+    head = ["figure", "paper's claim"] + [f"{n}: verdict" if n else "verdict" for n in names]
+    rows = [[key, text] + [found.get(n, "-") for n in names]
+            for (key, text), found in verdicts.items()]
+    return "## Claims\n\n" + _md_table(rows, head) + "\n\n"

@@ -7,8 +7,13 @@ id is a hash of its parameters and seed, and all figures keep their runs in one 
 (``DIR/runs/<id>/``), so Figures 19/20/22 reuse the runs of 17/18/21, and the d_cover = 6,
 3-group runs of Figure 18 are also Figure 21's K = 3 and Figure 23's 0-failure runs.
 
+GGC is judged under each rule set of :attr:`PaperSetup.rulesets` (its default and the
+paper's): every figure's GGC runs are made once per rule set, and each output shows the rule
+sets side by side (one column each, see :meth:`PaperSetup.columns`).
+
 Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditions.csv``
-(mean, sd per condition), ``<fig>.png`` (mean curves with a min-max band, on a common tick
+(mean, sd per condition), ``claims.csv`` (each claim's measurement and verdict),
+``<fig>.png`` (mean curves with a min-max band, on a common tick
 grid; runs that stopped early hold their last value) and ``REPORT.md`` (the paper's claims next
 to what was measured, with a verdict); ``DIR/REPORT.md`` collects every figure reproduced so
 far in DIR (its code and run-time lines count every finished run in ``DIR/runs``, and each
@@ -133,7 +138,9 @@ def plan(which: str | Sequence[str], setup: PaperSetup = PAPER, reps: int = 3,
         raise ConfigError(f"must be >= 1, got {reps!r}", key="--reps")
     if max_ticks is not None and max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {max_ticks!r}", key="--max-ticks")
-    runs = {k: figure_runs(k, setup, reps, max_ticks) for k in figure_keys(which)}
+    columns = setup.columns()
+    runs = {k: unique_runs(r for col in columns for r in figure_runs(k, col, reps, max_ticks))
+            for k in figure_keys(which)}
     check_runs(unique_runs(r for rs in runs.values() for r in rs), "reproduce")
     return runs
 
@@ -148,9 +155,9 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     all_runs = unique_runs(r for rs in runs.values() for r in rs)
     sweep = Sweep(all_runs, out, runs_dir=out / "runs", table_path=out / "results.csv")
     report = sweep.run(workers, scheduler, retry_failed, progress, on_result)
-    ctx = Context(sweep, setup, reps, max_ticks, get_figure)
+    contexts = [Context(sweep, col, reps, max_ticks, get_figure) for col in setup.columns()]
     for key in runs:
-        write_figure(FIGURES[key], ctx, out)
+        write_figure(FIGURES[key], contexts, out)
     versions, seconds = store_totals(out / "runs")  # every figure of the folder's runs
     path = write_report(out, list(FIGURES), setup, versions, seconds)
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
@@ -191,17 +198,30 @@ def _time_to_go(sweep: Sweep, retry_failed: bool = False) -> str:
 
 
 def setup_with(setup: PaperSetup = PAPER, world: str | None = None, robots: int | None = None,
-               extra: Mapping[str, Any] | None = None) -> PaperSetup:
-    """A copy of ``setup`` with another world, robot count or extra settings (``robots``
-    among them counts as the robot count: the claims judge it)."""
+               extra: Mapping[str, Any] | None = None,
+               rulesets: Sequence[str] | None = None) -> PaperSetup:
+    """A copy of ``setup`` with another world, robot count, rule sets judged side by side or
+    extra settings (``robots`` among them counts as the robot count: the claims judge it;
+    ``ruleset`` as the one rule set judged)."""
     extra = dict(extra or {})
+    changes: dict[str, Any] = {}
+    if "ruleset" in extra:
+        given = str(extra.pop("ruleset"))
+        if rulesets is not None and list(rulesets) != [given]:
+            raise ConfigError(f"--rulesets {','.join(rulesets)} and --set ruleset={given} "
+                              "disagree", key="ruleset")
+        rulesets = [given]
+    if rulesets is not None:
+        if not rulesets or len(set(rulesets)) < len(rulesets) or not all(rulesets):
+            raise ConfigError(f"must name each rule set once, got {','.join(rulesets)!r}",
+                              key="--rulesets")
+        changes["rulesets"] = tuple(rulesets)
     if "robots" in extra:
         given = extra.pop("robots")
         if robots is not None and robots != given:
             raise ConfigError(f"--robots {robots} and --set robots={given} disagree",
                               key="robots")
         robots = given
-    changes: dict[str, Any] = {}
     if world is not None:
         changes["world"] = world
     if robots is not None:
