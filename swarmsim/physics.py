@@ -11,7 +11,7 @@ command within a tick. Walls around the arena and obstacle outlines are static s
 (concave shapes work: pymunk.Poly would take the convex hull). Body reads go through
 pymunk.batch.
 
-With ``physics_sleep`` on (off by default, see PhysicsConfig), parked robots (a zero command
+With ``physics_sleep`` on (the default, see PhysicsConfig), parked robots (a zero command
 for two ticks) sleep in pymunk: see swarmsim/bodysleep.py. They are still pushed, and wake on contact. A sleeping
 robot's contacts drop out of pymunk's arbiters; :meth:`Physics.contact_state` keeps its last
 ones (they cannot change while it sleeps).
@@ -59,9 +59,8 @@ class PhysicsConfig:
         mode: "rigid" (robots collide) or "ghost" (robots pass through each other; walls hold).
         physics_sleep: parked robots (a zero command this tick and the last) sleep in pymunk,
             out of its solver, until something pushes them or they are commanded again.
-            Same physics, contacts solved in another order. Off by default (every body solved
-            on every step) until K's and house's run lengths are shown unchanged over paired
-            seeds with it on (docs/performance-log.md).
+            Same physics, contacts solved in another order. False solves every body on every
+            step (the code before; docs/performance-log.md compares the two).
         physics_sleep_time: how long a parked robot must rest (zero velocity) before pymunk
             puts it to sleep, ticks (pymunk's sleep_time_threshold).
     """
@@ -74,7 +73,7 @@ class PhysicsConfig:
     iterations: int = 5
     collision_slop: float = 0.002
     mode: Literal["rigid", "ghost"] = "rigid"
-    physics_sleep: bool = False
+    physics_sleep: bool = True
     physics_sleep_time: float = 1.0
 
     def __post_init__(self) -> None:

@@ -32,8 +32,8 @@ def true_asleep(physics: Physics) -> np.ndarray:
     return np.array([b.is_sleeping for b in physics._robots])
 
 
-def test_sleep_is_off_by_default_and_can_be_switched_on():
-    assert not PhysicsConfig().physics_sleep
+def test_sleep_is_on_by_default_and_can_be_switched_off():
+    assert PhysicsConfig().physics_sleep
     pos = np.array([[10.0, 10.0], [20.0, 10.0]])
     for cfg, sleeps in ((SLEEP, True), (AWAKE, False)):
         physics = Physics(square_world(), pos, cfg)
