@@ -15,6 +15,7 @@ from controllers.ggc.rules.detection import (
     blocked,
     nobody_to_yield_to,
 )
+from controllers.ggc.rules.holes import HOLE_PATH
 from controllers.ggc.rules.intergroup import stops
 from controllers.ggc.statuses import (
     ARRIVE,
@@ -125,6 +126,20 @@ def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_
     assert is_wedged([((0.85, 0.0), 7, 1, DETECTION)], 1, 6.0)
     assert is_wedged(beside, 3, 6.0)            # with groups: at any d_cover
     assert not is_wedged([((1.2, 0.0), 7, 2, DETECTION)], 3, 6.0)  # only my own formation
+
+
+def test_a_mover_jammed_against_another_formation_beside_its_own_waits_with_its_own():
+    """L-hole seed 1: two formations side by side, a mover of each pressed into the other's;
+    each formation waited for its own mover, and nothing moved (a stall at 0.692)."""
+    jammed = [((0.8, 0.0), 7, 2, DETECTION), ((-4.5, 0.0), 8, 1, DETECTION)]
+
+    def is_wedged(rows, ruleset):
+        bot = Bot(groups=3, ruleset=ruleset)
+        return wedged(view(rows, 3), bot.me, bot.swarm.rules)
+
+    assert is_wedged(jammed, "yield-holes")
+    assert not is_wedged(jammed, "paper")  # the paper's rules as they were
+    assert not is_wedged(jammed[:1], "yield-holes")  # my formation is not beside me: go on
 
 
 def test_a_deadlocked_mover_arrives_where_it_is_when_a_robot_nearby_has_stopped():
@@ -328,11 +343,15 @@ def test_rule_b_beside_another_groups_arrived_robot_needs_a_triangle():
     assert own.me["status"] == ARRIVE
 
 
-def test_boundary_fill_steps_in_with_one_group_only():
-    for groups, steps_in in ((1, True), (3, False)):
-        bot = Bot(groups=groups)
+def test_boundary_fill_steps_in_with_one_group_or_late_with_groups_under_holes():
+    for groups, ruleset, walked, steps_in in ((1, "paper", 0.0, True),
+                                              (3, "yield-holes", 0.0, False),
+                                              (3, "yield-holes", HOLE_PATH, True),
+                                              (3, "paper", HOLE_PATH, False)):
+        bot = Bot(groups=groups, ruleset=ruleset)
+        bot.me["path"] = walked
         d = bot.step([((6.0, 0.0), 8, 1, ARRIVE)], probe=lambda offset: True)
-        assert bool(bot.me["stepping"]) == steps_in, groups
+        assert bool(bot.me["stepping"]) == steps_in, (groups, ruleset, walked)
         if steps_in:  # straight toward the arrived robot
             assert d.velocities[0, 0] > 0 and d.velocities[0, 1] == 0
 

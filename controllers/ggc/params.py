@@ -48,7 +48,8 @@ class GGCParams:
             after leader selection covers on its own.
         join_tolerance: a joining robot takes its place in the formation when two formed
             robots are within d_min + join_tolerance.
-        boundary_probe: with one group, an edge-follower just outside the target that senses
+        boundary_probe: with one group (with groups, under the HOLES rules, once it has walked
+            a while), an edge-follower just outside the target that senses
             target floor this far toward an arrived robot steps in and stops on the boundary
             (boundary fill, our addition); also how far outward the surplus lap looks for free
             target floor. At most the engine's probe range.

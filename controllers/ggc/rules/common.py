@@ -150,6 +150,15 @@ def group_status_heard(view, me, status, reach):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def status_heard(view, status, reach):  # pragma: no cover - compiled
+    """Is a robot of any group with ``status`` within ``reach``?"""
+    for r in range(within(view.dist, reach)):
+        if view.status[r] == status:
+            return True
+    return False
+
+
+@njit(cache=True)
 def waiting_near(view, P):  # pragma: no cover - compiled
     """How many neighbours within 1.5 d_min wait to move (Initial, Detection)."""
     n = 0

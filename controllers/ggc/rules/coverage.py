@@ -3,8 +3,9 @@
 A mover follows the edge of the stationary robots at d_cover from the nearest one (or the
 valley between the nearest two), orbiting in its sense, takes its nearest stationary
 neighbour's gradient plus one, and arrives by arrival.py's rules. Off the target it never
-stops, except: boundary fill (one group: step in across a strip the structure leaves
-uncovered), the surplus lap, the inter-group rule (Stop) and giving way to a moving robot
+stops, except: boundary fill (step in across a strip the structure leaves uncovered: with
+one group, or, with the rule set's HOLES flag, a mover that has walked HOLE_PATH), the surplus
+lap, the inter-group rule (Stop) and giving way to a moving robot
 with a larger id close ahead. With groups, other groups' waiting formations are not edges.
 With the rule set's HOLES flag, a mover that has walked a while without finding a place goes
 for a hole that arrived robots report instead (rules/holes.py).
@@ -32,7 +33,7 @@ from .common import (
 )
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
 from .gradient import follow_gradient
-from .holes import HOLE_REST, hole_heard, to_hole
+from .holes import HOLE_PATH, HOLE_REST, hole_heard, to_hole
 from .intergroup import keeps_waiting, stops
 from .rulesets import HOLES
 from .surplus import give_up, is_surplus, restart_lap, track_winding
@@ -125,6 +126,14 @@ def no_way_in(me, sender):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def fills_boundary(me, P):  # pragma: no cover - compiled
+    """Boundary fill applies: with one group, or with HOLES once I have walked HOLE_PATH (with
+    groups an early step-in seals off a part of the target the structure has not reached;
+    late, the structure has reached it)."""
+    return P.boundary_fill or (P.ruleset & HOLES and me.path >= HOLE_PATH)
+
+
+@njit(cache=True)
 def target_inward(view, me, a, sense, pb, P):  # pragma: no cover - compiled
     """Boundary fill: off the target beside an arrived robot (that did not step in itself),
     with target floor toward it: the strip between structure and boundary is uncovered."""
@@ -188,7 +197,7 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     if P.surplus_rule and is_surplus(view, me, a, sense, pb, P):
         return give_up(me, sense)
     follow_gradient(view, me, a, P)
-    if P.boundary_fill and target_inward(view, me, a, sense, pb, P):
+    if fills_boundary(me, P) and target_inward(view, me, a, sense, pb, P):
         return step_in(view, me, a, P)
     me.stepping = False
     full_circle = circling(view, me, a)

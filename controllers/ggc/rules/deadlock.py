@@ -4,7 +4,7 @@ A mover whose displacement over T_r ticks is at most theta is stuck; one that ha
 the way round the same robot is circling. Either way, on the target it arrives where it is
 (with groups only when a robot in Stop is heard, Algorithm 5) or waits T_s ticks in Stop
 (Algorithm 6); off the target it turns round, and one wedged against its own waiting
-formation waits in Detection again.
+formation (with YIELD, or against another group's beside its own) waits in Detection again.
 """
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ import math
 from numba import njit
 
 from ..statuses import DETECTION, STOP
-from .common import NO, group_status_heard, set_status, still, turn_between
+from .common import NO, group_status_heard, set_status, status_heard, still, turn_between
+from .rulesets import YIELD
 
 
 @njit(cache=True)
@@ -65,11 +66,17 @@ def may_arrive_when_stuck(view, P):  # pragma: no cover - compiled
 def wedged(view, me, P):  # pragma: no cover - compiled
     """Pressed against waiting robots of my group: a Detection robot of my group closer than
     0.9 d_safe (bodies touching), or within 1.5 d_min with groups or while d_cover <=
-    yield_release (see docs/ggc-findings.md)."""
+    yield_release (see docs/ggc-findings.md). With YIELD, also pressed (within 1.5 d_min)
+    against another group's waiting robots while a waiting robot of my group is within
+    d_cover: jammed there, I hold my own formation back (its robots wait for me)."""
     reach = 0.9 * P.d_safe
     if P.d_cover <= P.yield_release or P.groups > 1:
         reach = 1.5 * P.d_min
-    return group_status_heard(view, me, DETECTION, reach)
+    if group_status_heard(view, me, DETECTION, reach):
+        return True
+    return (P.groups > 1 and P.ruleset & YIELD and status_heard(view, DETECTION, reach)
+            and group_status_heard(view, me, DETECTION, P.d_cover))
+
 
 
 @njit(cache=True)

@@ -5,9 +5,11 @@ each flag switches on the functions of one module:
 
 * YIELD (rules/intergroup.py): no Section 4.3 Stop between groups. Movers of every group
   give way to each other as movers of one group do (coverage.give_way: a larger-id mover
-  close ahead), so no robot is parked as structure for another group.
+  close ahead), so no robot is parked as structure for another group. A mover jammed
+  against another group's formation beside its own waits with its own (deadlock.wedged).
 * HOLES (rules/holes.py): arrived robots report holes sealed inside the structure, and
-  movers that have walked a while without finding a place go and fill them.
+  movers that have walked a while without finding a place go and fill them, or step into a
+  strip the structure leaves along the target's boundary (coverage.fills_boundary).
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here and a branch where its
 rule applies. docs/ggc-findings.md has each rule set's measurements.
