@@ -539,5 +539,6 @@ def _command(args: argparse.Namespace) -> int:
         return _dispatch(args)
     return cmd_run(args)
 
+
 if __name__ == "__main__":
     sys.exit(main())

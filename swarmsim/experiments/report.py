@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import json
 import os
 import secrets
@@ -23,7 +22,7 @@ from swarmsim.experiments.figures import (
     panel_runs,
 )
 from swarmsim.experiments.spec import unique_runs
-from swarmsim.experiments.table import write_table
+from swarmsim.experiments.table import read_table, write_table
 from swarmsim.experiments.verdicts import _pct, _tick
 from swarmsim.output import atomic_write_text, write_csv
 
@@ -306,11 +305,10 @@ def claims_summary(out: Path, keys: Sequence[str]) -> str:
         path = out / key / "claims.csv"
         if not path.is_file():
             continue
-        with path.open(newline="") as f:
-            for row in csv.DictReader(f):
-                name = row.get("ruleset") or ""
-                names[name] = None
-                verdicts.setdefault((key, row["claim"]), {})[name] = row["verdict"]
+        for row in read_table(path):
+            name = row.get("ruleset") or ""
+            names[name] = None
+            verdicts.setdefault((key, row["claim"]), {})[name] = row["verdict"]
     if not verdicts:
         return ""
     head = ["figure", "paper's claim"] + [f"{n}: verdict" if n else "verdict" for n in names]

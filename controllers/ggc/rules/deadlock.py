@@ -78,7 +78,6 @@ def wedged(view, me, P):  # pragma: no cover - compiled
             and group_status_heard(view, me, DETECTION, P.d_cover))
 
 
-
 @njit(cache=True)
 def deadlock_stop(me, sense, P):  # pragma: no cover - compiled
     """Algorithm 6: wait T_s ticks in Stop, then resume."""
