@@ -13,6 +13,7 @@ from collections import namedtuple
 
 from numba import njit
 
+from .borrow import borrowed
 from .rules.aggregation import gather, select_leaders
 from .rules.common import Probe, Sense, View
 from .rules.coverage import coverage, stopped
@@ -94,6 +95,12 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
     from ``saved[j]`` first) once its probe questions ``req[j, :calls[j]]`` are answered in
     ``ans``."""
     starts = c[0]
+    c = (starts, borrowed(c[1]), borrowed(c[2]), borrowed(c[3]), borrowed(c[4]),
+         borrowed(c[5]), borrowed(c[6]), borrowed(c[7]), borrowed(c[8]), borrowed(c[9]),
+         borrowed(c[10]), borrowed(c[11]), borrowed(c[12]), borrowed(c[13]), borrowed(c[14]),
+         borrowed(c[15]), borrowed(c[16]), borrowed(c[17]), borrowed(c[18]), borrowed(c[19]),
+         borrowed(c[20]), borrowed(c[21]), borrowed(c[22]))
+    req, ans, calls, pending = borrowed(req), borrowed(ans), borrowed(calls), borrowed(pending)
     for j in todo:
         i = rows[j]
         if again:
