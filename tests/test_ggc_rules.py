@@ -8,6 +8,7 @@ import pytest
 
 from controllers.ggc import GGCParams
 from controllers.ggc.rules.coverage import edge_rows, valley
+from controllers.ggc.rules.cross import CROSS_MAX, CROSS_PATH
 from controllers.ggc.rules.deadlock import may_arrive_when_stuck, wedged
 from controllers.ggc.rules.detection import (
     BY_WAITING,
@@ -397,3 +398,55 @@ def test_a_lone_mover_wanders_toward_the_beacon_and_stops_where_the_floor_ends()
 def test_ruleset_must_be_a_known_rule_set(bad):
     with pytest.raises(ValueError, match="ruleset must be one of yield-holes, paper"):
         GGCParams(ruleset=bad)
+
+
+def _far_walker(ruleset: str = "yield-holes-cross", walked: float = CROSS_PATH) -> Bot:
+    bot = Bot(ruleset=ruleset)
+    bot.me["path"] = walked
+    return bot
+
+
+EDGE_BESIDE = [((6.0, 0.0), 8, 1, ARRIVE), ((0.0, -9.0), 12, 1, DETECTION)]  # the structure's
+# edge to my right, my formation behind me
+
+
+def test_a_walled_in_mover_that_walked_far_off_the_target_crosses_toward_the_beacon():
+    bot = _far_walker()
+    d = bot.step(EDGE_BESIDE, beacon_deg=90.0)
+    assert bot.me["crossing"] and np.allclose(d.velocities[0], [0.0, 0.1])
+    for ruleset, walked in (("yield-holes", CROSS_PATH), ("yield-holes-cross", CROSS_PATH - 1)):
+        bot = _far_walker(ruleset, walked)  # no crossing: follows the edge round the robot
+        d = bot.step(EDGE_BESIDE, beacon_deg=90.0)
+        assert not bot.me["crossing"] and abs(d.velocities[0, 0]) < 1e-9
+        assert abs(d.velocities[0, 1]) == pytest.approx(0.1)
+    bot = _far_walker()  # far from its formation: not walled in, follows the edge
+    bot.step(EDGE_BESIDE[:1], beacon_deg=90.0)
+    assert not bot.me["crossing"]
+
+
+def test_a_crossing_passes_a_robot_close_ahead_on_the_side_away_from_it():
+    bot = _far_walker()
+    d = bot.step([((0.3, 1.5), 8, 1, ARRIVE), EDGE_BESIDE[1]], beacon_deg=90.0)
+    assert d.velocities[0, 0] < 0 < d.velocities[0, 1]
+
+
+def test_a_crossing_ends_on_the_target_with_open_floor_ahead_and_the_next_waits():
+    bot = _far_walker()
+    bot.step(EDGE_BESIDE, beacon_deg=90.0)
+    behind = [((1.0, -6.0), 8, 1, ARRIVE)]
+    bot.step([((0.0, 5.0), 9, 1, ARRIVE)], on_target=True, beacon_deg=90.0)
+    assert bot.me["crossing"]  # the structure still ahead
+    bot.step(behind, on_target=True, beacon_deg=90.0, probe=lambda offset: True)
+    assert not bot.me["crossing"]
+    assert bot.me["cross_after"] == pytest.approx(bot.me["path"] + CROSS_PATH)
+    bot.me["path"] += CROSS_PATH / 2  # off the target again, not far enough yet
+    bot.step(EDGE_BESIDE, beacon_deg=90.0)
+    assert not bot.me["crossing"]
+
+
+def test_a_crossing_ends_after_cross_max():
+    bot = _far_walker()
+    bot.step(EDGE_BESIDE, beacon_deg=90.0)
+    bot.me["path"] += CROSS_MAX + 1
+    bot.step(EDGE_BESIDE, beacon_deg=90.0)
+    assert not bot.me["crossing"]

@@ -81,7 +81,9 @@ class GGCParams:
             to a larger-id mover close ahead, as movers of one group do) and movers fill
             holes sealed inside the structure (rules/holes.py); "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
-            larger id is within d_cover); "yield" and "paper-holes": one of the two.
+            larger id is within d_cover); "yield" and "paper-holes": one of the two;
+            "yield-holes-cross" (experimental): yield-holes, and a mover walled in beside its
+            formation crosses the structure toward the beacon (rules/cross.py).
     """
 
     d_safe: float = 1.0

@@ -50,6 +50,8 @@ STATE_DTYPE = np.dtype([
     ("hole", "i1"), ("hole_x", "f8"), ("hole_y", "f8"),
     ("seen_x", "f8"), ("seen_y", "f8"), ("seen_since", "i8"), ("hole_rest", "i8"),
     ("path", "f8"),
+    # crossings of the structure (rules/cross.py): on one, its start and the next's (path)
+    ("crossing", "?"), ("cross_from", "f8"), ("cross_after", "f8"),
     # my own random stream (xorshift64*)
     ("rng", "u8"),
 ])

@@ -31,6 +31,7 @@ from .common import (
     waiting_near,
     within,
 )
+from .cross import cross
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
 from .gradient import follow_gradient
 from .holes import HOLE_PATH, HOLE_REST, hole_heard, to_hole
@@ -184,6 +185,9 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:
             return fill_hole(view, me, sense, pb, hx, hy, P)
+    crossing, vx, vy = cross(view, me, sense, P)
+    if crossing:
+        return drive(view, me, sense, vx, vy, P)
     a, b = edge_rows(view, me, P)
     if a < 0:
         return wander(view, me, sense, pb, P)

@@ -10,6 +10,10 @@ each flag switches on the functions of one module:
 * HOLES (rules/holes.py): arrived robots report holes sealed inside the structure, and
   movers that have walked a while without finding a place go and fill them, or step into a
   strip the structure leaves along the target's boundary (coverage.fills_boundary).
+* CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
+  the target without finding a place, crosses the structure toward the beacon, to the open
+  floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
+  "The large K at 40,000 ticks").
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here and a branch where its
 rule applies. docs/ggc-findings.md has each rule set's measurements.
@@ -17,13 +21,14 @@ rule applies. docs/ggc-findings.md has each rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES = 1, 2
+YIELD, HOLES, CROSS = 1, 2, 4
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES,
     "paper": 0,
     "yield": YIELD,
     "paper-holes": HOLES,
+    "yield-holes-cross": YIELD | HOLES | CROSS,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
