@@ -56,11 +56,36 @@ def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_thr
     assert wide.swarm.rules.ruleset & HOLES
 
 
-def test_a_robot_on_the_structures_edge_reports_no_hole():
+EDGE = ring(8.0, skip=(3, 4))  # arrived robots at 0, 60, 120 and 300 degrees: open at 210
+
+
+def test_a_robot_on_the_structures_edge_that_movers_come_by_reports_no_hole():
     edge = arrived_bot()
-    for tick in (100, 100 + HOLE_AGE):  # the open side: left
-        edge.step(ring(8.0, skip=(3, 4)), on_target=True, probe=on_target, tick=tick)
-    assert edge.me["hole"] == NO_HOLE and edge.me["seen_since"] == -1
+    passing = ((-7.0, -3.0), 30, 2, COVERAGE)
+    for tick in range(100, 101 + HOLE_AGE, HOLE_PERIOD):
+        rows = EDGE + [passing] if tick == 100 + HOLE_AGE // 2 else EDGE
+        edge.step(rows, on_target=True, probe=on_target, tick=tick)
+    assert edge.me["hole"] == NO_HOLE  # a mover came by half-way: seen afresh since
+    assert edge.me["seen_since"] == 100 + HOLE_AGE // 2 + HOLE_PERIOD
+
+
+def test_a_quiet_edge_reports_the_open_floor_beyond_it_as_a_hole():
+    """A large hole sealed inside the structure: its rim robots see a wide gap, on the
+    target, and no mover ever comes by. The spot is d_cover out along the gap's middle."""
+    edge = arrived_bot()
+    for tick in (100, 100 + HOLE_AGE):
+        edge.step(EDGE, on_target=True, probe=on_target, tick=tick)
+    assert edge.me["hole"] == 0
+    d = edge.swarm.params.d_cover
+    assert edge.me["hole_x"] == pytest.approx(d * math.cos(math.radians(210)))
+    assert edge.me["hole_y"] == pytest.approx(d * math.sin(math.radians(210)))
+
+
+def test_an_edge_along_the_targets_boundary_reports_no_hole():
+    boundary = arrived_bot()
+    for tick in (100, 100 + HOLE_AGE):
+        boundary.step(EDGE, on_target=True, probe=lambda offset: False, tick=tick)
+    assert boundary.me["hole"] == NO_HOLE and boundary.me["seen_since"] == -1
 
 
 def test_a_hole_whose_way_leaves_the_target_is_no_hole():

@@ -14,6 +14,11 @@ leaves holes by design.
   on the way to it (a triangle across a concave corner of the target has its centre off the
   target). The robot reports the hole once it has seen it for HOLE_AGE ticks (the growing
   edge of the structure is not a hole).
+* **Holes too large for a triangle.** A robot on the structure's edge (a gap of HOLE_GAP or
+  more) on the target reports the spot d_cover out along the middle of its widest gap, if
+  the probe finds target floor that way and it has seen no mover for HOLE_AGE ticks: a large
+  hole sealed in when the structure closed round it (the large K above its junction, the
+  small K's upper arm with eight groups). An edge that movers reach is theirs.
 * **Passing it on.** Such a robot broadcasts hops 0 and the hole's offset from itself; an
   arrived robot that finds none takes 1 + the fewest hops an arrived neighbour broadcasts,
   with that neighbour's hole seen from itself, up to HOLE_HOPS hops, and only while it cannot
@@ -48,7 +53,8 @@ robot (a slightly wide triangle leaves a sliver uncovered, and filling it costs 
 robot)."""
 HOLE_GAP = math.radians(150)
 """An arrived robot whose arrived neighbours leave an angular gap this wide is on the
-structure's edge: it reports no hole (the open side is the movers' business)."""
+structure's edge: it reports no triangle's hole, only the open floor beyond it, and only
+while no mover comes by (:func:`open_beyond`)."""
 HOLE_AGE = 1000
 """Ticks an arrived robot must have seen the same hole before it reports it: while the
 structure grows, movers following its edge fill its gaps; a hole still open this long is
@@ -121,9 +127,12 @@ def find_hole(view, sense, pb, P):  # pragma: no cover - compiled
         return False, 0.0, 0.0
     order = np.argsort(angles[:n])
     widest, best, hx, hy = 0.0, r + HOLE_MARGIN, 0.0, 0.0
+    middle = 0.0  # the bearing of the middle of my widest gap
     for i in range(n):
         a, b = order[i], order[(i + 1) % n]
         gap = (angles[b] - angles[a]) % (2 * math.pi)
+        if gap > widest:
+            middle = angles[a] + 0.5 * gap
         widest = max(widest, gap if n > 1 else 2 * math.pi)
         bx, by = view.off[rows[a], 0], view.off[rows[a], 1]
         cx, cy = view.off[rows[b], 0], view.off[rows[b], 1]
@@ -133,12 +142,29 @@ def find_hole(view, sense, pb, P):  # pragma: no cover - compiled
         radius = math.hypot(ox, oy)
         if radius > best and not covered(view, ox, oy, r):
             best, hx, hy = radius, ox, oy
+    if widest >= HOLE_GAP and sense.on_target:
+        return open_beyond(view, pb, math.cos(middle), math.sin(middle), P)
     if widest >= HOLE_GAP or best <= r + HOLE_MARGIN or not sense.on_target:
         return False, 0.0, 0.0
     reach = min(HOLE_PROBE, best) / best  # the floor on my way to it: a triangle across a
     if not probe(pb, hx * reach, hy * reach):  # concave corner has its centre off the target
         return False, 0.0, 0.0
     return True, hx, hy
+
+
+@njit(cache=True)
+def open_beyond(view, pb, x, y, P):  # pragma: no cover - compiled
+    """On the structure's edge (a gap of HOLE_GAP or more, (x, y) the unit vector to its
+    middle): the open floor d_cover out that way, as a hole (found, x, y), while no mover is
+    in sight and the floor probe finds target toward it. An edge that movers come by is
+    theirs; one they have not come by for HOLE_AGE ticks (settled) rims a hole sealed off
+    from them."""
+    for j in range(len(view.dist)):
+        if view.moving[j]:
+            return False, 0.0, 0.0
+    if not probe(pb, x * HOLE_PROBE, y * HOLE_PROBE):
+        return False, 0.0, 0.0  # the target's boundary
+    return True, x * P.d_cover, y * P.d_cover
 
 
 @njit(cache=True)
