@@ -7,7 +7,8 @@ each flag switches on the functions of one module:
   give way to each other as movers of one group do (coverage.give_way: a larger-id mover
   close ahead), so no robot is parked as structure for another group. A mover jammed
   against another group's formation beside its own waits with its own (deadlock.wedged).
-* HOLES (rules/holes.py): arrived robots report holes sealed inside the structure, and
+* HOLES (rules/holes.py): arrived robots report holes sealed inside the structure (gaps in
+  the lattice, and large holes the structure closed round), and
   movers that have walked a while without finding a place go and fill them, or step into a
   strip the structure leaves along the target's boundary (coverage.fills_boundary).
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
