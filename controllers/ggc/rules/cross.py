@@ -21,11 +21,14 @@ its frontier: six formations of ten wait there while their movers circle them
 
 from __future__ import annotations
 
+import math
+
 from numba import njit
 
 from ..statuses import DETECTION
-from .common import group_status_heard, scaled, within
+from .common import group_status_heard, within
 from .deadlock import stuck
+from .holes import sidestep
 from .rulesets import CROSS
 
 CROSS_PATH = 250.0
@@ -47,19 +50,6 @@ def open_ahead(view, hx, hy, P):  # pragma: no cover - compiled
         if not view.moving[r] and along > AHEAD_COS * view.dist[r]:
             return False
     return True
-
-
-@njit(cache=True)
-def sidestep(view, hx, hy, P):  # pragma: no cover - compiled
-    """Heading (hx, hy) (unit), turned to pass the nearest robot close ahead on the side away
-    from it."""
-    for j in range(within(view.dist, 2.0 * P.d_safe)):
-        ahead = view.off[j, 0] * hx + view.off[j, 1] * hy
-        if ahead > 0:
-            side = view.off[j, 0] * -hy + view.off[j, 1] * hx
-            s = -1.0 if side > 0 else 1.0
-            return scaled(hx - s * hy, hy + s * hx, 1.0)
-    return hx, hy
 
 
 @njit(cache=True)
@@ -86,6 +76,6 @@ def cross(view, me, sense, P):  # pragma: no cover - compiled
     if stuck(me, sense, P) or me.path - me.cross_from > CROSS_MAX:
         end_cross(me)
         return False, 0.0, 0.0
-    ux, uy = sidestep(view, bx, by, P)
+    ux, uy = sidestep(view, bx, by, math.inf, P)
     me.head_x, me.head_y = ux, uy
     return True, ux * P.v, uy * P.v

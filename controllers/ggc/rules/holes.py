@@ -234,6 +234,21 @@ def hole_heard(view, me, sense, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def sidestep(view, hx, hy, d, P):  # pragma: no cover - compiled
+    """Heading (hx, hy) (unit), turned to pass the nearest robot within 2 d_safe ahead (and
+    nearer than ``d``, units) on the side away from it."""
+    for j in range(within(view.dist, 2.0 * P.d_safe)):
+        if view.dist[j] >= d:
+            break
+        ahead = view.off[j, 0] * hx + view.off[j, 1] * hy
+        if ahead > 0:
+            side = view.off[j, 0] * -hy + view.off[j, 1] * hx
+            s = -1.0 if side > 0 else 1.0
+            return scaled(hx - s * hy, hy + s * hx, 1.0)
+    return hx, hy
+
+
+@njit(cache=True)
 def to_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
     """Head for the hole at (hx, hy), sidestepping a robot close ahead; arrive on it (or,
     on the target, where the probe finds it off the target). (arrived, vx, vy)."""
@@ -245,16 +260,7 @@ def to_hole(view, me, sense, pb, hx, hy, P):  # pragma: no cover - compiled
     if off_target:  # news of a hole off the target: not mine to fill
         me.hole_rest = sense.tick + HOLE_REST
         return False, 0.0, 0.0
-    ux, uy = hx / max(d, 1e-9), hy / max(d, 1e-9)
-    for j in range(within(view.dist, 2.0 * P.d_safe)):
-        if view.dist[j] >= d:
-            break
-        ahead = view.off[j, 0] * ux + view.off[j, 1] * uy
-        side = view.off[j, 0] * -uy + view.off[j, 1] * ux
-        if ahead > 0:  # pass it on the side away from it
-            s = -1.0 if side > 0 else 1.0
-            ux, uy = scaled(ux - s * uy, uy + s * ux, 1.0)
-            break
+    ux, uy = sidestep(view, hx / max(d, 1e-9), hy / max(d, 1e-9), d, P)
     me.head_x, me.head_y = ux, uy
     speed = min(P.v, d)
     return False, ux * speed, uy * speed
