@@ -227,12 +227,41 @@ def test_the_news_spreads_through_my_group_only():
     assert waiting2.me["status"] != SURPLUS
 
 
-def test_the_surplus_rule_is_off_when_disabled_at_small_d_cover_or_with_groups():
+def test_the_surplus_rule_is_off_when_disabled_at_small_d_cover_or_where_groups_fill_holes():
     for bot in (mover(surplus_stop=False), Bot(groups=1, d_cover=4.0),
-                Bot(groups=3, d_cover=8.0)):
+                Bot(groups=3, d_cover=8.0, ruleset="paper"),
+                Bot(groups=3, d_cover=8.0, ruleset="yield"),
+                Bot(groups=3, d_cover=6.0)):  # holes filled here: movers go on to them
         bot.step(ARRIVED_ONLY)
         bot.step(BACK_HOME)
         assert bot.me["status"] == COVERAGE and bot.me["surplus"] == 0
+
+
+def test_with_groups_a_whole_turn_past_no_free_floor_is_surplus():
+    around = Bot(groups=3, d_cover=8.0)  # formation long gone: no waiting robot heard
+    for deg in range(0, 381, 20):
+        around.step(ARRIVED_ONLY, beacon_deg=deg)
+    assert around.me["status"] == SURPLUS and around.me["surplus"] == 1
+    short = Bot(groups=3, d_cover=8.0)  # 340 degrees: not yet round
+    for deg in range(0, 341, 20):
+        short.step(ARRIVED_ONLY, beacon_deg=deg)
+    assert short.me["status"] == COVERAGE
+    past_floor = Bot(groups=3, d_cover=8.0)  # free target floor passed on the way: again
+    for deg in range(0, 381, 5):  # 3 units of it in the first 150 degrees
+        past_floor.step(ARRIVED_ONLY, beacon_deg=deg, on_target=deg < 150,
+                        probe=lambda offset: True)
+    assert past_floor.me["status"] == COVERAGE
+    assert math.radians(250) < abs(past_floor.me["winding"]) < math.radians(300)
+
+
+def test_with_groups_the_news_of_a_full_target_spreads_to_every_group():
+    heard = [((3.0, 0.0), 40, 1, ARRIVE), ((12.0, 0.0), 9, 2, SURPLUS)]
+    bot = Bot(groups=3, d_cover=8.0)
+    bot.step(heard)
+    assert bot.me["status"] == SURPLUS
+    paper = Bot(groups=3, d_cover=8.0, ruleset="paper")
+    paper.step(heard)
+    assert paper.me["status"] == COVERAGE
 
 
 def test_movers_off_the_target_that_hear_a_surplus_robot_of_their_group_stop():

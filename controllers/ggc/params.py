@@ -64,22 +64,26 @@ class GGCParams:
             waiting robot around it is yielding or enclosed too and it is on the formation's
             outside. The same bound makes a stuck robot outside the target rejoin its formation
             from 1.5 d_min away (with groups at any d_cover).
-        surplus_stop: with one group and d_cover > yield_release, surplus robots stop (our
-            addition; False: the paper's robots circle on). A mover that has been out of
+        surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
+            holes are not filled) and d_cover > yield_release, surplus robots stop (our addition; False: the paper's
+            robots circle on; rules/surplus.py). A mover that has been out of
             hearing of its group's waiting robots and comes back beside them (within d_cover
             + arrive_tolerance) after a lap that went round the beacon (surplus_winding) and
             walked at most surplus_frontier units on the target with target floor outward
             stops for good, as Surplus (Arrive if on the target). A waiting robot of the
             group that hears a Surplus robot of its group within d_cover + arrive_tolerance
-            stays as Surplus, and a mover that reaches one stops too.
+            stays as Surplus, and a mover that reaches one stops too. With groups, a whole
+            turn round the beacon without passing free target floor is a lap too.
         surplus_frontier: see surplus_stop (units of path).
         surplus_winding: see surplus_stop (degrees the bearing to the beacon must turn).
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot
-            of its group stops as Surplus too.
+            of its group (with groups: of any group) stops as Surplus too.
         ruleset: which of our rules beyond the paper's apply (rules/rulesets.py):
             "yield-holes" (default): no Stop between groups (movers of all groups give way
-            to a larger-id mover close ahead, as movers of one group do) and movers fill
-            holes sealed inside the structure (rules/holes.py); "paper": the paper's rules
+            to a larger-id mover close ahead, as movers of one group do), movers fill
+            holes sealed inside the structure (rules/holes.py), and surplus movers of every
+            group stop once the target is full (at d_cover 8 and 10; rules/surplus.py);
+            "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
             "yield-holes-cross" (experimental): yield-holes, and a mover walled in beside its

@@ -20,7 +20,7 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import HOLES, RULESETS
+from .rules.rulesets import HOLES, RULESETS, SURPLUS
 from .state import broadcast_rows, new_state
 from .statuses import STATUSES
 
@@ -48,10 +48,20 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
         surplus_winding=math.radians(p.surplus_winding), surplus_spread=bool(p.surplus_spread),
         yield_release=float(p.yield_release), lattice_stop=bool(p.lattice_stop),
         lattice_reach=float(p.lattice_reach), groups=int(groups), scattered=bool(scattered),
-        surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release and one),
+        surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release
+                          and (one or surplus_between_groups(p))),
         boundary_fill=one, selection_ticks=int(selection),
         gather_deadline=int(selection + p.aggregation_timeout + 1),
         ruleset=rule_flags(p))
+
+
+def surplus_between_groups(p: GGCParams) -> bool:
+    """With groups, surplus movers stop under the rule set's SURPLUS flag where holes are not
+    filled (d_cover + arrive_tolerance > lattice_reach): there the lattice leaves holes by
+    design, so a structure with no free floor round it is full. Where holes are filled, the
+    movers that found no place go on to fill them, until the run completes."""
+    flags = rule_flags(p)
+    return bool(flags & SURPLUS) and not flags & HOLES
 
 
 def rule_flags(p: GGCParams) -> int:

@@ -11,6 +11,12 @@ each flag switches on the functions of one module:
   the lattice, and large holes the structure closed round), and
   movers that have walked a while without finding a place go and fill them, or step into a
   strip the structure leaves along the target's boundary (coverage.fills_boundary).
+* SURPLUS (rules/surplus.py), with groups, at a d_cover whose lattice leaves holes by design
+  (where HOLES does not apply): the surplus lap of one group applies, and more. A mover that
+  went once round the structure (its bearing to the beacon turned a whole turn) without
+  passing free target floor stops for good, as does a mover off the target that hears a
+  Surplus robot of any group: the target is full, and the news spreads outward. So the
+  robots the target cannot hold end standing instead of circling on.
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
@@ -22,14 +28,14 @@ rule applies. docs/ggc-findings.md has each rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS = 1, 2, 4
+YIELD, HOLES, CROSS, SURPLUS = 1, 2, 4, 8
 """The flags."""
 RULESETS = {
-    "yield-holes": YIELD | HOLES,
+    "yield-holes": YIELD | HOLES | SURPLUS,
     "paper": 0,
     "yield": YIELD,
     "paper-holes": HOLES,
-    "yield-holes-cross": YIELD | HOLES | CROSS,
+    "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""

@@ -1,10 +1,15 @@
-"""The surplus lap (our addition, GGCParams.surplus_stop; one group only).
+"""The surplus lap (our addition, GGCParams.surplus_stop; with groups, the SURPLUS flag).
 
 A lap starts when a mover leaves hearing of its group's waiting robots and ends back beside
 them; it counts if it went round the beacon (surplus_winding) and passed at most
 surplus_frontier units of target floor with free target floor outward. Then there is no
 place left that the mover can find: it stops for good (Surplus; Arrive on the target), and
 so do its formation and the movers that hear it.
+
+With groups a mover's formation may be gone, so a whole turn round the beacon without passing
+free target floor counts as well (passing some starts the count again), and a mover off the
+target stops on hearing a Surplus robot of any group: the news that the target is full
+spreads to every group.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ from .common import (
     is_waiting,
     probe,
     set_status,
+    status_heard,
     still,
     turn_between,
 )
@@ -72,8 +78,14 @@ def is_surplus(view, me, nearest, sense, pb, P):  # pragma: no cover - compiled
         outward_y = -view.off[nearest, 1] / d * P.boundary_probe
         if probe(pb, outward_x, outward_y):
             me.frontier += math.hypot(sense.moved_x, sense.moved_y)
-    if P.surplus_spread and not sense.on_target and group_status_heard(
-            view, me, SURPLUS, math.inf):
+    if P.groups > 1:  # no formation to come home to: a whole turn without free floor
+        if me.frontier > P.surplus_frontier:
+            restart_lap(me, True)
+        elif me.lap_whole and abs(me.winding) >= 2.0 * math.pi:
+            return True
+    if P.surplus_spread and not sense.on_target and (
+            status_heard(view, SURPLUS, math.inf) if P.groups > 1
+            else group_status_heard(view, me, SURPLUS, math.inf)):
         return True
     if view.id[nearest] == NO or view.group[nearest] != me.group:
         return False
