@@ -194,3 +194,15 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
     robot = ggc_state(sim)[0]
     assert robot["visited"] >> DETECTION & 1 and robot["status"] in (COVERAGE, ARRIVE)
     assert np.hypot(*(sim.positions[0] - start)) > 5  # on its way to the beacon
+
+
+def test_where_the_target_is_full_every_robot_of_every_group_ends_standing():
+    """d_cover 8 on the corridor holds 23 of 60 robots: the default's surplus movers of both
+    groups stop (SURPLUS flag), so the run ends stalled, not on the plateau rule."""
+    from swarmsim.world import load_world
+
+    sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
+                     d_cover=8, max_ticks=30000)
+    s = sim.run().summary
+    assert s["stop_reason"] == "stalled" and "Coverage" not in s["status_counts"], s
+    assert s["surplus_stops"] > 0 and s["robots_placed"] >= 20 and s["coverage"] >= 0.74, s
