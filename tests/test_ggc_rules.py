@@ -479,3 +479,21 @@ def test_a_crossing_ends_after_cross_max():
     bot.me["path"] += CROSS_MAX + 1
     bot.step(EDGE_BESIDE, beacon_deg=90.0)
     assert not bot.me["crossing"]
+
+
+def test_with_groups_a_mover_walled_in_on_the_target_stops_there():
+    around = [((7.0, 0.0), 40, 1, ARRIVE), ((-3.5, 6.06), 41, 2, ARRIVE),
+              ((-3.5, -6.06), 42, 1, ARRIVE)]
+    inside = Bot(groups=3, d_cover=8.0)
+    inside.step(around, on_target=True, probe=lambda offset: True)
+    assert inside.me["status"] == ARRIVE and inside.me["surplus"] == 1
+    one_side = [((7.0, 0.0), 40, 1, ARRIVE), ((5.0, 5.0), 41, 2, ARRIVE),
+                ((5.0, -5.0), 42, 1, ARRIVE)]
+    edge = Bot(groups=3, d_cover=8.0)  # the structure's edge: free floor beyond
+    edge.step(one_side, on_target=True, probe=lambda offset: True)
+    assert edge.me["status"] == COVERAGE
+    holes_filled = Bot(groups=3, d_cover=6.0)  # at d_cover 6 movers go on to fill holes
+    holes_filled.step([((5.0, 0.0), 40, 1, ARRIVE), ((-2.5, 4.3), 41, 2, ARRIVE),
+                       ((-2.5, -4.3), 42, 1, ARRIVE)], on_target=True,
+                      probe=lambda offset: True)
+    assert holes_filled.me["status"] == COVERAGE

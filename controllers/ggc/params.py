@@ -73,7 +73,8 @@ class GGCParams:
             stops for good, as Surplus (Arrive if on the target). A waiting robot of the
             group that hears a Surplus robot of its group within d_cover + arrive_tolerance
             stays as Surplus, and a mover that reaches one stops too. With groups, a whole
-            turn round the beacon without passing free target floor is a lap too.
+            turn round the beacon without passing free target floor is a lap too, and a
+            mover walled in by arrived robots on the target stops there.
         surplus_frontier: see surplus_stop (units of path).
         surplus_winding: see surplus_stop (degrees the bearing to the beacon must turn).
         surplus_spread: with surplus_stop, a mover off the target that hears a Surplus robot

@@ -7,15 +7,17 @@ place left that the mover can find: it stops for good (Surplus; Arrive on the ta
 so do its formation and the movers that hear it.
 
 With groups a mover's formation may be gone, so a whole turn round the beacon without passing
-free target floor counts as well (passing some starts the count again), and a mover off the
-target stops on hearing a Surplus robot of any group: the news that the target is full
-spreads to every group.
+free target floor counts as well (passing some starts the count again); a mover on the target
+walled in by arrived robots (inside the structure's wide lattice) stops where it is; and a
+mover off the target stops on hearing a Surplus robot of any group: the news that the target
+is full spreads to every group.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
@@ -28,6 +30,8 @@ from .common import (
     status_heard,
     still,
     turn_between,
+    widest_gap,
+    within,
 )
 
 
@@ -67,6 +71,20 @@ def group_waiting_heard(view, me):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def walled_in(view, P):  # pragma: no cover - compiled
+    """Arrived robots within 1.2 d_cover on every side (three or more, no gap of half a turn):
+    I am inside the structure, not on its edge."""
+    k = within(view.dist, 1.2 * P.d_cover)
+    angles = np.empty(max(k, 1))
+    n = 0
+    for r in range(k):
+        if view.status[r] == ARRIVE:
+            angles[n] = math.atan2(view.off[r, 1], view.off[r, 0])
+            n += 1
+    return n >= 3 and widest_gap(angles, n) < math.pi
+
+
+@njit(cache=True)
 def is_surplus(view, me, nearest, sense, pb, P):  # pragma: no cover - compiled
     """Back beside my group's waiting robots after a lap that passed no free target floor, or
     at a Surplus robot of my group (see the module docstring)."""
@@ -79,6 +97,8 @@ def is_surplus(view, me, nearest, sense, pb, P):  # pragma: no cover - compiled
         if probe(pb, outward_x, outward_y):
             me.frontier += math.hypot(sense.moved_x, sense.moved_y)
     if P.groups > 1:  # no formation to come home to: a whole turn without free floor
+        if sense.on_target and walled_in(view, P):
+            return True  # inside the full structure's lattice: no place is left here
         if me.frontier > P.surplus_frontier:
             restart_lap(me, True)
         elif me.lap_whole and abs(me.winding) >= 2.0 * math.pi:
