@@ -36,6 +36,7 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
     "random")."""
     selection = (p.h_max + 1) * p.T_settle
     one = groups == 1
+    flags = rule_flags(p)
     return RuleParams(
         d_safe=float(p.d_safe), d_cover=float(p.d_cover), d_min=float(p.d_min),
         R_c=float(p.R_c), v=float(p.v), radial_gain=float(p.radial_gain),
@@ -49,18 +50,18 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
         yield_release=float(p.yield_release), lattice_stop=bool(p.lattice_stop),
         lattice_reach=float(p.lattice_reach), groups=int(groups), scattered=bool(scattered),
         surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release
-                          and (one or surplus_between_groups(p))),
+                          and (one or surplus_between_groups(flags))),
         boundary_fill=one, selection_ticks=int(selection),
         gather_deadline=int(selection + p.aggregation_timeout + 1),
-        ruleset=rule_flags(p))
+        ruleset=flags)
 
 
-def surplus_between_groups(p: GGCParams) -> bool:
+def surplus_between_groups(flags: int) -> bool:
     """With groups, surplus movers stop under the rule set's SURPLUS flag where holes are not
-    filled (d_cover + arrive_tolerance > lattice_reach): there the lattice leaves holes by
-    design, so a structure with no free floor round it is full. Where holes are filled, the
-    movers that found no place go on to fill them, until the run completes."""
-    flags = rule_flags(p)
+    filled (``flags`` as :func:`rule_flags` gives them: no HOLES once d_cover +
+    arrive_tolerance > lattice_reach): there the lattice leaves holes by design, so a
+    structure with no free floor round it is full. Where holes are filled, the movers that
+    found no place go on to fill them, until the run completes."""
     return bool(flags & SURPLUS) and not flags & HOLES
 
 

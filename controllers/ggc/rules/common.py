@@ -141,6 +141,20 @@ def is_waiting(status):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def surrounded(view, reach, waiting, max_gap):  # pragma: no cover - compiled
+    """Three or more neighbours within ``reach`` (waiting ones if ``waiting``, else arrived
+    ones) that leave no angular gap of ``max_gap`` (radians) or more round me."""
+    k = within(view.dist, reach)
+    angles = np.empty(max(k, 1))
+    n = 0
+    for r in range(k):
+        if is_waiting(view.status[r]) if waiting else view.status[r] == ARRIVE:
+            angles[n] = math.atan2(view.off[r, 1], view.off[r, 0])
+            n += 1
+    return n >= 3 and widest_gap(angles, n) < max_gap
+
+
+@njit(cache=True)
 def group_status_heard(view, me, status, reach):  # pragma: no cover - compiled
     """Is a robot of my group with ``status`` within ``reach``?"""
     for r in range(within(view.dist, reach)):

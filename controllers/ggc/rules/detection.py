@@ -21,6 +21,7 @@ from .common import (
     rest,
     set_status,
     still,
+    surrounded,
     waiting_near,
     widest_gap,
     within,
@@ -55,14 +56,7 @@ def blocked(view, me, P):  # pragma: no cover - compiled
 def is_enclosed(view, P):  # pragma: no cover - compiled
     """Three or more waiting neighbours within 1.5 d_min that leave no gap wider than
     ENCLOSED_GAP: I am inside a formation and cannot leave before the robots around me."""
-    k = within(view.dist, 1.5 * P.d_min)
-    angles = np.empty(max(k, 1))
-    n = 0
-    for r in range(k):
-        if is_waiting(view.status[r]):
-            angles[n] = math.atan2(view.off[r, 1], view.off[r, 0])
-            n += 1
-    return n >= 3 and widest_gap(angles, n) < ENCLOSED_GAP
+    return surrounded(view, 1.5 * P.d_min, True, ENCLOSED_GAP)
 
 
 @njit(cache=True)

@@ -16,8 +16,8 @@ each flag switches on the functions of one module:
   went once round the structure (its bearing to the beacon turned a whole turn) without
   passing free target floor stops for good, as do a mover on the target walled in by arrived
   robots and a mover off the target that hears a Surplus robot of any group: the target is
-  full, and the news spreads outward. So the
-  robots the target cannot hold end standing instead of circling on.
+  full, and the news spreads outward. So the robots the target cannot hold end standing
+  instead of circling on.
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,

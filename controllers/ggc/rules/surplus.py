@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
@@ -29,9 +28,8 @@ from .common import (
     set_status,
     status_heard,
     still,
+    surrounded,
     turn_between,
-    widest_gap,
-    within,
 )
 
 
@@ -74,14 +72,7 @@ def group_waiting_heard(view, me):  # pragma: no cover - compiled
 def walled_in(view, P):  # pragma: no cover - compiled
     """Arrived robots within 1.2 d_cover on every side (three or more, no gap of half a turn):
     I am inside the structure, not on its edge."""
-    k = within(view.dist, 1.2 * P.d_cover)
-    angles = np.empty(max(k, 1))
-    n = 0
-    for r in range(k):
-        if view.status[r] == ARRIVE:
-            angles[n] = math.atan2(view.off[r, 1], view.off[r, 0])
-            n += 1
-    return n >= 3 and widest_gap(angles, n) < math.pi
+    return surrounded(view, 1.2 * P.d_cover, False, math.pi)
 
 
 @njit(cache=True)
