@@ -497,3 +497,39 @@ def test_with_groups_a_mover_walled_in_on_the_target_stops_there():
                        ((-2.5, -4.3), 42, 1, ARRIVE)], on_target=True,
                       probe=lambda offset: True)
     assert holes_filled.me["status"] == COVERAGE
+
+
+
+def _orbit_lone_robot(bot: Bot, steps: int, on_target: bool = False):
+    """Go round one arrived robot (id 40), 4 units away, 20 degrees a tick, the beacon
+    straight up (+y); the last tick's actions."""
+    for k in range(steps):
+        angle = math.radians(20.0 * k)
+        d = bot.step([((4.0 * math.cos(angle), 4.0 * math.sin(angle)), 40, 1, ARRIVE)],
+                     on_target=on_target, beacon_deg=90.0)
+    return d
+
+
+def test_at_small_d_cover_a_mover_leaves_an_island_it_went_round_off_the_target():
+    """A formation halts where its front touches the target: its leader, or the whole
+    formation, may wait off it, and the last movers circled it for ever (K, 1 group,
+    d_cover 2 and 4)."""
+    bot = Bot(groups=1, d_cover=4.0)
+    v = bot.swarm.params.v
+    d = _orbit_lone_robot(bot, 18)  # not yet a whole turn: still going round
+    assert not bot.me["leaving"] and d.velocities[0] @ [0.0, 1.0] < 0.99 * v
+    d = _orbit_lone_robot(bot, 36)  # a whole turn, and the island is now behind me
+    assert bot.me["leaving"] and np.allclose(d.velocities[0], [0.0, v])
+    d = bot.step([((0.0, -3.0), 40, 1, ARRIVE)], beacon_deg=90.0)  # on for the beacon
+    assert bot.me["leaving"] and np.allclose(d.velocities[0], [0.0, v])
+    bot.step([((0.0, 3.0), 41, 1, ARRIVE), ((0.0, -5.0), 40, 1, ARRIVE)], beacon_deg=90.0)
+    assert not bot.me["leaving"] and bot.me["turned"] == 0.0  # new ground ahead: its edge
+
+
+def test_target_floor_restarts_the_turn_and_d_cover_6_has_no_islands():
+    on = Bot(groups=1, d_cover=4.0)
+    _orbit_lone_robot(on, 36, on_target=True)
+    assert on.me["turned"] == 0.0 and not on.me["leaving"]
+    wide = Bot(groups=1, d_cover=6.0)
+    _orbit_lone_robot(wide, 36)
+    assert wide.me["turned"] == 0.0 and not wide.me["leaving"]

@@ -63,7 +63,9 @@ class GGCParams:
             first; while d_cover <= yield_release (0: never) it stops waiting once every
             waiting robot around it is yielding or enclosed too and it is on the formation's
             outside. The same bound makes a stuck robot outside the target rejoin its formation
-            from 1.5 d_min away (with groups at any d_cover).
+            from 1.5 d_min away (with groups at any d_cover), and a mover that went round an
+            island off the target (a formation halted off it) leave it for the beacon
+            (rules/island.py).
         surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
             holes are not filled) and d_cover > yield_release, surplus robots stop (our addition; False: the paper's
             robots circle on; rules/surplus.py). A mover that has been out of

@@ -40,6 +40,8 @@ STATE_DTYPE = np.dtype([
     ("odo_x", "f8"), ("odo_y", "f8"), ("progress_tick", "i8"), ("resume_tick", "i8"),
     ("deadlocks", "i4"), ("episodes", "i4"), ("in_deadlock", "?"), ("yield_count", "i4"),
     ("collision_stops", "i4"),
+    # islands off the target (rules/island.py): my heading's turn since target floor
+    ("turned", "f8"), ("leaving", "?"),
     # the surplus lap
     ("away", "?"), ("frontier", "f8"), ("lap_whole", "?"), ("winding", "f8"),
     ("beacon_angle", "f8"), ("surplus", "i4"),

@@ -8,7 +8,8 @@ one group, or, with the rule set's HOLES flag, a mover that has walked HOLE_PATH
 lap, the inter-group rule (Stop) and giving way to a moving robot
 with a larger id close ahead. With groups, other groups' waiting formations are not edges.
 With the rule set's HOLES flag, a mover that has walked a while without finding a place goes
-for a hole that arrived robots report instead (rules/holes.py).
+for a hole that arrived robots report instead (rules/holes.py). At small d_cover a mover
+that went round an island off the target leaves it for the beacon (rules/island.py).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wed
 from .gradient import follow_gradient
 from .holes import HOLE_PATH, HOLE_REST, hole_heard, to_hole
 from .intergroup import keeps_waiting, stops
+from .island import leave_island, on_island_watch, restart_turn
 from .rulesets import HOLES
 from .surplus import give_up, is_surplus, restart_lap, track_winding
 
@@ -192,7 +194,10 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     if a < 0:
         return wander(view, me, sense, pb, P)
     vx, vy = edge_velocity(view, me, a, b, P)
+    leaving, vx, vy = leave_island(view, me, a, vx, vy, sense, P)
     me.head_x, me.head_y = scaled(vx, vy, 1.0)
+    if leaving:
+        return drive(view, me, sense, vx, vy, P)
     if P.surplus_rule:
         track_winding(me, sense)
     if should_arrive(view, me, a, sense, pb, P):
@@ -205,6 +210,9 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         return step_in(view, me, a, P)
     me.stepping = False
     full_circle = circling(view, me, a)
+    if full_circle and on_island_watch(sense, P):  # round a lone robot: an island
+        me.circled = 0.0
+        full_circle = False
     if stuck(me, sense, P) or full_circle:
         if sense.on_target and may_arrive_when_stuck(view, P):
             set_status(me, ARRIVE)
@@ -212,6 +220,7 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         me.sense = -me.sense  # a dead end: try the other way round
         me.circled = 0.0
         restart_lap(me, False)
+        restart_turn(me)
         if sense.on_target:
             return deadlock_stop(me, sense, P)
         if wedged(view, me, P):  # wait until the robots around me have gone, then leave

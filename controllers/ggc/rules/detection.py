@@ -28,6 +28,7 @@ from .common import (
 )
 from .coverage import coverage
 from .gradient import formation_gradient
+from .island import restart_turn
 from .surplus import hears_surplus, restart_lap
 
 NOT_BLOCKED, BY_WAITING, BY_MOVER = 0, 1, 2
@@ -97,6 +98,7 @@ def choose_orbit(me, P):  # pragma: no cover - compiled
 def start_coverage(me, sense, P):  # pragma: no cover - compiled
     choose_orbit(me, P)
     restart_lap(me, True)
+    restart_turn(me)
     set_status(me, COVERAGE)
     me.odo_x, me.odo_y = 0.0, 0.0
     me.path = 0.0
