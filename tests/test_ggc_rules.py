@@ -526,6 +526,17 @@ def test_at_small_d_cover_a_mover_leaves_an_island_it_went_round_off_the_target(
     assert not bot.me["leaving"] and bot.me["turned"] == 0.0  # new ground ahead: its edge
 
 
+def test_a_mover_pinned_on_its_way_off_an_island_follows_edges_again():
+    bot = Bot(groups=1, d_cover=4.0)
+    _orbit_lone_robot(bot, 36)
+    assert bot.me["leaving"]
+    bot.me["odo_x"] = bot.me["odo_y"] = 0.0
+    T_r = bot.swarm.params.T_r
+    bot.step([((0.0, -4.0), 40, 1, ARRIVE)], moved=(0.0, 0.0), beacon_deg=90.0,
+             tick=int(bot.me["progress_tick"]) + T_r)  # no way on for T_r ticks
+    assert not bot.me["leaving"] and bot.me["turned"] == 0.0
+
+
 def test_target_floor_restarts_the_turn_and_d_cover_6_has_no_islands():
     on = Bot(groups=1, d_cover=4.0)
     _orbit_lone_robot(on, 36, on_target=True)

@@ -194,10 +194,13 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     if a < 0:
         return wander(view, me, sense, pb, P)
     vx, vy = edge_velocity(view, me, a, b, P)
-    leaving, vx, vy = leave_island(view, me, a, vx, vy, sense, P)
-    me.head_x, me.head_y = scaled(vx, vy, 1.0)
+    leaving, lx, ly = leave_island(view, me, a, vx, vy, sense, P)
+    if leaving and not stuck(me, sense, P):
+        me.head_x, me.head_y = scaled(lx, ly, 1.0)
+        return drive(view, me, sense, lx, ly, P)
     if leaving:
-        return drive(view, me, sense, vx, vy, P)
+        restart_turn(me)  # pinned on the way out: back to the edge and its dead-end rules
+    me.head_x, me.head_y = scaled(vx, vy, 1.0)
     if P.surplus_rule:
         track_winding(me, sense)
     if should_arrive(view, me, a, sense, pb, P):
