@@ -11,8 +11,9 @@ A mover off the target whose heading has turned a whole turn since it last had t
 under it has gone round an island (going round the structure, it passes target floor). Once
 the island lies behind it, away from the beacon, it leaves for the beacon, and follows edges
 again when it reaches target floor, meets a stationary robot ahead (toward the beacon)
-within d_cover, or is pinned on the way (Equation 3). Going all the way round one robot there is such a turn too: the mover
-keeps going round (it does not turn back, as elsewhere) until it can leave.
+within d_cover, or is pinned on the way (Equation 3). Going all the way round one robot
+there is such a turn too: the mover keeps going round (it does not turn back, as elsewhere)
+until it can leave.
 """
 
 from __future__ import annotations
