@@ -217,20 +217,29 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         me.circled = 0.0
         full_circle = False
     if stuck(me, sense, P) or full_circle:
-        if sense.on_target and may_arrive_when_stuck(view, P):
-            set_status(me, ARRIVE)
-            return still()
-        me.sense = -me.sense  # a dead end: try the other way round
-        me.circled = 0.0
-        restart_lap(me, False)
-        restart_turn(me)
-        if sense.on_target:
-            return deadlock_stop(me, sense, P)
-        if wedged(view, me, P):  # wait until the robots around me have gone, then leave
-            set_status(me, DETECTION)  # the other way
-            me.head_x, me.head_y = -me.head_x, -me.head_y
-            me.yield_count = waiting_near(view, P)
-            return still()
+        return dead_end(view, me, sense, vx, vy, P)
+    return drive(view, me, sense, vx, vy, P)
+
+
+@njit(cache=True)
+def dead_end(view, me, sense, vx, vy, P):  # pragma: no cover - compiled
+    """Stuck, or all the way round one robot: on the target arrive where I am (Algorithm 5)
+    or wait in Stop (Algorithm 6); off it turn round, and if wedged against waiting robots
+    wait in Detection until they have gone, then leave the other way."""
+    if sense.on_target and may_arrive_when_stuck(view, P):
+        set_status(me, ARRIVE)
+        return still()
+    me.sense = -me.sense
+    me.circled = 0.0
+    restart_lap(me, False)
+    restart_turn(me)
+    if sense.on_target:
+        return deadlock_stop(me, sense, P)
+    if wedged(view, me, P):
+        set_status(me, DETECTION)
+        me.head_x, me.head_y = -me.head_x, -me.head_y
+        me.yield_count = waiting_near(view, P)
+        return still()
     return drive(view, me, sense, vx, vy, P)
 
 
