@@ -20,9 +20,6 @@ import math
 import numpy as np
 from numba import njit
 
-SMALL_SORT = 64
-"""Views up to this many rows are ordered by insertion sort, larger ones by merge sorts."""
-
 MAX_CELLS_PER_ROBOT = 4
 """The grid has at most this many cells per robot: a tiny radius over a wide swarm gets
 larger cells (the same views; only fewer empty cells to build)."""
@@ -148,7 +145,7 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
                     at += 1
         counts[k] = at - first
         if ordered:
-            _order(flat, ox, oy, d2, first, at, scratch)
+            _order(flat, ox, oy, d2, first, at, r2, scratch)
     offsets = np.empty((at, 2), dtype=np.float64)
     offsets[:, 0] = ox[:at]
     offsets[:, 1] = oy[:at]
@@ -157,37 +154,43 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
 
 @njit(cache=True)
 def _scratch(rows):  # pragma: no cover - compiled
-    """The insertion sort's scratch arrays for views of up to ``rows`` rows: keys,
-    permutation, and one column each of indices, x and y offsets."""
-    return (np.empty(rows), np.empty(rows, dtype=np.int64), np.empty(rows, dtype=np.int64),
-            np.empty(rows), np.empty(rows))
+    """The sort's scratch for views of up to ``rows`` rows: squared distances, indices, x and
+    y offsets, each row's bucket, and the buckets' counts."""
+    return (np.empty(rows), np.empty(rows, dtype=np.int64), np.empty(rows), np.empty(rows),
+            np.empty(rows, dtype=np.int64), np.empty(rows + 1, dtype=np.int64))
 
 
 @njit(cache=True)
-def _order(flat, ox, oy, d2, a, b, scratch):  # pragma: no cover - compiled
-    """Sort rows a..b by (squared distance, index): a total order (indices differ)."""
-    if b - a > SMALL_SORT:
-        by_index = np.argsort(flat[a:b], kind="mergesort")
-        by_distance = by_index[np.argsort(d2[a:b][by_index], kind="mergesort")]
-        flat[a:b] = flat[a:b][by_distance]
-        ox[a:b] = ox[a:b][by_distance]
-        oy[a:b] = oy[a:b][by_distance]
-        d2[a:b] = d2[a:b][by_distance]
-        return
-    # insertion sort (views are short) of the keys and a permutation only; the rows follow
-    keys, perm, tmp_flat, tmp_x, tmp_y = scratch
+def _order(flat, ox, oy, d2, a, b, r2, scratch):  # pragma: no cover - compiled
+    """Sort rows a..b (squared distances at most ``r2``) by (squared distance, index): a total
+    order (indices differ), so any correct sort gives the same rows.
+
+    A counting sort into as many buckets of squared distance as there are rows, then an
+    insertion sort of the nearly sorted result (few moves, well-predicted branches): about
+    twice as fast as an insertion sort alone at ~40 rows.
+    """
+    keys, ids, tx, ty, bucket, count = scratch
     n = b - a
+    if n < 2:
+        return
+    scale = n / r2 if r2 > 0 else 0.0
+    count[:n + 1] = 0
     for s in range(n):
-        keys[s], perm[s] = d2[a + s], s
+        q = min(int(d2[a + s] * scale), n - 1)
+        bucket[s] = q
+        count[q + 1] += 1
+    for q in range(n):
+        count[q + 1] += count[q]
+    for s in range(n):
+        o = count[bucket[s]]
+        count[bucket[s]] = o + 1
+        keys[o], ids[o], tx[o], ty[o] = d2[a + s], flat[a + s], ox[a + s], oy[a + s]
     for s in range(1, n):
-        dd, row = keys[s], perm[s]
-        j = flat[a + row]
+        k, i, x, y = keys[s], ids[s], tx[s], ty[s]
         t = s - 1
-        while t >= 0 and (keys[t] > dd or (keys[t] == dd and flat[a + perm[t]] > j)):
-            keys[t + 1], perm[t + 1] = keys[t], perm[t]
+        while t >= 0 and (keys[t] > k or (keys[t] == k and ids[t] > i)):
+            keys[t + 1], ids[t + 1], tx[t + 1], ty[t + 1] = keys[t], ids[t], tx[t], ty[t]
             t -= 1
-        keys[t + 1], perm[t + 1] = dd, row
+        keys[t + 1], ids[t + 1], tx[t + 1], ty[t + 1] = k, i, x, y
     for s in range(n):
-        tmp_flat[s], tmp_x[s], tmp_y[s] = flat[a + perm[s]], ox[a + perm[s]], oy[a + perm[s]]
-    for s in range(n):
-        flat[a + s], ox[a + s], oy[a + s], d2[a + s] = tmp_flat[s], tmp_x[s], tmp_y[s], keys[s]
+        flat[a + s], ox[a + s], oy[a + s], d2[a + s] = ids[s], tx[s], ty[s], keys[s]

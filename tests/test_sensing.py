@@ -209,7 +209,21 @@ def test_compiled_views_equal_the_kdtree_views_to_the_bit():
             a, b = getattr(fast, field), getattr(ref, field)
             assert a.shape == b.shape and np.array_equal(a, b), (trial, field)
         longest = max(longest, int(ref.counts.max()))
-    assert longest > 64  # the merge-sort branch was taken too
+    assert longest > 64  # long views were sorted too
+
+
+def test_compiled_views_on_a_lattice_full_of_exact_ties():
+    """Integer lattice: whole rings of neighbours at the same squared distance, which the
+    compiled sort's buckets must leave in index order, as the k-d tree path does."""
+    xs, ys = np.meshgrid(np.arange(30.0), np.arange(30.0))
+    pos = np.column_stack((xs.ravel(), ys.ravel()))[np.random.default_rng(3).permutation(900)]
+    robots = np.arange(0, 900, 7)
+    for radius in (1.0, 2.0, 5.0, 9.0):
+        fast = NeighbourSearch(pos).neighbourhoods_flat(robots, radius)
+        ref = NeighbourSearch(pos, compiled=False).neighbourhoods_flat(robots, radius)
+        assert np.array_equal(fast.neighbours, ref.neighbours), radius
+        assert np.array_equal(fast.offsets, ref.offsets), radius
+    assert fast.counts.max() > 200  # views of a few hundred rows, mostly ties
 
 
 def test_compiled_views_over_a_wide_sparse_swarm():
