@@ -11,18 +11,40 @@ import math
 from collections import namedtuple
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.experimental import structref
 
 from controllers.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
 
-View = namedtuple("View", ["off", "dist", "id", "status", "grad", "group", "leader", "moving",
-                           "cmd", "vx", "vy", "touch", "stepped", "enclosed", "h", "handover",
-                           "quiet", "ldist", "lepoch", "hole", "hx", "hy"])
-"""One robot's neighbours, nearest first: offsets (k, 2) relative to it and distances (k,),
-units, then the columns of their last broadcasts (k,) ((k, groups) for ldist and lepoch)."""
+VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving", "cmd", "vx",
+               "vy", "touch", "stepped", "enclosed", "h", "handover", "quiet", "ldist",
+               "lepoch", "hole", "hx", "hy")
+
+
+@structref.register
+class ViewType(types.StructRef):
+    """numba's type of a View: a reference to one struct of arrays."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class View(structref.StructRefProxy):
+    """One robot's neighbours, nearest first: offsets (k, 2) relative to it and distances (k,),
+    units, then the columns of their last broadcasts (k,) ((k, groups) for ldist and lepoch).
+
+    Passed by reference (one pointer), not as a tuple of 22 arrays: a compiled call with a
+    tuple of arrays copies and counts each one, and a decision makes dozens of rule calls."""
+
+    def __new__(cls, *columns):
+        return structref.StructRefProxy.__new__(cls, *columns)
+
+
+structref.define_proxy(View, ViewType, list(VIEW_FIELDS))
+
 Sense = namedtuple("Sense", ["tick", "on_target", "moved_x", "moved_y", "has_beacon",
                              "beacon_x", "beacon_y"])
 """One robot's own sensors: the tick, its floor sensor, its displacement over the last tick
