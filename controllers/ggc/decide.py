@@ -105,6 +105,7 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
                 c[8][:0], c[9][:0], c[10][:0], c[11][:0], c[12][:0], c[13][:0], c[14][:0],
                 c[15][:0], c[16][:0], c[17][:0], c[18][:0], c[19][:0], c[20][:0], c[21][:0],
                 c[22][:0])
+    pb = Probe(req[0], ans[0], calls[0:1], pending[0:1])
     for j in todo:
         i = rows[j]
         if again:
@@ -124,7 +125,7 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
                       beacons[j, 0], beacons[j, 1])
         calls[j] = 0
         pending[j] = False
-        pb = Probe(req[j], ans[j], calls[j:j + 1], pending[j:j + 1])
+        pb.req, pb.ans, pb.calls, pb.pending = req[j], ans[j], calls[j:j + 1], pending[j:j + 1]
         me = state[i]
         vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
         velocity[j, 0], velocity[j, 1] = vx, vy

@@ -49,9 +49,26 @@ Sense = namedtuple("Sense", ["tick", "on_target", "moved_x", "moved_y", "has_bea
                              "beacon_x", "beacon_y"])
 """One robot's own sensors: the tick, its floor sensor, its displacement over the last tick
 (units) and the unit bearing to the beacon (when the world has one)."""
-Probe = namedtuple("Probe", ["req", "ans", "calls", "pending"])
-"""One robot's floor probe for this decision (see :func:`probe`): its requests (4, 2), their
-answers (4,) (-1 unknown, 0, 1), and one-element counters: calls made, an answer missing."""
+
+
+@structref.register
+class ProbeType(types.StructRef):
+    """numba's type of a Probe: a reference to one struct of arrays."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class Probe(structref.StructRefProxy):
+    """One robot's floor probe for this decision (see :func:`probe`): its requests (4, 2), their
+    answers (4,) (-1 unknown, 0, 1), and one-element counters: calls made, an answer missing.
+    Passed by reference, as View is."""
+
+    def __new__(cls, req, ans, calls, pending):
+        return structref.StructRefProxy.__new__(cls, req, ans, calls, pending)
+
+
+structref.define_proxy(Probe, ProbeType, ["req", "ans", "calls", "pending"])
 
 INF = INF_GRADIENT
 NO = NO_SENDER
