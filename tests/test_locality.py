@@ -119,8 +119,8 @@ def test_ggc_rules_take_only_local_arguments():
     rules = sorted((CONTROLLERS / "ggc" / "rules").glob("*.py"))
     seen = set()
     for f in rules:
-        allowed = {"__future__", "math", "numpy", "numba", "collections", "controllers.gradient",
-                   "swarmsim.controller"}
+        allowed = {"__future__", "math", "numpy", "numba", "numba.experimental", "collections",
+                   "controllers.gradient", "swarmsim.controller"}
         assert imported_modules(f) <= allowed, f.name
         module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
         for name, fn in vars(module).items():
