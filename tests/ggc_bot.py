@@ -69,8 +69,8 @@ class Bot:
 def view(rows, groups: int = 3, **fields) -> View:
     """A rule's view of these neighbours (see :func:`messages`), for calling a rule alone."""
     offsets, m = messages(rows, groups, **fields)
-    return View(offsets, np.hypot(offsets[:, 0], offsets[:, 1]),
-                *(np.ascontiguousarray(m[name]) for name in COLUMNS))
+    m.flags.writeable = False  # as the driver passes them: read-only strided columns
+    return View(offsets, np.hypot(offsets[:, 0], offsets[:, 1]), *(m[name] for name in COLUMNS))
 
 
 def ggc_state(sim) -> np.ndarray:

@@ -27,8 +27,6 @@ from .statuses import STATUSES
 COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
            "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch", "hole", "hx", "hy")
 """The broadcast columns a rule's view holds, in View's order (after off, dist)."""
-SCATTERED_COLUMNS = ("h", "handover", "quiet", "ldist", "lepoch")
-"""Columns only the scattered start's rules read (left empty in a formation start)."""
 
 
 def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
@@ -93,13 +91,14 @@ class GGCSwarm:
         robots = np.asarray(robots, dtype=np.intp)
         n = len(robots)
         saved = np.empty(n, dtype=self.state.dtype)
-        m = batch.neighbours.messages
+        m = batch.neighbours.messages.view()
+        m.flags.writeable = False  # the rules read it (one compiled signature: read-only)
+        # each column a strided view of the heard rows, not a copy: the rules read a
+        # neighbour's fields from its one record
         columns = (np.require(batch.neighbours.starts, np.int64, "C"),
                    np.require(batch.offsets, np.float64, "C"),
                    np.require(batch.neighbours.distances, np.float64, "C"),
-                   *(np.ascontiguousarray(m[name]) if self.rules.scattered
-                     or name not in SCATTERED_COLUMNS else m[name][:0].copy()
-                     for name in COLUMNS))
+                   *(m[name] for name in COLUMNS))
         on_target = np.asarray(batch.on_target, dtype=bool)
         moved = np.require(batch.moved, np.float64, "C")
         has_beacon = batch.beacons is not None
