@@ -17,7 +17,13 @@ inter-group (Section 4.3)      rules/intergroup.py (the rule sets, GGCParams.rul
 deadlock (Algorithms 5-6)      rules/deadlock.py
 surplus                        rules/surplus.py
 aggregation (Algorithms 3-4)   rules/aggregation.py (the scattered start)
+holes in the structure         rules/holes.py (rule sets with HOLES)
+islands off the target         rules/island.py (d_cover <= yield_release)
+crossing the structure         rules/cross.py (rule sets with CROSS)
 =============================  =============================================================
+
+rules/rulesets.py names the rule sets and their flags; rules/common.py holds what every rule
+shares (the View and Probe structs, actions, small geometry).
 """
 
 from __future__ import annotations
