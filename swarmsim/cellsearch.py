@@ -166,8 +166,8 @@ def _order(flat, ox, oy, d2, a, b, r2, scratch):  # pragma: no cover - compiled
     order (indices differ), so any correct sort gives the same rows.
 
     A counting sort into as many buckets of squared distance as there are rows, then an
-    insertion sort of the nearly sorted result (few moves, well-predicted branches): about
-    twice as fast as an insertion sort alone at ~40 rows.
+    insertion sort of the nearly sorted result (few moves, well-predicted branches;
+    docs/performance-log.md has the figures).
     """
     keys, ids, tx, ty, bucket, count = scratch
     n = b - a
