@@ -1,12 +1,11 @@
 """Borrowed array views for compiled code: the same array, not reference-counted.
 
 numba counts a reference to every array it passes to a compiled function up and down on each
-call (atomic operations, ~17 ns per array per call). A GGC rule is given the robot's view,
-22 array slices, and a decision makes dozens of rule calls: counting was most of a robot's
-decision (the view is now one struct passed by pointer, rules/common.py, whose fields are
-these borrowed slices). The driver's arrays are its arguments, which the caller holds for the whole
-call, so it hands the rules borrowed views of them: the same data, shape and strides, and no
-reference count (a null meminfo, which numba's counting skips).
+call (atomic operations). A GGC rule is given the robot's view, 22 array slices, and a
+decision makes dozens of rule calls (the view is one struct passed by pointer, rules/common.py,
+whose fields are these slices). The driver's arrays are its arguments, which the caller holds
+for the whole call, so it hands the rules borrowed views of them: the same data, shape and
+strides, and no reference count (a null meminfo, which numba's counting skips).
 
 Borrow only a compiled function's ARGUMENTS. numba frees a local array after its last use,
 even while a borrowed view of it is still read: heap corruption.
