@@ -24,12 +24,17 @@ VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving
                "lepoch", "hole", "hx", "hy")
 
 
-@structref.register
-class ViewType(types.StructRef):
-    """numba's type of a View: a reference to one struct of arrays."""
+class _StructType(types.StructRef):
+    """numba's type of a struct passed by reference (one pointer); its fields are typed as
+    given (literal values widened)."""
 
     def preprocess_fields(self, fields):
         return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+@structref.register
+class ViewType(_StructType):
+    """numba's type of a View."""
 
 
 class View(structref.StructRefProxy):
@@ -52,11 +57,8 @@ Sense = namedtuple("Sense", ["tick", "on_target", "moved_x", "moved_y", "has_bea
 
 
 @structref.register
-class ProbeType(types.StructRef):
-    """numba's type of a Probe: a reference to one struct of arrays."""
-
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class ProbeType(_StructType):
+    """numba's type of a Probe."""
 
 
 class Probe(structref.StructRefProxy):
