@@ -24,17 +24,12 @@ VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving
                "lepoch", "hole", "hx", "hy")
 
 
-class _StructType(types.StructRef):
-    """numba's type of a struct passed by reference (one pointer); its fields are typed as
-    given (literal values widened)."""
+@structref.register
+class ViewType(types.StructRef):
+    """numba's type of a View: a reference to one struct of arrays."""
 
     def preprocess_fields(self, fields):
         return tuple((name, types.unliteral(t)) for name, t in fields)
-
-
-@structref.register
-class ViewType(_StructType):
-    """numba's type of a View."""
 
 
 class View(structref.StructRefProxy):
@@ -57,8 +52,11 @@ Sense = namedtuple("Sense", ["tick", "on_target", "moved_x", "moved_y", "has_bea
 
 
 @structref.register
-class ProbeType(_StructType):
-    """numba's type of a Probe."""
+class ProbeType(types.StructRef):
+    """numba's type of a Probe: a reference to one struct of arrays."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
 
 
 class Probe(structref.StructRefProxy):
