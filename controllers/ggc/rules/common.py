@@ -24,6 +24,9 @@ VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving
                "lepoch", "hole", "hx", "hy")
 
 
+# Each struct type subclasses types.StructRef itself. A shared base class with the one
+# preprocess_fields was tried: in a fresh clone, processes that loaded the rules from numba's
+# on-disk cache then crashed (SIGSEGV).
 @structref.register
 class ViewType(types.StructRef):
     """numba's type of a View: a reference to one struct of arrays."""
