@@ -22,6 +22,7 @@ from shapely.geometry import Polygon
 
 from swarmsim.errors import ConfigError
 from swarmsim.stamps import restamp
+from swarmsim.tallies import count_above, enter_settled, step_lengths, watch_settled
 
 MOVING_FRACTION = 0.01
 """A robot counts as moving in a tick (time series column ``moving``) when it moved more
@@ -142,19 +143,15 @@ class IncrementalCoverage:
         self._inside = np.require(grid.inside.ravel(), bool, ("C", "W"))  # one signature
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
-        self._positions = np.full_like(positions, np.nan, dtype=np.float64)
+        self._positions = np.full(np.shape(positions), np.nan)  # stamped nowhere yet
         self.update(positions)
 
     def update(self, positions: np.ndarray) -> float:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
-        moved = np.flatnonzero((positions != self._positions).any(axis=1))
-        if len(moved):
-            g = self.grid
-            new = np.require(positions, np.float64, ("C", "W"))
-            self._covered += restamp(self._count, self._inside, moved, self._positions, new,
-                                     g.x0, g.y0, g.dx, g.dy, self._r2, self._half_i,
-                                     self._half_j, self.rows, self.cols)
-            self._positions = new.copy()
+        g = self.grid
+        self._covered += restamp(self._count, self._inside, self._positions,
+                                 np.require(positions, np.float64, "C"), g.x0, g.y0, g.dx, g.dy,
+                                 self._r2, self._half_i, self._half_j, self.rows, self.cols)
         pixels = self.grid.n_target_pixels
         return float(self._covered / pixels) if pixels else 0.0
 
@@ -193,16 +190,10 @@ class SettledWatch:
         self._displaced_now = 0
 
     def observe(self, positions: np.ndarray, messages: np.ndarray) -> None:
-        status = messages["status"].astype(np.int16) + 128
-        settled = self._is_settled[status] & ~messages["moving"]
-        new = settled & ~self.settled
-        self.anchor[new] = positions[new]
-        self.settled = settled
-        idx = np.flatnonzero(settled)
-        d = positions[idx] - self.anchor[idx]
-        shift = np.sqrt(d[:, 0] ** 2 + d[:, 1] ** 2)
-        self.max_shift[idx] = np.maximum(self.max_shift[idx], shift)
-        self._displaced_now = int(np.count_nonzero(shift > self.threshold))
+        """Account for the state at the end of a tick (``messages``: the broadcasts)."""
+        self._displaced_now = watch_settled(positions, messages["status"], messages["moving"],
+                                            self._is_settled, self.settled, self.anchor,
+                                            self.max_shift, self.threshold)
 
     @property
     def displaced_now(self) -> int:
@@ -234,6 +225,7 @@ class RobotTracks:
 
     def __init__(self, n: int, codes: tuple[int, ...], moving_eps: float):
         self.codes = tuple(int(c) for c in codes)
+        self._codes = np.asarray(self.codes, dtype=np.int64)
         self.moving_eps = moving_eps
         self.distance = np.zeros(n)
         self.settle_tick = np.full(n, NOT_YET, dtype=np.int64)
@@ -246,15 +238,11 @@ class RobotTracks:
         is read only if their dtype has a ``status`` field)."""
         if step is not None:
             self.distance += step
-            self.moving_now = int(np.count_nonzero(step > self.moving_eps))
-        if not self.codes or "status" not in (messages.dtype.names or ()):
+            self.moving_now = count_above(step, self.moving_eps)
+        if not len(self._codes) or "status" not in (messages.dtype.names or ()):
             return
-        status = np.ascontiguousarray(messages["status"])
-        settled = status == self.codes[0]
-        for code in self.codes[1:]:  # one or two codes: cheaper than a lookup table
-            settled |= status == code
-        self.settle_tick[settled & ~self._in_settled] = tick
-        self._in_settled = settled
+        enter_settled(tick, messages["status"], self._codes, self.settle_tick,
+                      self._in_settled)
 
 
 class RunMetrics:
@@ -299,9 +287,9 @@ class RunMetrics:
         """Account for the state at the end of ``tick``."""
         step = None
         if self._prev is not None:
-            step = np.hypot(*(positions - self._prev).T)
+            step, longest = step_lengths(positions, self._prev)
             self.total_distance += float(step.sum())
-            if changed or (step.size and step.max() > self.config.wake_eps):
+            if changed or longest > self.config.wake_eps:
                 self.last_change_tick = tick
         self._prev = positions
         self.tracks.observe(tick, step, messages)

@@ -16,15 +16,16 @@ from numba import njit
 
 
 @njit(cache=True)
-def restamp(count, inside, moved, old, new, x0, y0, dx, dy, r2, half_i, half_j, rows,
+def restamp(count, inside, old, new, x0, y0, dx, dy, r2, half_i, half_j, rows,
             cols):  # pragma: no cover - compiled
-    """Take each moved robot's stamp away at its ``old`` position (skipped where that is
-    NaN: not stamped yet) and add it at its ``new`` one.
+    """For each robot whose ``new`` position differs from its ``old`` one: take its stamp
+    away at ``old`` (skipped where that is NaN: not stamped yet), add it at ``new``, and
+    copy ``new`` into ``old``.
 
     Args:
         count: (rows * cols,) int64 robots covering each pixel, updated in place.
         inside: (rows * cols,) bool, pixel centre inside the target.
-        moved: (M,) robot indices; old, new: (N, 2) positions, units.
+        old: (N, 2) the positions last stamped (updated in place); new: (N, 2), units.
         x0, y0, dx, dy: the grid's corner and pixel size, units; r2: radius^2, units^2.
         half_i, half_j: the stencil's half height and width, pixels.
 
@@ -32,13 +33,15 @@ def restamp(count, inside, moved, old, new, x0, y0, dx, dy, r2, half_i, half_j, 
         The change in the number of covered target pixels.
     """
     change = 0
-    for k in range(moved.shape[0]):
-        i = moved[k]
+    for i in range(new.shape[0]):
+        if old[i, 0] == new[i, 0] and old[i, 1] == new[i, 1]:
+            continue
         if not math.isnan(old[i, 0]):
             change -= _stamp(count, inside, old[i, 0], old[i, 1], -1, x0, y0, dx, dy, r2,
                              half_i, half_j, rows, cols)
         change += _stamp(count, inside, new[i, 0], new[i, 1], 1, x0, y0, dx, dy, r2, half_i,
                          half_j, rows, cols)
+        old[i, 0], old[i, 1] = new[i, 0], new[i, 1]
     return change
 
 

@@ -1,0 +1,86 @@
+"""The run metrics' per-tick passes over all robots, compiled (numba): one loop each instead of
+~30 numpy calls over a few hundred robots a tick.
+
+The same answers as the numpy code they replaced in metrics.py, to the bit: a step's length is
+the C library's ``hypot`` (numpy's ``hypot`` calls it too), a settled robot's shift is
+``sqrt(dx * dx + dy * dy)`` as numpy's ``d ** 2`` squares, and the comparisons are the same.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def step_lengths(positions, before):  # pragma: no cover - compiled
+    """(N,) how far each robot moved between ``before`` and ``positions`` (units), and the
+    longest of those moves (0.0 for no robots)."""
+    n = positions.shape[0]
+    step = np.empty(n)
+    longest = 0.0
+    for i in range(n):
+        step[i] = math.hypot(positions[i, 0] - before[i, 0], positions[i, 1] - before[i, 1])
+        longest = max(longest, step[i])
+    return step, longest
+
+
+@njit(cache=True)
+def count_above(values, threshold):  # pragma: no cover - compiled
+    """How many of ``values`` exceed ``threshold``."""
+    k = 0
+    for v in values:
+        if v > threshold:
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def enter_settled(tick, status, codes, settle_tick, in_settled):  # pragma: no cover - compiled
+    """Mark robots whose ``status`` is one of ``codes``: a robot that was not settled before
+    gets ``settle_tick`` = ``tick``. ``in_settled`` (N,) bool is updated in place."""
+    for i in range(len(status)):
+        settled = False
+        for code in codes:
+            if status[i] == code:
+                settled = True
+        if settled and not in_settled[i]:
+            settle_tick[i] = tick
+        in_settled[i] = settled
+
+
+@njit(cache=True)
+def watch_settled(positions, status, moving, is_settled, settled, anchor, max_shift,
+                  threshold):  # pragma: no cover - compiled
+    """One tick of SettledWatch, in place: a robot is settled while ``is_settled[status +
+    128]`` and not ``moving``; it is anchored where it settled, and ``max_shift`` keeps its
+    largest distance from the anchor since (units). Returns how many settled robots are now
+    more than ``threshold`` units from their anchor."""
+    displaced = 0
+    for i in range(positions.shape[0]):
+        now = is_settled[np.int16(status[i]) + 128] and not moving[i]
+        if now and not settled[i]:
+            anchor[i, 0], anchor[i, 1] = positions[i, 0], positions[i, 1]
+        settled[i] = now
+        if now:
+            dx, dy = positions[i, 0] - anchor[i, 0], positions[i, 1] - anchor[i, 1]
+            shift = math.sqrt(dx * dx + dy * dy)
+            max_shift[i] = max(max_shift[i], shift)
+            if shift > threshold:
+                displaced += 1
+    return displaced
+
+
+def warm_up() -> None:
+    """Compile (first time on a machine) or load (from the cache) the kernels now."""
+    one = np.zeros((1, 2))
+    step, _ = step_lengths(one, one)
+    count_above(step, 0.0)
+    rows = np.zeros(1, dtype=[("id", "i4"), ("status", "i1"), ("moving", "?")])
+    status, moving = rows["status"], rows["moving"]  # strided views, as a run passes them
+    flag, codes = np.zeros(1, dtype=np.bool_), np.zeros(1, dtype=np.int64)
+    enter_settled(0, status, codes, np.zeros(1, dtype=np.int64), flag)
+    watch_settled(one, status, moving, np.zeros(257, dtype=np.bool_), flag, one.copy(),
+                  np.zeros(1), 1.0)
