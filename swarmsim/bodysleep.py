@@ -23,16 +23,16 @@ from collections.abc import Sequence
 
 import numpy as np
 import pymunk
+from numba import njit
 from pymunk._chipmunk_cffi import lib
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
 
 
 class IdTable:
-    """Body id -> code, vectorised: an open-addressing hash table (linear probing) in numpy.
-
-    Cheaper than numpy's searchsorted or argsort on ids like pymunk's (addresses): a few
-    numpy passes over the queried ids.
+    """Body id -> code: an open-addressing hash table (linear probing), looked up in compiled
+    code (numba): one pass over the queried ids, cheaper than numpy's searchsorted or argsort
+    on ids like pymunk's (addresses).
 
     Args:
         ids: the distinct keys (body ids, as pymunk.batch reports them).
@@ -62,19 +62,28 @@ class IdTable:
 
     def lookup(self, ids: np.ndarray) -> np.ndarray:
         """The code of each id (same shape); -1 for ids not in the table."""
-        keys = np.asarray(ids, dtype=np.uint64).ravel()
-        slots = self._slots(keys)
-        out = self._codes[slots]  # right at once for most keys (the table is 1/8 full)
-        todo = np.flatnonzero(self._keys[slots] != keys)
-        for _ in range(self.probes):
-            todo = todo[self._used[slots[todo]]]  # an empty slot: not in the table (-1)
-            if not len(todo):
-                break
-            at = slots[todo] = (slots[todo] + 1) & self._mask
-            out[todo] = self._codes[at]
-            todo = todo[self._keys[at] != keys[todo]]
-        out[todo] = -1  # probed as far as any key lies from its slot: not in the table
+        keys = np.ascontiguousarray(ids, dtype=np.uint64).ravel()
+        out = _lookup(keys, self._keys, self._used, self._codes, self._shift, self._mask,
+                      self.probes)
         return out.reshape(np.shape(ids))
+
+
+@njit(cache=True)
+def _lookup(keys, table, used, codes, shift, mask, probes):  # pragma: no cover - compiled
+    """IdTable.lookup's probing: each key's slot, then the next ones, until the key, an empty
+    slot, or ``probes`` slots (as far as any key lies from its own): -1, not in the table."""
+    out = np.full(len(keys), -1, dtype=np.intp)
+    for k in range(len(keys)):
+        key = keys[k]
+        slot = np.intp(((key >> np.uint64(4)) * _GOLDEN) >> shift)
+        for _ in range(probes):
+            if not used[slot]:
+                break
+            if table[slot] == key:
+                out[k] = codes[slot]
+                break
+            slot = (slot + 1) & mask
+    return out
 
 
 class BodyRows:
@@ -158,25 +167,41 @@ class Parking:
 
     def command(self, velocities: np.ndarray) -> None:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
-        v = np.ascontiguousarray(velocities, dtype=np.float64)
-        pairs = v.view(np.complex128)[:, 0]  # (vx, vy) as one number: faster than any(axis=1)
-        zero = pairs == 0
-        to_park = np.flatnonzero(zero & self._zero_before & ~self.parked)
-        to_unpark = np.flatnonzero(~zero & self.parked)
-        self._zero_before = zero
+        v = np.require(velocities, np.float64, ("C", "W"))
+        to_unpark, to_park, write = _plan(v, self._zero_before, self.parked, self._written)
         for i in to_unpark.tolist():
             lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver
             lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.KINEMATIC)
         for i in to_park.tolist():
             lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.STATIC)  # velocity becomes 0
-        self.parked[to_unpark] = False
-        self.parked[to_park] = True
-        self._written[to_park] = 0.0
-        write = np.flatnonzero(pairs != self._written.view(np.complex128)[:, 0])
         if len(write):
             set_velocity, ptrs = lib.cpBodySetVelocity, self._control_ptrs
             rows = v[write]
             for i, vx, vy in zip(write.tolist(), rows[:, 0].tolist(), rows[:, 1].tolist(),
                                  strict=True):
                 set_velocity(ptrs[i], (vx, vy))
-            self._written[write] = rows
+
+
+@njit(cache=True)
+def _plan(v, zero_before, parked, written):  # pragma: no cover - compiled
+    """Parking.command's bookkeeping, in place: robots to unpark (a non-zero command while
+    parked), to park (zero now and last tick), and whose control velocity to write (the
+    command differs from the velocity written last; a parked robot's is zero)."""
+    n = v.shape[0]
+    to_unpark, to_park, write = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
+                                 np.empty(n, dtype=np.int64))
+    u = p = w = 0
+    for i in range(n):
+        zero = v[i, 0] == 0 and v[i, 1] == 0
+        if zero and zero_before[i] and not parked[i]:
+            to_park[p], p = i, p + 1
+            parked[i] = True
+            written[i, 0], written[i, 1] = 0.0, 0.0
+        elif not zero and parked[i]:
+            to_unpark[u], u = i, u + 1
+            parked[i] = False
+        zero_before[i] = zero
+        if v[i, 0] != written[i, 0] or v[i, 1] != written[i, 1]:
+            write[w], w = i, w + 1
+            written[i, 0], written[i, 1] = v[i, 0], v[i, 1]
+    return to_unpark[:u], to_park[:p], write[:w]

@@ -27,6 +27,7 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
+from swarmsim import contactrows
 from swarmsim.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.world import World
 
@@ -139,24 +140,6 @@ class _Arbiters:
     @staticmethod
     def none() -> _Arbiters:
         return _Arbiters(np.zeros((0, 2), dtype=np.intp), np.zeros(0), np.zeros(0))
-
-    def touches(self, robots: np.ndarray, every: bool) -> np.ndarray:
-        """(M,) bool: rows with a robot flagged in ``robots`` (N,) bool; with ``every``, rows
-        with at least one robot, all of them flagged."""
-        real = self.robots >= 0
-        flagged = real & robots[np.where(real, self.robots, 0)]
-        a, b = flagged[:, 0], flagged[:, 1]  # columns: faster than any/all(axis=1)
-        if every:
-            return (a | b) & (a | ~real[:, 0]) & (b | ~real[:, 1])
-        return a | b
-
-    def keep(self, rows: np.ndarray) -> _Arbiters:
-        return _Arbiters(self.robots[rows], self.depth[rows], self.impulse[rows])
-
-    @staticmethod
-    def join(a: _Arbiters, b: _Arbiters) -> _Arbiters:
-        return _Arbiters(np.concatenate([a.robots, b.robots]), np.concatenate([a.depth, b.depth]),
-                         np.concatenate([a.impulse, b.impulse]))
 
 
 class Physics:
@@ -346,14 +329,12 @@ class Physics:
         asleep in pymunk keeps the contacts it had when it fell asleep.
         """
         c = self._arbiters()
-        in_contact = np.zeros(self.n, dtype=bool)
         if len(c.robots) == 0:
-            return ContactState(in_contact)
-        touched = c.robots[c.robots >= 0]
-        in_contact[touched] = True
-        pair = (c.robots[:, 0] >= 0) & (c.robots[:, 1] >= 0) & (c.depth > 0)
-        return ContactState(in_contact, float(c.depth.max()), float(c.depth[pair].sum()),
-                            int(pair.sum()), float(c.impulse.sum()), float(c.impulse.max()))
+            return ContactState(np.zeros(self.n, dtype=bool))
+        in_contact, pair, deepest = contactrows.tally(c.robots, c.depth, self.n)
+        return ContactState(in_contact, deepest, float(c.depth[pair].sum()),
+                            int(np.count_nonzero(pair)), float(c.impulse.sum()),
+                            float(c.impulse.max()))
 
     def _arbiters(self) -> _Arbiters:
         """This tick's contacts: pymunk's arbiters, plus the last ones of sleeping robots."""
@@ -362,11 +343,11 @@ class Physics:
         live = self._read_arbiters()
         if self._sleep and self._parking.parked.any():
             asleep = self.bodies_asleep()
-            if asleep.any():
-                live = live.keep(~live.touches(asleep, every=False))  # stale cached ones
+            if asleep.any():  # their live arbiters are stale: they keep their last ones
                 before = self._contacts
-                kept = before.keep(before.touches(asleep, every=True))
-                live = _Arbiters.join(live, kept)
+                live = _Arbiters(*contactrows.carry_over(
+                    live.robots, live.depth, live.impulse, before.robots, before.depth,
+                    before.impulse, asleep))
         self._contacts, self._contacts_at = live, self._steps
         return live
 
