@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, spawn, wakes
+from swarmsim import cellsearch, contactrows, spawn, tallies, wakes
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -251,6 +251,8 @@ class Simulation:
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
         cellsearch.warm_up()  # compiled or loaded before the run's clock starts
         wakes.warm_up()
+        tallies.warm_up()
+        contactrows.warm_up()
         self.info.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
@@ -298,7 +300,7 @@ class Simulation:
         t0 = clock()
         pos = self.positions
         search = NeighbourSearch(pos)
-        awake = self._awake_robots(search)
+        awake = self._awake_robots()
         new_messages = self.messages.copy()
         velocities = np.zeros((self.n, 2))
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
@@ -341,7 +343,7 @@ class Simulation:
                                           np.take(self.messages, awake))
         return changed
 
-    def _awake_robots(self, search: NeighbourSearch) -> np.ndarray:
+    def _awake_robots(self) -> np.ndarray:
         """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
         sleeping = self.asleep & ~self.failed
         if sleeping.any():
@@ -354,31 +356,21 @@ class Simulation:
             by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
             changed = drift | by_message
             if changed.any():
-                self._wake_near(search, np.flatnonzero(changed), by_message | pushed)
+                self._wake_near(np.flatnonzero(changed), by_message | pushed)
                 self.asleep[drift] = False
         else:
             self._ref_positions = self.positions.copy()
         return np.flatnonzero(~self.asleep & ~self.failed)
 
-    def _wake_near(self, search: NeighbourSearch, changed: np.ndarray,
-                   by_message: np.ndarray) -> None:
+    def _wake_near(self, changed: np.ndarray, by_message: np.ndarray) -> None:
         """Wake sleepers that have a changed robot within their wake range.
 
         Sleepers that asked not to be woken by motion only wake for changed broadcasts and
         pushed robots (``by_message``: the robots that wake those too).
         """
-        asleep = self.asleep
-        if not asleep.any():
-            return
         margin = 2 * self.config.v_max + self.config.wake_eps
-        # only sleepers can be woken: none is farther than its own wake range (+ a hair, so
-        # that the tree's distances and np.hypot's cannot disagree at the rim)
-        reach = float(self.wake_range[asleep].max()) + margin + 1e-6
-        for start in range(0, len(changed), DECIDE_CHUNK):  # bounded memory, same result
-            sources = changed[start:start + DECIDE_CHUNK]
-            k, near = search.pairs_near(sources, reach)  # each source itself included
-            wakes.wake_pairs(self.positions, asleep, self.wake_range, self.wake_on_motion,
-                             by_message, sources, k, near, margin)
+        wakes.wake_near(self.positions, self.asleep, self.wake_range, self.wake_on_motion,
+                        by_message, np.require(changed, np.intp, "C"), margin)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray

@@ -1,5 +1,6 @@
 """Which sleeping robots wake this tick, compiled (numba): the robots that drifted since they
-were last looked at, and the sleepers within wake range of a robot that changed.
+were last looked at, and the sleepers within wake range of a robot that changed (found in a
+grid of the sleepers, not in the whole swarm's neighbour search).
 
 The same answers as the numpy code they replaced in sim.py, to the bit: the offsets are the
 same differences, the distances the C library's ``hypot`` (which numpy's ``hypot`` calls too),
@@ -31,23 +32,61 @@ def drifted(positions, ref, velocities, eps):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def wake_pairs(positions, asleep, wake_range, wake_on_motion, wakes_all, sources, pair_source,
-               near, margin):  # pragma: no cover - compiled
-    """Wake (in ``asleep``, in place) each sleeper ``near[p]`` within its wake range plus
-    ``margin`` units of the changed robot ``sources[pair_source[p]]``, if it wakes on motion
-    or that robot ``wakes_all`` (its broadcast changed, or it was pushed)."""
-    for p in range(len(near)):
-        j, s = near[p], sources[pair_source[p]]
-        if not asleep[j] or not (wake_on_motion[j] or wakes_all[s]):
-            continue
-        d = math.hypot(positions[j, 0] - positions[s, 0], positions[j, 1] - positions[s, 1])
-        if d <= wake_range[j] + margin:
-            asleep[j] = False
+def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
+              margin):  # pragma: no cover - compiled
+    """Wake (in ``asleep``, in place) each sleeper within its wake range plus ``margin`` units
+    of a changed robot in ``sources`` (a source itself included), if it wakes on motion or
+    that robot ``wakes_all`` (its broadcast changed, or it was pushed).
+
+    The sleepers are sorted into a grid of cells no smaller than the widest wake range plus
+    the margin, so each source looks at the 3 x 3 cells round it; the distance is the C
+    library's ``hypot`` against ``wake_range[j] + margin``, as a pair list would compare it.
+    """
+    sleepers = np.flatnonzero(asleep)
+    if len(sleepers) == 0 or len(sources) == 0:
+        return
+    xs, ys = positions[sleepers, 0], positions[sleepers, 1]
+    x0, y0 = xs.min(), ys.min()
+    cell = (wake_range[sleepers].max() + margin) * (1 + 1e-9) + 1e-12
+    most = 4 * len(sleepers) + 16  # cells: not many more than sleepers
+    width, height = xs.max() - x0, ys.max() - y0
+    if (width / cell + 1) * (height / cell + 1) > most:
+        cell = max(cell, math.sqrt(width * height / most) * 1.01, width / most, height / most)
+    nx, ny = int(width / cell) + 1, int(height / cell) + 1
+    cell_of = np.empty(len(sleepers), dtype=np.int64)
+    starts = np.zeros(nx * ny + 1, dtype=np.int64)
+    for k in range(len(sleepers)):
+        cx = min(int((xs[k] - x0) / cell), nx - 1)
+        cy = min(int((ys[k] - y0) / cell), ny - 1)
+        cell_of[k] = cy * nx + cx
+        starts[cell_of[k] + 1] += 1
+    for c in range(nx * ny):
+        starts[c + 1] += starts[c]
+    fill = starts[:-1].copy()
+    members = np.empty(len(sleepers), dtype=np.int64)
+    for k in range(len(sleepers)):
+        members[fill[cell_of[k]]] = sleepers[k]
+        fill[cell_of[k]] += 1
+    for s in sources:
+        fx, fy = (positions[s, 0] - x0) / cell, (positions[s, 1] - y0) / cell
+        if fx < -1.0 or fy < -1.0 or fx >= nx + 1.0 or fy >= ny + 1.0:
+            continue  # more than a cell beyond every sleeper
+        cx, cy = math.floor(fx), math.floor(fy)  # an int in numba
+        for gy in range(max(cy - 1, 0), min(cy + 1, ny - 1) + 1):
+            for gx in range(max(cx - 1, 0), min(cx + 1, nx - 1) + 1):
+                c = gy * nx + gx
+                for m in range(starts[c], starts[c + 1]):
+                    j = members[m]
+                    if not asleep[j] or not (wake_on_motion[j] or wakes_all[s]):
+                        continue
+                    d = math.hypot(positions[j, 0] - positions[s, 0],
+                                   positions[j, 1] - positions[s, 1])
+                    if d <= wake_range[j] + margin:
+                        asleep[j] = False
 
 
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one, flag = np.zeros((1, 2)), np.zeros(1, dtype=np.bool_)
     drifted(one, one.copy(), one, 1.0)
-    ints = np.zeros(1, dtype=np.intp)
-    wake_pairs(one, flag, np.ones(1), flag, flag, ints, ints, ints, 1.0)
+    wake_near(one, flag, np.ones(1), flag, flag, np.zeros(1, dtype=np.intp), 1.0)

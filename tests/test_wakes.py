@@ -3,7 +3,7 @@ drifted or were pushed, and which sleepers a changed robot wakes."""
 
 import numpy as np
 
-from swarmsim.wakes import drifted, wake_pairs
+from swarmsim.wakes import drifted, wake_near
 
 
 def test_drifted_is_the_numpy_rule():
@@ -27,27 +27,36 @@ def test_drifted_is_the_numpy_rule():
         assert 0 < want_drift.sum() < n or n < 20
 
 
-def test_wake_pairs_is_the_numpy_rule():
+def test_wake_near_is_the_rule_over_every_pair():
     rng = np.random.default_rng(9)
-    woken = 0
-    for _ in range(50):
-        n, pairs = int(rng.integers(2, 200)), int(rng.integers(0, 400))
-        positions = rng.integers(0, 40, size=(n, 2)) * 0.25  # exact rims: 2.25, 6.25, 15.25
+    woken = spared = 0
+    for trial in range(80):
+        n = int(rng.integers(2, 200))
+        spread = [10, 40, 400][trial % 3]  # crowded, sparse, far apart (sources off the grid)
+        positions = rng.integers(0, spread, size=(n, 2)) * 0.25  # exact rims: 2.25, 6.25, 15.25
         asleep = rng.random(n) < 0.6
         wake_range = rng.choice([2.0, 6.0, 15.0], size=n)
         wake_on_motion, wakes_all = rng.random(n) < 0.5, rng.random(n) < 0.3
         sources = np.unique(rng.integers(0, n, size=int(rng.integers(1, 20))))
-        k = rng.integers(0, len(sources), size=pairs)
-        near = rng.integers(0, n, size=pairs)
         margin = 0.25
-        src = sources[k]  # the numpy code's masks
+        src, near = np.repeat(sources, n), np.tile(np.arange(n), len(sources))
         d = np.hypot(*(positions[near] - positions[src]).T)
         hit = asleep[near] & (d <= wake_range[near] + margin)
         hit &= wake_on_motion[near] | wakes_all[src]
         want = asleep.copy()
         want[near[hit]] = False
-        wake_pairs(positions, asleep, wake_range, wake_on_motion, wakes_all, sources, k, near,
-                   margin)
+        before = asleep.copy()
+        wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources, margin)
         assert asleep.tolist() == want.tolist()
         woken += int(hit.any())
-    assert woken > 20
+        spared += int((want & before).any())
+    assert woken > 30 and spared > 30
+
+
+def test_wake_near_wakes_exactly_at_the_rim():
+    positions = np.array([[0.0, 0.0], [6.25, 0.0], [6.5, 0.0], [-3.0, 4.0]])
+    asleep = np.array([False, True, True, True])
+    wake_on_motion = np.ones(4, dtype=bool)
+    wake_near(positions, asleep, np.full(4, 6.0), wake_on_motion, np.zeros(4, dtype=bool),
+              np.array([0]), 0.25)
+    assert asleep.tolist() == [False, False, True, False]  # 6.25 and 5.0 away: woken
