@@ -443,7 +443,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
                           args.rulesets)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
-                               args.retry_failed))
+                               args.retry_failed,
+                               rp.shared_runs(args.fig, setup, args.reps, args.max_ticks)))
         return 0
     _check_folder("--out", args.out)  # made by the sweep once every run is checked
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,
