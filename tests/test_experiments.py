@@ -858,6 +858,9 @@ def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_
     result = rp.reproduce("fig17", out, setup, reps=1, max_ticks=30, workers=1, progress=False)
     assert result.runs == 3 and result.failed == 0
     assert len(list((out / "runs").glob("*/summary.json"))) == 3
+    made = read_table(out / "results.csv")  # each run once, as the settings that name it
+    assert sorted((r["ruleset"], r["d_cover"]) for r in made) == [
+        ("paper", "6"), ("paper", "8"), ("yield-holes", "6")]
     rows = read_table(out / "fig17" / "results.csv")
     by = {(r["ruleset"], r["d_cover"]): r for r in rows}
     assert sorted(by) == [("paper", "6"), ("paper", "8"), ("yield-holes", "6"),
@@ -865,6 +868,8 @@ def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_
     assert by[("paper", "8")]["run_id"] == by[("yield-holes", "8")]["run_id"]
     assert by[("paper", "6")]["run_id"] != by[("yield-holes", "6")]["run_id"]
     assert by[("paper", "8")]["coverage"] == by[("yield-holes", "8")]["coverage"] != ""
+    shared = out / "runs" / by[("paper", "8")]["run_id"] / "run.json"
+    assert json.loads(shared.read_text())["settings"]["ruleset"] == "paper"
     conditions = read_table(out / "fig17" / "conditions.csv")
     assert sorted((r["ruleset"], r["d_cover"], r["done"]) for r in conditions) == [
         ("paper", "6", "1"), ("paper", "8", "1"), ("yield-holes", "6", "1"),

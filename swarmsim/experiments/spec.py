@@ -400,11 +400,17 @@ def drop_unused_groups(controller: str, settings: Mapping[str, Any]) -> dict[str
 
 
 def unique_runs(runs: Iterable[RunSpec]) -> list[RunSpec]:
-    """``runs`` without repeats (same run id), first occurrence kept."""
-    seen: set[str] = set()
-    out = []
+    """``runs`` without repeats (same run id), in the order of each id's first occurrence.
+    Of runs that share an id, the first whose own settings name it (see :func:`run_id`: the
+    canonical one, e.g. GGC's run under the paper's rule set) is kept, else the first."""
+    kept: dict[str, RunSpec] = {}
     for run in runs:
-        if run.run_id not in seen:
-            seen.add(run.run_id)
-            out.append(run)
-    return out
+        rid = run.run_id
+        if rid not in kept or (_renamed(kept[rid]) and not _renamed(run)):
+            kept[rid] = run
+    return list(kept.values())
+
+
+def _renamed(run: RunSpec) -> bool:
+    """The run's id is made from other settings than its own (same_run_settings)."""
+    return bool(same_run_settings(run.world_ref or run.world, run.controller, run.settings))
