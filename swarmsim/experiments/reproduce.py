@@ -9,7 +9,10 @@ id is a hash of its parameters and seed, and all figures keep their runs in one 
 
 GGC is judged under each rule set of :attr:`PaperSetup.rulesets` (its default and the
 paper's): every figure's GGC runs are made once per rule set, and each output shows the rule
-sets side by side (one column each, see :meth:`PaperSetup.columns`).
+sets side by side (one column each, see :meth:`PaperSetup.columns`). A run that is the same
+under two rule sets by construction (the controller's ``same_run_settings``, see
+:func:`.spec.run_id`) has one id: it is made once and shown in each column, with the column's
+own settings in the figure's results.csv.
 
 Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditions.csv``
 (mean, sd per condition), ``claims.csv`` (each claim's measurement and verdict),
