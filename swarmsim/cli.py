@@ -421,7 +421,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     check_workers(args.workers)
     _check_folder("--out", args.out)  # made by the sweep once the runs and executor are valid
-    runs = load_spec(args.spec).runs()
+    runs = load_spec(args.spec).runs(unique=False)  # the sweep makes each run id once
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())

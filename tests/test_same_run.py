@@ -96,3 +96,21 @@ def test_runs_that_share_an_id_are_the_same_tick_for_tick():
     paper, ours = run("paper"), run("yield-holes")
     assert paper[2] != "max_ticks"  # the run ended by itself
     assert paper == ours
+
+
+def test_a_sweep_makes_a_shared_run_once_and_shows_it_for_each_grid_point(tmp_path):
+    from swarmsim.cli import main
+    from swarmsim.experiments.table import read_table
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text('world = "tiny"\ncontroller = "ggc"\n[params]\nmax_ticks = 20\n'
+                    '[grid]\nd_cover = [6, 8]\nruleset = ["yield-holes", "paper"]\n')
+    out = tmp_path / "out"
+    assert main(["sweep", str(spec), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    made = read_table(out / "results.csv")  # d_cover 8: one run for both rule sets
+    assert sorted((r["d_cover"], r["ruleset"]) for r in made) == [
+        ("6", "paper"), ("6", "yield-holes"), ("8", "paper")]
+    shown = read_table(out / "aggregate" / "conditions.csv")
+    assert sorted((r["d_cover"], r["ruleset"], r["done"]) for r in shown) == [
+        ("6", "paper", "1"), ("6", "yield-holes", "1"), ("8", "paper", "1"),
+        ("8", "yield-holes", "1")]

@@ -169,9 +169,12 @@ class SweepSpec:
         return [dict(zip(keys, combo, strict=True))
                 for combo in itertools.product(*(self.grid[k] for k in keys))]
 
-    def runs(self) -> list[RunSpec]:
+    def runs(self, unique: bool = True) -> list[RunSpec]:
         """Every run of the sweep: grid points x seeds (seeds innermost), each once (grid
-        points that are the same run, e.g. failures = 0 in two failure phases, run once)."""
+        points that are the same run, e.g. failures = 0 in two failure phases, or two GGC rule
+        sets that act alike in the run, share a run id: see :func:`run_id`). ``unique=False``
+        keeps one RunSpec per grid point and seed, shared ids and all (for the aggregates,
+        which show every grid point; a Sweep makes each id once)."""
         out: list[RunSpec] = []
         for point in self.points():
             world = str(point.get("world", self.world))
@@ -181,7 +184,7 @@ class SweepSpec:
                 out.append(RunSpec(world, controller, settings, seed,
                                    world_ref=resolve_world(world, self.base_dir),
                                    labels=dict(point)))
-        return unique_runs(out)
+        return unique_runs(out) if unique else out
 
 
 def resolve_world(world: str, base_dir: str) -> str:
