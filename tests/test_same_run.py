@@ -31,6 +31,10 @@ def test_runs_not_the_same_as_another_keep_their_ids(settings, known):
     assert RunSpec("K", "ggc", settings, 0).run_id == known
 
 
+def test_a_controller_that_declares_no_same_runs_keeps_its_ids():
+    assert run_id("K", "kilobot", {"d_cover": 6, "groups": 3}, 0) == "1975bd5ffebc22ab"
+
+
 def test_rule_sets_that_act_alike_in_a_run_share_its_id():
     def rid(d_cover, groups, ruleset):
         return run_id("K", "ggc", {"d_cover": d_cover, "groups": groups, "ruleset": ruleset}, 0)
