@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from controllers.ggc.params import GGCParams
-from controllers.ggc.rules.rulesets import RULESETS, SURPLUS, YIELD
+from controllers.ggc.rules.rulesets import HOLES, RULESETS, SURPLUS, YIELD
 from controllers.ggc.swarm import acting_flags, same_run_ruleset
 from swarmsim.experiments.spec import RunSpec, run_id, same_run_settings, spec_from_dict
 from swarmsim.sim import Simulation
@@ -68,6 +68,11 @@ def test_the_canonical_rule_set_is_the_first_with_the_same_acting_flags():
         assert canonical(name, 6, 3) == name
     assert canonical("yield", 6, 1) == "paper" and canonical("yield-holes", 6, 1) != "paper"
     assert acting_flags(GGCParams(d_cover=8), 1) == 0
+    # at d_cover <= yield_release SURPLUS is kept with one group (a rule of one group may
+    # read it there), so the default rule set is not taken for "paper-holes"
+    assert acting_flags(GGCParams(d_cover=4), 1) == HOLES | SURPLUS
+    assert canonical("paper-holes", 4, 1) == "paper-holes"
+    assert canonical("paper-holes", 6, 1) == "yield-holes"  # the first with HOLES alone
     assert acting_flags(GGCParams(d_cover=8), 3) == YIELD | SURPLUS  # no HOLES at d_cover 8
 
 

@@ -74,20 +74,20 @@ def rule_flags(p: GGCParams) -> int:
     return int(flags)
 
 
-BETWEEN_GROUPS = YIELD | SURPLUS
-"""The flags whose rules act only between groups: rules/intergroup.py answers as the paper's
-rule does when P.groups == 1, deadlock.wedged reads YIELD only when P.groups > 1, and SURPLUS
-is read only by :func:`surplus_between_groups`, for runs with groups. A flag that acts with one
-group too (HOLES, CROSS, any new one) stays out of this."""
-
-
 def acting_flags(p: GGCParams, groups: int) -> int:
-    """The flags of :func:`rule_flags` that can change a run with ``groups`` groups (with one
-    group, those of BETWEEN_GROUPS act nowhere): two rule sets with the same acting flags make
-    the same run, tick for tick."""
+    """The flags of :func:`rule_flags` that can change a run with ``groups`` groups: two rule
+    sets with the same acting flags make the same run, tick for tick. With one group, YIELD
+    acts nowhere (rules/intergroup.py answers as the paper's rule does when P.groups == 1,
+    deadlock.wedged reads YIELD only when P.groups > 1), nor does SURPLUS while d_cover >
+    yield_release (there it is read only by :func:`surplus_between_groups`, for runs with
+    groups; at d_cover <= yield_release it is kept, for rules of one group there). Every other
+    flag is taken to act: a rule that reads YIELD, or SURPLUS at d_cover > yield_release, with
+    one group must change this function."""
     flags = rule_flags(p)
     if groups == 1:
-        flags &= ~BETWEEN_GROUPS
+        flags &= ~YIELD
+        if p.d_cover > p.yield_release:
+            flags &= ~SURPLUS
     return int(flags)
 
 
