@@ -421,7 +421,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     check_workers(args.workers)
     _check_folder("--out", args.out)  # made by the sweep once the runs and executor are valid
-    runs = load_spec(args.spec).runs()
+    runs = load_spec(args.spec).runs(unique=False)  # the sweep makes each run id once
     report = run_sweep(runs, args.out, workers=args.workers, scheduler=args.scheduler,
                        retry_failed=args.retry_failed, progress=not args.quiet)
     print(report.line())
@@ -443,7 +443,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
                           args.rulesets)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
-                               args.retry_failed))
+                               args.retry_failed,
+                               rp.shared_runs(args.fig, setup, args.reps, args.max_ticks)))
         return 0
     _check_folder("--out", args.out)  # made by the sweep once every run is checked
     result = rp.reproduce(args.fig, args.out, setup, args.reps, args.max_ticks, args.workers,

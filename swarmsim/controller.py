@@ -378,6 +378,12 @@ class ControllerClass(Protocol):
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
       forms no groups of its own),
       ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).
+    - ``same_run_settings(params, config)`` (none): settings that make the run of ``params``
+      and ``config`` (SimConfig) tick for tick by construction, named canonically (e.g. a
+      rule set whose extra rules act nowhere in this run -> the plain one), or {}. Runs that
+      name the same canonical settings share one run id, so a sweep or reproduction makes
+      them once (swarmsim.experiments.spec.run_id). It must give {} for a run that is
+      canonical already, and the same answer for every run that is the same.
     - Per-robot controllers only: ``create_robots(setups, params, rngs)``,
       ``prepare(robots, batch)``, ``decide_batch(robots, batch)``, ``summarize(robots)``.
     """

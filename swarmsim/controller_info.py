@@ -76,6 +76,14 @@ class ControllerInfo:
 
         return self.max_groups is not None or (start or self.default_start) in GROUPED
 
+    def same_run_settings(self, params: Any, config: Any) -> dict[str, Any]:
+        """Settings that make the run of ``params`` (the run's controller parameters) and
+        ``config`` (its SimConfig) tick for tick by construction, in the controller's canonical
+        form: the class's ``same_run_settings``; {} when it declares none or names this run
+        canonically already. A run's id is made with them in place of its own settings."""
+        hook = getattr(self.cls, "same_run_settings", None)
+        return {} if hook is None else dict(hook(params, config))
+
     def codes(self, names: Sequence[str]) -> tuple[int, ...]:
         """The status codes of these status names (names it does not have are left out)."""
         return tuple(i for i, s in enumerate(self.statuses) if s in names)

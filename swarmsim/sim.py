@@ -103,12 +103,15 @@ class Simulation:
     def check(cls, world: World | str, controller: str | type | None = None,
               robots: int | None = None, groups: int | None = None, seed: int = 0,
               d_cover: float | None = None, max_ticks: int | None = None,
-              settings: Mapping[str, Any] | None = None) -> None:
+              settings: Mapping[str, Any] | None = None) -> tuple[SimConfig, Any]:
         """Check a run's world, controller and settings as the constructor does, without
         building the run (no layout, no bodies: milliseconds). Raises ConfigError naming the
-        key and value. Sweeps and reproductions check every run this way before the first."""
-        cls.__new__(cls)._configure(world, controller, robots, groups, seed, d_cover,
-                                    max_ticks, settings)
+        key and value. Sweeps and reproductions check every run this way before the first.
+        Returns the run's engine settings and controller parameters as the run would have
+        them (the world's defaults filled in)."""
+        sim = cls.__new__(cls)
+        sim._configure(world, controller, robots, groups, seed, d_cover, max_ticks, settings)
+        return sim.config, sim.params
 
     def _configure(self, world: World | str, controller: str | type | None, robots: int | None,
                    groups: int | None, seed: int, d_cover: float | None,

@@ -550,7 +550,9 @@ def _by(runs, key, value):
 
 def test_reproduce_judges_ggc_under_its_default_and_the_papers_rule_sets():
     both = rp.plan("all", rp.PAPER, reps=3)
-    assert len(both["fig17"]) == 2 * 18
+    # one group at d_cover 8 and 10: the two rule sets make the same run, made once
+    assert len(both["fig17"]) == 2 * 18 - 2 * 3
+    assert rp.shared_runs("fig17", rp.PAPER, reps=3) == {"fig17": 2 * 3}
     assert {r.settings["ruleset"] for r in both["fig17"]} == {"yield-holes", "paper"}
     # the baselines of Figure 24 have no rule sets: run once, shown in both columns
     baselines = [r for r in both["fig24"] if r.controller != "ggc"]
@@ -612,7 +614,9 @@ def test_registry_setup_is_easy_to_change():
 def test_reproduce_dry_run_lists_runs(capsys):
     assert main(["reproduce", "all", "--dry-run", "--reps", "2"]) == 0
     out = capsys.readouterr().out
-    assert "fig17: 24 runs" in out and "total:" in out  # two rule sets
+    # two rule sets; one group at d_cover 8 and 10 is the same run under both
+    assert "fig17: 20 runs" in out and "4 of them made once for more than one column" in out
+    assert "total:" in out
     assert main(["reproduce", "fig17", "--dry-run", "--reps", "2", "--rulesets", "paper"]) == 0
     assert "fig17: 12 runs" in capsys.readouterr().out
 
@@ -843,3 +847,45 @@ def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
     import imageio.v3 as iio
 
     assert iio.imread(out / "fig17" / "fig17.png").shape[0] >= 2 * 450  # one row per rule set
+
+
+def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_path):
+    """One group at d_cover 8 (no holes filled there; the default rule set's other rules act
+    only between groups): the paper's run, made once, reported in both columns. At d_cover 6
+    the rule sets differ: two runs."""
+    setup = rp.PaperSetup(world="tiny", d_cover_values=(6, 8), groups=1)
+    out = tmp_path / "repro"
+    result = rp.reproduce("fig17", out, setup, reps=1, max_ticks=30, workers=1, progress=False)
+    assert result.runs == 3 and result.failed == 0
+    assert len(list((out / "runs").glob("*/summary.json"))) == 3
+    made = read_table(out / "results.csv")  # each run once, as the settings that name it
+    assert sorted((r["ruleset"], r["d_cover"]) for r in made) == [
+        ("paper", "6"), ("paper", "8"), ("yield-holes", "6")]
+    rows = read_table(out / "fig17" / "results.csv")
+    by = {(r["ruleset"], r["d_cover"]): r for r in rows}
+    assert sorted(by) == [("paper", "6"), ("paper", "8"), ("yield-holes", "6"),
+                          ("yield-holes", "8")]
+    assert by[("paper", "8")]["run_id"] == by[("yield-holes", "8")]["run_id"]
+    assert by[("paper", "6")]["run_id"] != by[("yield-holes", "6")]["run_id"]
+    assert by[("paper", "8")]["coverage"] == by[("yield-holes", "8")]["coverage"] != ""
+    shared = out / "runs" / by[("paper", "8")]["run_id"] / "run.json"
+    assert json.loads(shared.read_text())["settings"]["ruleset"] == "paper"
+    conditions = read_table(out / "fig17" / "conditions.csv")
+    assert sorted((r["ruleset"], r["d_cover"], r["done"]) for r in conditions) == [
+        ("paper", "6", "1"), ("paper", "8", "1"), ("yield-holes", "6", "1"),
+        ("yield-holes", "8", "1")]
+    claims_rows = read_table(out / "fig17" / "claims.csv")
+    assert {r["ruleset"] for r in claims_rows} == {"paper", "yield-holes"}
+    section = (out / "fig17" / "REPORT.md").read_text()
+    assert section.count("Runs: 2 of 2 done, 0 failed") == 2  # each column counts its own
+    # the plot's curves: each column's d_cover 8 condition has the run's curve
+    contexts = [rp.Context(Sweep([], out, runs_dir=out / "runs"), col, 1, 30, rp.get_figure)
+                for col in setup.columns()]
+    eights = [next(s for s in ctx.stats("fig17") if s.cond.value == 8) for ctx in contexts]
+    assert [s.done for s in eights] == [1, 1]
+    assert all(s.bands["coverage"] is not None for s in eights)
+    assert eights[0].curves["coverage"][0][1].tolist() == \
+        eights[1].curves["coverage"][0][1].tolist()
+    plan = rp.describe_plan(rp.plan("fig17", setup, reps=1, max_ticks=30), out,
+                            shared=rp.shared_runs("fig17", setup, reps=1, max_ticks=30))
+    assert "fig17: 3 runs (3 done)" in plan and "1 of them made once" in plan

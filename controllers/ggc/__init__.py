@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -50,7 +51,7 @@ drop_stale_kernels(Path(__file__).parent)  # before any rule is compiled or load
 from .params import GGCParams
 from .state import MAX_GROUPS, message_fields
 from .statuses import SETTLED, STATUSES
-from .swarm import GGCSwarm
+from .swarm import GGCSwarm, same_run_ruleset
 
 
 @register
@@ -83,6 +84,14 @@ class GGC:
     def sensing_range(cls, params: GGCParams) -> float:
         """Robots hear broadcasts within R_c (and at least far enough to edge-follow)."""
         return max(params.R_c, params.gradient_reach * params.d_cover, params.d_cover + 2)
+
+    @classmethod
+    def same_run_settings(cls, params: GGCParams, config: Any) -> dict[str, Any]:
+        """{"ruleset": name} when another rule set, ``name``, makes this run by construction
+        and names it canonically (swarm.same_run_ruleset: "paper" where equivalent), else {}
+        (``config``: the run's SimConfig; its groups count)."""
+        name = same_run_ruleset(params, int(config.groups))
+        return {} if name == params.ruleset else {"ruleset": name}
 
     @classmethod
     def create_swarm(cls, setups: Sequence[RobotSetup], params: GGCParams,

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import HOLES, RULESETS, SURPLUS
+from .rules.rulesets import HOLES, RULESETS, SURPLUS, YIELD
 from .state import broadcast_rows, new_state
 from .statuses import STATUSES
 
@@ -71,6 +72,35 @@ def rule_flags(p: GGCParams) -> int:
     if p.d_cover + p.arrive_tolerance > p.lattice_reach:
         flags &= ~HOLES
     return int(flags)
+
+
+def acting_flags(p: GGCParams, groups: int) -> int:
+    """The flags of :func:`rule_flags` that can change a run with ``groups`` groups: two rule
+    sets with the same acting flags make the same run, tick for tick. With one group, YIELD
+    acts nowhere (rules/intergroup.py answers as the paper's rule does when P.groups == 1,
+    deadlock.wedged reads YIELD only when P.groups > 1), nor does SURPLUS while d_cover >
+    yield_release (there it is read only by :func:`surplus_between_groups`, for runs with
+    groups; at d_cover <= yield_release it is kept, for rules of one group there). Every other
+    flag is taken to act: a rule that reads YIELD, or SURPLUS at d_cover > yield_release, with
+    one group must change this function."""
+    flags = rule_flags(p)
+    if groups == 1:
+        flags &= ~YIELD
+        if p.d_cover > p.yield_release:
+            flags &= ~SURPLUS
+    return int(flags)
+
+
+def same_run_ruleset(p: GGCParams, groups: int) -> str:
+    """The rule set that names the run of ``p`` with ``groups`` groups canonically: the first
+    of "paper", then RULESETS in order, with the same :func:`acting_flags` as ``p.ruleset``
+    (``p.ruleset`` itself when no earlier one has them). The experiments give runs of rule sets
+    that name the same canonical one a single run id (GGC.same_run_settings)."""
+    mine = acting_flags(p, groups)
+    for name in dict.fromkeys(("paper", *RULESETS)):
+        if acting_flags(replace(p, ruleset=name), groups) == mine:
+            return name
+    return p.ruleset
 
 
 class GGCSwarm:

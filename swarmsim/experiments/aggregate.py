@@ -39,8 +39,10 @@ DIGITS = {"coverage": 6, "total_distance": 3}
 
 
 def conditions(runs: Sequence[RunSpec]) -> list[tuple[Condition, list[RunSpec]]]:
-    """The runs grouped by condition (all settings but the seed), in first-run order; each
-    condition labelled by its grid values (``d_cover=4, robots=30``)."""
+    """The runs grouped by condition (all settings but the seed), in first-run order, each
+    run id once per condition; each condition labelled by its grid values
+    (``d_cover=4, robots=30``). A run id that several conditions share (the same run by
+    construction, see spec.run_id) is in each."""
     groups: dict[str, tuple[Condition, list[RunSpec]]] = {}
     for run in runs:
         key = json.dumps(run.params(), sort_keys=True, default=str)
@@ -48,7 +50,8 @@ def conditions(runs: Sequence[RunSpec]) -> list[tuple[Condition, list[RunSpec]]]
             labels = dict(run.labels)
             text = ", ".join(f"{k}={num_text(v)}" for k, v in labels.items()) or "all runs"
             groups[key] = (Condition(text, labels, run.controller, dict(run.settings)), [])
-        groups[key][1].append(run)
+        if all(r.run_id != run.run_id for r in groups[key][1]):
+            groups[key][1].append(run)
     return list(groups.values())
 
 

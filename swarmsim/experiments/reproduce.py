@@ -9,7 +9,10 @@ id is a hash of its parameters and seed, and all figures keep their runs in one 
 
 GGC is judged under each rule set of :attr:`PaperSetup.rulesets` (its default and the
 paper's): every figure's GGC runs are made once per rule set, and each output shows the rule
-sets side by side (one column each, see :meth:`PaperSetup.columns`).
+sets side by side (one column each, see :meth:`PaperSetup.columns`). A run that is the same
+under two rule sets by construction (the controller's ``same_run_settings``, see
+:func:`.spec.run_id`) has one id: it is made once and shown in each column, with the column's
+own settings in the figure's results.csv.
 
 Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditions.csv``
 (mean, sd per condition), ``claims.csv`` (each claim's measurement and verdict),
@@ -31,6 +34,7 @@ paper's claims, judged) and :mod:`.report` (tables, plots and reports).
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -163,17 +167,33 @@ def reproduce(which: str | Sequence[str], out: str | Path, setup: PaperSetup = P
     return ReproduceResult(list(runs), path, report.line(), len(all_runs), report.failed)
 
 
+def shared_runs(which: str | Sequence[str], setup: PaperSetup = PAPER, reps: int = 3,
+                max_ticks: int | None = None) -> dict[str, int]:
+    """Per figure, how many of its runs more than one column (rule set) needs: one run id,
+    because the runs are the same by construction (spec.run_id), made once and shown in
+    each column."""
+    out = {}
+    for key in figure_keys(which):
+        asked = Counter(r.run_id for col in setup.columns()
+                        for r in figure_runs(key, col, reps, max_ticks))
+        out[key] = sum(n > 1 for n in asked.values())
+    return out
+
+
 def describe_plan(runs: Mapping[str, list[RunSpec]], out: str | Path | None = None,
-                  retry_failed: bool = False) -> str:
-    """One line per figure: runs, and how many are already done in ``out``; with ``out``,
-    how many failed and a rough estimate of the CPU time still to go (failed runs count as
-    to run only with ``retry_failed``, as in :func:`reproduce`)."""
+                  retry_failed: bool = False, shared: Mapping[str, int] | None = None) -> str:
+    """One line per figure: runs, and how many are already done in ``out`` (and, given
+    ``shared`` from :func:`shared_runs`, how many of them several columns share); with
+    ``out``, how many failed and a rough estimate of the CPU time still to go (failed runs
+    count as to run only with ``retry_failed``, as in :func:`reproduce`)."""
     store = RunStore(Path(out) / "runs") if out else None
     lines = []
     for key, rs in runs.items():
         done = sum(store.status(r.run_id) == DONE for r in rs) if store else 0
         labels = dict.fromkeys(num_text(v) for r in rs for v in r.labels.values())
-        lines.append(f"{key}: {len(rs)} runs ({done} done) over {', '.join(labels)}")
+        both = (shared or {}).get(key, 0)
+        lines.append(f"{key}: {len(rs)} runs ({done} done) over {', '.join(labels)}"
+                     + (f"; {both} of them made once for more than one column" if both else ""))
     total = unique_runs(r for rs in runs.values() for r in rs)
     lines.append(f"total: {len(total)} distinct runs"
                  + (_time_to_go(Sweep(total, out, runs_dir=store.dir), retry_failed)
@@ -237,4 +257,5 @@ def setup_with(setup: PaperSetup = PAPER, world: str | None = None, robots: int 
 # (from .figures, .verdicts and .report) for the CLI and the tests.
 __all__ = ["CONSISTENT", "FIGURES", "PAPER", "CondStats", "Condition", "PaperSetup",
            "ReproduceResult", "dcover_distance_claims", "describe_plan", "figure_keys",
-           "figure_runs", "get_figure", "plan", "reproduce", "setup_with", "versions_line"]
+           "figure_runs", "get_figure", "plan", "reproduce", "setup_with", "shared_runs",
+           "versions_line"]

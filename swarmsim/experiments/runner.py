@@ -177,7 +177,7 @@ class Sweep:
         self.out = Path(out_dir)
         self.store = RunStore(runs_dir or self.out / "runs")
         self.table_path = Path(table_path or self.out / "results.csv")
-        self._rows: dict[str, dict[str, Any]] = {}
+        self._results: dict[str, tuple[dict[str, Any] | None, str | None]] = {}
 
     def pending(self, retry_failed: bool = False) -> list[RunSpec]:
         """Runs still to do: not done, and not failed unless ``retry_failed``."""
@@ -189,17 +189,20 @@ class Sweep:
         return todo
 
     def row(self, run: RunSpec) -> dict[str, Any] | None:
-        """The table row of a finished (or failed) run, None if it has not run yet."""
+        """The table row of a finished (or failed) run, None if it has not run yet. Its
+        parameters are ``run``'s own, also when another run of the same id (the same run by
+        construction, see spec.run_id) made the result."""
         rid = run.run_id
-        if rid not in self._rows:
+        if rid not in self._results:
             status = self.store.status(rid)
             if status == DONE:
-                self._rows[rid] = run_row(run, self.store.summary(rid))
+                self._results[rid] = (self.store.summary(rid), None)
             elif status == FAILED:
-                self._rows[rid] = run_row(run, error=self.store.error(rid))
+                self._results[rid] = (None, self.store.error(rid))
             else:
                 return None
-        return self._rows[rid]
+        summary, error = self._results[rid]
+        return run_row(run, summary, error)
 
     def write_table(self) -> None:
         rows = [r for r in (self.row(run) for run in self.runs) if r is not None]
@@ -228,7 +231,7 @@ class Sweep:
 
     def record(self, run: RunSpec, outcome: dict[str, Any]) -> str:
         """Write a run's outcome; returns DONE or FAILED."""
-        self._rows.pop(run.run_id, None)
+        self._results.pop(run.run_id, None)
         if "summary" in outcome:
             self.store.write_result(run, outcome["summary"], outcome["timeseries"],
                                     outcome.get("robots", ()), outcome.get("coverage"))

@@ -24,11 +24,15 @@ naming the spec file, the key and the value.
 A run's id is a hash of its world, controller, settings and seed (numbers compared by value, so
 ``6`` and ``6.0`` are the same run; ``failure_phase``/``failure_tick`` are left out when
 ``failures`` is 0 because they change nothing). The same parameters always give the same id, in
-any sweep: that is what resume and sharing runs between figures rely on.
+any sweep: that is what resume and sharing runs between figures rely on. Runs that the
+controller says are the same by construction (its ``same_run_settings``: e.g. GGC's rule sets
+whose extra rules act nowhere in a run) share one id too, made from the canonical settings;
+a run that is canonical already keeps the id of its own settings.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import itertools
 import json
@@ -72,7 +76,8 @@ class RunSpec:
 
     @property
     def run_id(self) -> str:
-        return run_id(self.world, self.controller, self.settings, self.seed)
+        """The run's id (:func:`run_id`): runs that are the same by construction share it."""
+        return run_id(self.world, self.controller, self.settings, self.seed, self.world_ref)
 
     def params(self) -> dict[str, Any]:
         """world, controller and settings as one flat dict (the table's parameter columns)."""
@@ -89,15 +94,59 @@ def _canonical(value: Any) -> Any:
     return value
 
 
-def run_id(world: str, controller: str, settings: Mapping[str, Any], seed: int) -> str:
-    """Stable 16-hex-digit id of a run's parameters and seed."""
-    canon = {k: _canonical(v) for k, v in settings.items()}
+def run_id(world: str, controller: str, settings: Mapping[str, Any], seed: int,
+           world_ref: str = "") -> str:
+    """Stable 16-hex-digit id of a run's parameters and seed; the settings the controller
+    names the run by canonically (:func:`same_run_settings`) in place of its own, so that runs
+    that are the same by construction share one id. ``world_ref``: where the world loads from,
+    if not ``world`` (RunSpec.world_ref); it is not part of the id."""
+    given = {**settings, **same_run_settings(world_ref or world, controller, settings)}
+    canon = {k: _canonical(v) for k, v in given.items()}
     if not canon.get("failures"):
         for key in INERT_WITHOUT_FAILURES:
             canon.pop(key, None)
     blob = json.dumps({"world": world, "controller": controller, "settings": canon,
                        "seed": int(seed)}, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+def same_run_settings(world: str, controller: str, settings: Mapping[str, Any]
+                      ) -> dict[str, Any]:
+    """The settings that the controller (a name or module:Class) names this run by instead of
+    its own, because they make it tick for tick (ControllerInfo.same_run_settings, given the
+    run's parameters as Simulation.check resolves them from ``world``, a name or path, and
+    ``settings``); {} when it declares none, names this run so already, or when the world or
+    the settings do not check (the run's own check reports that)."""
+    try:
+        key = json.dumps(dict(settings), sort_keys=True)
+    except TypeError:  # not a setting a run can have: its check says so
+        return {}
+    return dict(_same_run_settings(world, controller, key))
+
+
+@functools.lru_cache(maxsize=4096)
+def _same_run_settings(world: str, controller: str, settings: str
+                       ) -> tuple[tuple[str, Any], ...]:
+    from swarmsim.controller_info import describe
+    from swarmsim.registry import get_controller
+    from swarmsim.sim import Simulation
+
+    try:
+        cls = get_controller(controller)
+        if getattr(cls, "same_run_settings", None) is None:
+            return ()
+        config, params = Simulation.check(_loaded_world(world), controller=controller,
+                                          settings=json.loads(settings))
+        return tuple(sorted(describe(cls).same_run_settings(params, config).items()))
+    except ConfigError:
+        return ()
+
+
+@functools.lru_cache(maxsize=32)
+def _loaded_world(ref: str) -> Any:
+    from swarmsim.world import load_world
+
+    return load_world(ref)
 
 
 @dataclass(frozen=True)
@@ -120,9 +169,12 @@ class SweepSpec:
         return [dict(zip(keys, combo, strict=True))
                 for combo in itertools.product(*(self.grid[k] for k in keys))]
 
-    def runs(self) -> list[RunSpec]:
+    def runs(self, unique: bool = True) -> list[RunSpec]:
         """Every run of the sweep: grid points x seeds (seeds innermost), each once (grid
-        points that are the same run, e.g. failures = 0 in two failure phases, run once)."""
+        points that are the same run, e.g. failures = 0 in two failure phases, or two GGC rule
+        sets that act alike in the run, share a run id: see :func:`run_id`). ``unique=False``
+        keeps one RunSpec per grid point and seed, shared ids and all (for the aggregates,
+        which show every grid point; a Sweep makes each id once)."""
         out: list[RunSpec] = []
         for point in self.points():
             world = str(point.get("world", self.world))
@@ -132,7 +184,7 @@ class SweepSpec:
                 out.append(RunSpec(world, controller, settings, seed,
                                    world_ref=resolve_world(world, self.base_dir),
                                    labels=dict(point)))
-        return unique_runs(out)
+        return unique_runs(out) if unique else out
 
 
 def resolve_world(world: str, base_dir: str) -> str:
@@ -351,11 +403,17 @@ def drop_unused_groups(controller: str, settings: Mapping[str, Any]) -> dict[str
 
 
 def unique_runs(runs: Iterable[RunSpec]) -> list[RunSpec]:
-    """``runs`` without repeats (same run id), first occurrence kept."""
-    seen: set[str] = set()
-    out = []
+    """``runs`` without repeats (same run id), in the order of each id's first occurrence.
+    Of runs that share an id, the first whose own settings name it (see :func:`run_id`: the
+    canonical one, e.g. GGC's run under the paper's rule set) is kept, else the first."""
+    kept: dict[str, RunSpec] = {}
     for run in runs:
-        if run.run_id not in seen:
-            seen.add(run.run_id)
-            out.append(run)
-    return out
+        rid = run.run_id
+        if rid not in kept or (_renamed(kept[rid]) and not _renamed(run)):
+            kept[rid] = run
+    return list(kept.values())
+
+
+def _renamed(run: RunSpec) -> bool:
+    """The run's id is made from other settings than its own (same_run_settings)."""
+    return bool(same_run_settings(run.world_ref or run.world, run.controller, run.settings))

@@ -33,12 +33,13 @@ def run_sweep(runs: Sequence[RunSpec], out_dir: str | Path, *, workers: int | No
         runs_dir, table_path: see :class:`Sweep`.
 
     Then it writes ``out_dir/aggregate/`` from every finished run of ``runs`` (see
-    :mod:`.aggregate`). A KeyboardInterrupt (also raised from ``on_result``) cancels what has
+    :mod:`.aggregate`), one condition per grid point of ``runs`` (a run whose id several
+    grid points share, made once, counts in each). A KeyboardInterrupt (also raised from ``on_result``) cancels what has
     not finished; what has finished is on disk and the next call resumes (and aggregates).
     """
     sweep = Sweep(runs, out_dir, runs_dir, table_path)
     report = sweep.run(workers, scheduler, retry_failed, progress, on_result)
-    write_aggregate(sweep.store, sweep.runs, sweep.out / AGGREGATE_DIR)
+    write_aggregate(sweep.store, runs, sweep.out / AGGREGATE_DIR)
     return report
 
 
