@@ -53,6 +53,9 @@ still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps 
 they are dropped."""
 
 PHASES = ("sense", "decide", "physics", "metrics")
+TIMING_FIELDS = ("wall_seconds", "cpu_seconds")
+"""Summary fields that time the run (seconds): the only ones in which two runs of the same
+seed and settings differ."""
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
 DECIDE_CHUNK = 1024
@@ -259,6 +262,7 @@ class Simulation:
         self.info.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
+        self.cpu_seconds = 0.0  # this process's CPU time in the tick loop, s
         self.fault_hook: Callable[[Simulation], None] | None = None
         self.summary_sources = SummaryCollector()
         """Where summary.json's fields come from, in order (add a source to add fields)."""
@@ -540,7 +544,7 @@ class Simulation:
             ) -> RunResult:
         """Run until completion, plateau, stall or max_ticks; return the summary and series."""
         bar = _progress_bar(self.config.max_ticks, progress)
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         try:
             with _old_objects_frozen():
                 while self.stop_reason is None:
@@ -554,6 +558,7 @@ class Simulation:
                         bar.update(self.tick - bar.n)  # redraws at most every mininterval
         finally:
             self.wall_seconds += time.perf_counter() - start
+            self.cpu_seconds += time.process_time() - start_cpu
             if bar is not None:
                 bar.close()
         self.metrics.record(self.tick, force=True)
@@ -579,6 +584,7 @@ class Simulation:
             "ticks": self.tick,
             "stop_reason": self.stop_reason,
             "wall_seconds": round(self.wall_seconds, 3),
+            "cpu_seconds": round(self.cpu_seconds, 3),
             "code_version": code_version(),
         }
 

@@ -21,7 +21,7 @@ from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
 from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
-from swarmsim.experiments.runner import Sweep
+from swarmsim.experiments.runner import Sweep, run_cost
 from swarmsim.experiments.table import read_table
 from swarmsim.experiments.verdicts import (
     NOT_CONSISTENT,
@@ -31,7 +31,7 @@ from swarmsim.experiments.verdicts import (
     claims_fig21,
 )
 from swarmsim.faults import FaultPlan
-from swarmsim.sim import Simulation
+from swarmsim.sim import TIMING_FIELDS, Simulation
 
 TINY = {"world": "tiny", "controller": "dispersion", "params": {"max_ticks": 30}}
 
@@ -43,7 +43,7 @@ def write_spec(tmp_path: Path, text: str) -> Path:
 
 
 def no_wall(summary: dict) -> dict:
-    return {k: v for k, v in summary.items() if k != "wall_seconds"}
+    return {k: v for k, v in summary.items() if k not in TIMING_FIELDS}
 
 
 # ----------------------------------------------------------------------------- specs
@@ -387,8 +387,11 @@ def test_a_table_mixing_code_versions_says_so(tmp_path):
     assert "0.0.1 (1)" in again.line()
     assert "Warning" in rp.versions_line(again.versions)
     assert rp.versions_line({ours: 2}) == f"Code: {ours} (2 runs)."
-    walls = [json.loads(p.read_text())["wall_seconds"] for p in out.glob("runs/*/summary.json")]
-    assert len(walls) == 2 and Sweep(runs, out).run_seconds() == pytest.approx(sum(walls))
+    summaries = [json.loads(p.read_text()) for p in out.glob("runs/*/summary.json")]
+    cpu = [s["cpu_seconds"] for s in summaries]
+    assert len(cpu) == 2 and all(c > 0 for c in cpu)
+    assert Sweep(runs, out).run_seconds() == pytest.approx(sum(cpu))  # CPU, not wall time
+    assert run_cost({"wall_seconds": 3.0}) == 3.0  # a run made before cpu_seconds
 
 
 def _local_results(runs, out, **kw):

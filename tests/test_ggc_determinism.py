@@ -8,13 +8,16 @@ import subprocess
 import sys
 from pathlib import Path
 
+from swarmsim.sim import TIMING_FIELDS
+
 
 def run_in_process(out: Path, *args: str) -> tuple[dict, list[dict]]:
     env = {**os.environ, "SDL_VIDEODRIVER": "dummy", "MPLBACKEND": "Agg"}
     subprocess.run([sys.executable, "-m", "swarmsim", "run", "tiny", "--quiet", "--out",
                     str(out), *args], check=True, env=env, capture_output=True)
     summary = json.loads((out / "summary.json").read_text())
-    summary.pop("wall_seconds")
+    for key in TIMING_FIELDS:
+        summary.pop(key)
     with open(out / "timeseries.csv", newline="") as f:
         rows = [{k: v for k, v in row.items() if "second" not in k} for row in csv.DictReader(f)]
     return summary, rows

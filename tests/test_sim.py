@@ -12,6 +12,7 @@ import shapely
 from controllers.ggc.statuses import ARRIVE
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
+from swarmsim.sim import TIMING_FIELDS
 
 from .conftest import square_world
 
@@ -21,7 +22,7 @@ def run(seed=3, **kw):
     sim = Simulation(square_world(), controller="dispersion", robots=30, seed=seed,
                      settings=kw.pop("settings", {}), **kw)
     res = sim.run()
-    summary = {k: v for k, v in res.summary.items() if k != "wall_seconds"}
+    summary = {k: v for k, v in res.summary.items() if k not in TIMING_FIELDS}
     return summary, res.timeseries, sim
 
 
@@ -91,7 +92,7 @@ def test_sleeping_changes_nothing_but_saves_work():
                          seed=2, max_ticks=1500, settings={"d_cover": 3.0, "allow_sleep":
                                                            allow_sleep, "stop_on_complete": False})
         res = sim.run()
-        return {k: v for k, v in res.summary.items() if k != "wall_seconds"}, res.timeseries
+        return {k: v for k, v in res.summary.items() if k not in TIMING_FIELDS}, res.timeseries
 
     (a, ta), (b, tb) = settle(True), settle(False)
     assert a == b
@@ -222,7 +223,7 @@ def test_cli_run_writes_outputs(tmp_path, capsys):
     for key in ("world", "controller", "robots", "groups", "d_cover", "seed", "ticks",
                 "coverage", "completion_tick", "total_distance", "robots_on_target",
                 "collisions_robot_robot", "collisions_robot_wall", "max_overlap",
-                "stop_reason", "wall_seconds"):
+                "stop_reason", *TIMING_FIELDS):
         assert key in summary
     assert summary["ticks"] == 120 and summary["world"] == "tiny"
     lines = (out / "timeseries.csv").read_text().splitlines()

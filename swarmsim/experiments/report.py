@@ -21,6 +21,7 @@ from swarmsim.experiments.figures import (
     num_text,
     panel_runs,
 )
+from swarmsim.experiments.runner import run_cost
 from swarmsim.experiments.spec import unique_runs
 from swarmsim.experiments.table import read_table, write_table
 from swarmsim.experiments.verdicts import _pct, _tick
@@ -240,8 +241,9 @@ def figure_versions(fig: Figure, ctx: Context) -> Counter[str]:
 
 
 def store_totals(runs_dir: Path) -> tuple[Counter[str], float]:
-    """Code versions (with run counts) and summed wall seconds of every finished run in a
-    store: the figures of one folder may come from several invocations."""
+    """Code versions (with run counts) and summed run seconds of every finished run in a
+    store (each run's ``cpu_seconds``; its ``wall_seconds`` if it predates them): the figures
+    of one folder may come from several invocations."""
     versions: Counter[str] = Counter()
     seconds = 0.0
     for summary in sorted(runs_dir.glob("*/summary.json")):
@@ -250,7 +252,7 @@ def store_totals(runs_dir: Path) -> tuple[Counter[str], float]:
         except (OSError, ValueError):
             continue
         versions[str(data.get("code_version") or "unrecorded")] += 1
-        seconds += float(data.get("wall_seconds") or 0.0)
+        seconds += run_cost(data)
     return versions, seconds
 
 

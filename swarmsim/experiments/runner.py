@@ -44,6 +44,12 @@ from swarmsim.output import write_csv, write_json, write_npz
 DONE, FAILED = "done", "failed"
 
 
+def run_cost(summary: Mapping[str, Any]) -> float:
+    """A finished run's cost, s: its CPU time in the tick loop, or for a run made before
+    summaries recorded that, its wall time."""
+    return float(summary.get("cpu_seconds") or summary.get("wall_seconds") or 0.0)
+
+
 class SweepError(RuntimeError):
     """The sweep itself broke (e.g. a worker process died); finished runs are saved."""
 
@@ -219,8 +225,9 @@ class Sweep:
         return Counter(str(r.get("code_version") or "unrecorded") for r in self._finished_rows())
 
     def run_seconds(self) -> float:
-        """Wall seconds the finished runs took, summed (each run's own ``wall_seconds``)."""
-        return sum(float(r.get("wall_seconds") or 0.0) for r in self._finished_rows())
+        """Seconds the finished runs took, summed (each run's ``cpu_seconds``, or its
+        ``wall_seconds`` if it predates them: report.run_cost)."""
+        return sum(run_cost(r) for r in self._finished_rows())
 
     def done_count(self) -> int:
         """Runs that finished without error."""
