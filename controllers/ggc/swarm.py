@@ -51,7 +51,8 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
                           and (one or surplus_between_groups(flags))),
         boundary_fill=one, selection_ticks=int(selection),
         gather_deadline=int(selection + p.aggregation_timeout + 1),
-        ruleset=flags)
+        ruleset=flags, confined_ticks=round(p.confined_ticks * p.d_cover),
+        confined_reach=float(p.confined_reach * p.d_cover))
 
 
 def surplus_between_groups(flags: int) -> bool:
