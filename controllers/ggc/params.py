@@ -67,12 +67,13 @@ class GGCParams:
             island off the target (a formation halted off it) leave it for the beacon
             (rules/island.py).
         confined_ticks: under the rule set's SURPLUS flag and while d_cover <= yield_release
-            (where the surplus lap does not apply), a mover that has spent confined_ticks *
-            d_cover ticks in Coverage and Stop without getting farther than confined_reach
-            from where the count started stops for good (our addition; Arrive on the
-            target, else Surplus; rules/confined.py). Getting farther starts the count
-            again (ticks per unit of d_cover: the reach and the time to walk it grow with
-            d_cover).
+            (where the surplus lap does not apply), a mover that has spent this many ticks
+            in Coverage and Stop (at d_cover = d_safe; in proportion to d_safe + d_cover:
+            the reach, and the walk round it, grow with d_cover) without getting farther
+            than confined_reach from where the count started, and without hearing more
+            arrived robots than it did when the count started, stops for good (our
+            addition; Arrive on the target, else Surplus; rules/confined.py). Getting
+            farther, or hearing the structure grow, starts the count again.
         confined_reach: see confined_ticks (multiples of d_cover; the mover's own odometry
             measures it).
         surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
@@ -94,7 +95,9 @@ class GGCParams:
             "yield-holes" (default): no Stop between groups (movers of all groups give way
             to a larger-id mover close ahead, as movers of one group do), movers fill
             holes sealed inside the structure (rules/holes.py), and surplus movers of every
-            group stop once the target is full (at d_cover 8 and 10; rules/surplus.py);
+            group stop once the target is full (at d_cover 8 and 10; rules/surplus.py), or,
+            at d_cover <= yield_release, once they stay confined without a place
+            (confined_ticks; rules/confined.py);
             "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
@@ -129,7 +132,7 @@ class GGCParams:
     surplus_winding: float = 270.0
     surplus_spread: bool = True
     yield_release: float = 4.0
-    confined_ticks: float = 2000.0
+    confined_ticks: float = 3000.0
     confined_reach: float = 6.0
     lattice_stop: bool = True
     lattice_reach: float = 6.93

@@ -24,6 +24,7 @@ import math
 
 from numba import njit
 
+from ..statuses import ARRIVE
 from .rulesets import SURPLUS
 
 
@@ -34,7 +35,17 @@ def watched(P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def confined(me, sense, P):  # pragma: no cover - compiled
+def arrived_heard(view):  # pragma: no cover - compiled
+    """How many arrived robots I hear."""
+    k = 0
+    for r in range(len(view.dist)):
+        if view.status[r] == ARRIVE:
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def confined(view, me, sense, P):  # pragma: no cover - compiled
     """Count one tick of my search and my displacement since the count started; True once I
     have spent P.confined_ticks ticks within P.confined_reach units of where it started (see
     the module docstring)."""
@@ -42,7 +53,9 @@ def confined(me, sense, P):  # pragma: no cover - compiled
         return False
     me.roam_x += sense.moved_x
     me.roam_y += sense.moved_y
-    if math.hypot(me.roam_x, me.roam_y) > P.confined_reach:
+    heard = arrived_heard(view)
+    if math.hypot(me.roam_x, me.roam_y) > P.confined_reach or heard > me.roam_seen:
         me.roam_x, me.roam_y, me.roam_ticks = 0.0, 0.0, 0
+        me.roam_seen = heard
     me.roam_ticks += 1
     return me.roam_ticks >= P.confined_ticks

@@ -186,7 +186,7 @@ def give_way(view, me, vx, vy, P):  # pragma: no cover - compiled
 def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     """One tick of Coverage (see the module docstring)."""
     me.path += math.hypot(sense.moved_x, sense.moved_y)
-    if confined(me, sense, P):
+    if confined(view, me, sense, P):
         return give_up(me, sense)
     if P.ruleset & HOLES:
         found, hx, hy = hole_heard(view, me, sense, P)
@@ -280,7 +280,7 @@ def stopped(view, me, sense, pb, P):  # pragma: no cover - compiled
     me.progress_tick = sense.tick
     me.odo_x, me.odo_y = 0.0, 0.0
     if sense.tick < me.resume_tick:
-        if confined(me, sense, P):
+        if confined(view, me, sense, P):
             return give_up(me, sense)
         return still()
     if keeps_waiting(view, me, sense, P):
