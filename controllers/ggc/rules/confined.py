@@ -10,12 +10,15 @@ lattice. The runs then end by the plateau rule with movers walking.
 
 A mover counts the ticks it spends in Coverage (and in Stop) and the displacement its own
 odometry has added up meanwhile (``sense.moved``). Once it gets farther than
-confined_reach * d_cover from where the count started, it has reached new ground and counts
-afresh; after confined_ticks * d_cover ticks within that reach (the reach, and the time to
-walk round it, grow with d_cover), it has found no place it can reach: it stops for good
-(surplus.give_up: Arrive on the target, else Surplus). The count goes on while the mover
-waits in its formation in between (a wedged mover rejoins it, rules/deadlock.py): leaving it
-again is no progress.
+confined_reach * d_cover from where the count started, it has reached new ground, and once
+it hears more arrived robots than it has since the count started, the structure has grown
+near it (early on, movers jam while it grows round them): either way it counts afresh.
+After RuleParams.confined_ticks ticks within that reach (GGCParams.confined_ticks at d_cover
+= d_safe, in proportion to d_safe + d_cover: the reach, and the time to walk round it, grow
+with d_cover), it has found no place it can reach: it stops for good (surplus.give_up:
+Arrive on the target, else Surplus). The count goes on while the mover waits in its
+formation in between (a wedged mover rejoins it, rules/deadlock.py): leaving it again is no
+progress.
 """
 
 from __future__ import annotations
@@ -46,9 +49,10 @@ def arrived_heard(view):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def confined(view, me, sense, P):  # pragma: no cover - compiled
-    """Count one tick of my search and my displacement since the count started; True once I
-    have spent P.confined_ticks ticks within P.confined_reach units of where it started (see
-    the module docstring)."""
+    """Count one tick of my search, my displacement and the arrived robots I hear since the
+    count started; True once I have spent P.confined_ticks ticks within P.confined_reach units
+    of where it started, hearing no more arrived robots than I did then (see the module
+    docstring)."""
     if not watched(P):
         return False
     me.roam_x += sense.moved_x
