@@ -19,6 +19,7 @@ surplus                        rules/surplus.py
 aggregation (Algorithms 3-4)   rules/aggregation.py (the scattered start)
 holes in the structure         rules/holes.py (rule sets with HOLES)
 islands off the target         rules/island.py (d_cover <= yield_release)
+confined movers give up        rules/confined.py (SURPLUS, d_cover <= yield_release)
 crossing the structure         rules/cross.py (rule sets with CROSS)
 =============================  =============================================================
 

@@ -66,6 +66,16 @@ class GGCParams:
             from 1.5 d_min away (with groups at any d_cover), and a mover that went round an
             island off the target (a formation halted off it) leave it for the beacon
             (rules/island.py).
+        confined_ticks: under the rule set's SURPLUS flag and while d_cover <= yield_release
+            (where the surplus lap does not apply), a mover that has spent this many ticks
+            in Coverage and Stop (at d_cover = d_safe; in proportion to d_safe + d_cover:
+            the reach, and the walk round it, grow with d_cover) without getting farther
+            than confined_reach from where the count started, and without hearing more
+            arrived robots than it did when the count started, stops for good (our
+            addition; Arrive on the target, else Surplus; rules/confined.py). Getting
+            farther, or hearing the structure grow, starts the count again.
+        confined_reach: see confined_ticks (multiples of d_cover; the mover's own odometry
+            measures it).
         surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
             holes are not filled) and d_cover > yield_release, surplus robots stop (our addition; False: the paper's
             robots circle on; rules/surplus.py). A mover that has been out of
@@ -85,7 +95,9 @@ class GGCParams:
             "yield-holes" (default): no Stop between groups (movers of all groups give way
             to a larger-id mover close ahead, as movers of one group do), movers fill
             holes sealed inside the structure (rules/holes.py), and surplus movers of every
-            group stop once the target is full (at d_cover 8 and 10; rules/surplus.py);
+            group stop once the target is full (at d_cover 8 and 10; rules/surplus.py), or,
+            at d_cover <= yield_release, once they stay confined without a place
+            (confined_ticks; rules/confined.py);
             "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
@@ -120,6 +132,8 @@ class GGCParams:
     surplus_winding: float = 270.0
     surplus_spread: bool = True
     yield_release: float = 4.0
+    confined_ticks: float = 3000.0
+    confined_reach: float = 6.0
     lattice_stop: bool = True
     lattice_reach: float = 6.93
     ruleset: str = DEFAULT_RULESET
@@ -128,7 +142,7 @@ class GGCParams:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
                     "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout", "T_settle",
                     "T_quiet", "aggregation_timeout", "join_tolerance", "handover_reach",
-                    "boundary_probe")
+                    "boundary_probe", "confined_ticks", "confined_reach")
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"GGC parameter {name} must be positive, got "

@@ -42,6 +42,9 @@ STATE_DTYPE = np.dtype([
     ("collision_stops", "i4"),
     # islands off the target (rules/island.py): my heading's turn since target floor
     ("turned", "f8"), ("leaving", "?"),
+    # confined without a place (rules/confined.py): ticks searching, displacement meanwhile,
+    # the most arrived robots heard meanwhile
+    ("roam_ticks", "i8"), ("roam_x", "f8"), ("roam_y", "f8"), ("roam_seen", "i4"),
     # the surplus lap
     ("away", "?"), ("frontier", "f8"), ("lap_whole", "?"), ("winding", "f8"),
     ("beacon_angle", "f8"), ("surplus", "i4"),

@@ -9,7 +9,9 @@ lap, the inter-group rule (Stop) and giving way to a moving robot
 with a larger id close ahead. With groups, other groups' waiting formations are not edges.
 With the rule set's HOLES flag, a mover that has walked a while without finding a place goes
 for a hole that arrived robots report instead (rules/holes.py). At small d_cover a mover
-that went round an island off the target leaves it for the beacon (rules/island.py).
+that went round an island off the target leaves it for the beacon (rules/island.py), and
+under the SURPLUS flag a mover that stays within a small reach for long gives up
+(rules/confined.py).
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from .common import (
     waiting_near,
     within,
 )
+from .confined import confined
 from .cross import cross
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
 from .gradient import follow_gradient
@@ -183,6 +186,8 @@ def give_way(view, me, vx, vy, P):  # pragma: no cover - compiled
 def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     """One tick of Coverage (see the module docstring)."""
     me.path += math.hypot(sense.moved_x, sense.moved_y)
+    if confined(view, me, sense, P):
+        return give_up(me, sense)
     if P.ruleset & HOLES:
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:
@@ -275,6 +280,8 @@ def stopped(view, me, sense, pb, P):  # pragma: no cover - compiled
     me.progress_tick = sense.tick
     me.odo_x, me.odo_y = 0.0, 0.0
     if sense.tick < me.resume_tick:
+        if confined(view, me, sense, P):
+            return give_up(me, sense)
         return still()
     if keeps_waiting(view, me, sense, P):
         return still()

@@ -17,7 +17,9 @@ each flag switches on the functions of one module:
   passing free target floor stops for good, as do a mover on the target walled in by arrived
   robots and a mover off the target that hears a Surplus robot of any group: the target is
   full, and the news spreads outward. So the robots the target cannot hold end standing
-  instead of circling on.
+  instead of circling on. At d_cover <= yield_release, where the surplus lap does not apply,
+  a mover that stays within a small reach for long without a place gives up instead
+  (rules/confined.py).
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,

@@ -1,0 +1,65 @@
+"""Movers confined without a place give up (our addition; the rule set's SURPLUS flag, only
+while d_cover <= yield_release).
+
+At small d_cover the target has room for every robot, so the surplus lap (rules/surplus.py,
+d_cover > yield_release) does not apply; yet some movers find no place they can reach and
+never stop: at d_cover 1 they wedge between two robots of a dense band outside the target,
+are released (Algorithm 5) and wedge there again; at d_cover 2 and 4 a mover on the target
+deadlocks and waits in Stop over and over, or wanders a pocket inside the structure's
+lattice. The runs then end by the plateau rule with movers walking.
+
+A mover counts the ticks it spends in Coverage (and in Stop) and the displacement its own
+odometry has added up meanwhile (``sense.moved``). Once it gets farther than
+confined_reach * d_cover from where the count started, it has reached new ground, and once
+it hears more arrived robots than it has since the count started, the structure has grown
+near it (early on, movers jam while it grows round them): either way it counts afresh.
+After RuleParams.confined_ticks ticks within that reach (GGCParams.confined_ticks at d_cover
+= d_safe, in proportion to d_safe + d_cover: the reach, and the time to walk round it, grow
+with d_cover), it has found no place it can reach: it stops for good (surplus.give_up:
+Arrive on the target, else Surplus). The count goes on while the mover waits in its
+formation in between (a wedged mover rejoins it, rules/deadlock.py): leaving it again is no
+progress.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from ..statuses import ARRIVE
+from .rulesets import SURPLUS
+
+
+@njit(cache=True)
+def watched(P):  # pragma: no cover - compiled
+    """Does the rule apply in this run (the SURPLUS flag, d_cover <= yield_release)?"""
+    return bool(P.ruleset & SURPLUS) and P.d_cover <= P.yield_release
+
+
+@njit(cache=True)
+def arrived_heard(view):  # pragma: no cover - compiled
+    """How many arrived robots I hear."""
+    k = 0
+    for r in range(len(view.dist)):
+        if view.status[r] == ARRIVE:
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def confined(view, me, sense, P):  # pragma: no cover - compiled
+    """Count one tick of my search, my displacement and the arrived robots I hear since the
+    count started; True once I have spent P.confined_ticks ticks within P.confined_reach units
+    of where it started, hearing no more arrived robots than I did then (see the module
+    docstring)."""
+    if not watched(P):
+        return False
+    me.roam_x += sense.moved_x
+    me.roam_y += sense.moved_y
+    heard = arrived_heard(view)
+    if math.hypot(me.roam_x, me.roam_y) > P.confined_reach or heard > me.roam_seen:
+        me.roam_x, me.roam_y, me.roam_ticks = 0.0, 0.0, 0
+        me.roam_seen = heard
+    me.roam_ticks += 1
+    return me.roam_ticks >= P.confined_ticks
