@@ -3,7 +3,7 @@ robot, and a scene whose movers have no place they can reach."""
 
 import pytest
 
-from controllers.ggc.statuses import ARRIVE, COVERAGE, SURPLUS
+from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, SURPLUS
 from swarmsim import Simulation
 from swarmsim.world import world_from_dict
 
@@ -96,3 +96,14 @@ def test_movers_with_no_place_they_can_reach_end_standing():
     assert s["stop_reason"] == "stalled", s
     assert set(s["status_counts"]) <= {"Arrive", "Surplus"}, s
     assert s["surplus_stops"] > 0 and s["robots_placed"] >= 20, s
+
+
+def test_the_count_pauses_while_my_group_still_has_robots_waiting():
+    """Beside my formation, while it still sends robots out, a slow search is no reason to
+    give up; once none is left waiting the count goes on."""
+    bot = _bot()
+    waiting = EDGE + [((0.0, -3.0), 42, 1, DETECTION)]  # one of my group, still to be sent
+    _search(bot, 200, rows=waiting)
+    assert bot.me["status"] == COVERAGE and bot.me["roam_ticks"] == 0
+    _search(bot, 75)
+    assert bot.me["status"] == SURPLUS

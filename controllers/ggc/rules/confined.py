@@ -18,7 +18,10 @@ After RuleParams.confined_ticks ticks within that reach (GGCParams.confined_tick
 with d_cover), it has found no place it can reach: it stops for good (surplus.give_up:
 Arrive on the target, else Surplus). The count goes on while the mover waits in its
 formation in between (a wedged mover rejoins it, rules/deadlock.py): leaving it again is no
-progress.
+progress. It pauses while the mover hears robots of its own group waiting to be sent
+(Initial or Detection): beside a formation that still releases robots, a slow search is not
+yet a hopeless one (at d_cover 2 with one group, movers there gave up and left floor
+uncovered).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from numba import njit
 
 from ..statuses import ARRIVE
 from .rulesets import SURPLUS
+from .surplus import group_waiting_heard
 
 
 @njit(cache=True)
@@ -61,5 +65,6 @@ def confined(view, me, sense, P):  # pragma: no cover - compiled
     if math.hypot(me.roam_x, me.roam_y) > P.confined_reach or heard > me.roam_seen:
         me.roam_x, me.roam_y, me.roam_ticks = 0.0, 0.0, 0
         me.roam_seen = heard
-    me.roam_ticks += 1
+    if not group_waiting_heard(view, me):  # my formation still has robots to send: wait
+        me.roam_ticks += 1
     return me.roam_ticks >= P.confined_ticks
