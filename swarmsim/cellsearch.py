@@ -73,15 +73,21 @@ def _cell_size(width, height, n, radius, per_robot):  # pragma: no cover - compi
 
 
 @njit(cache=True)
-def _grid(positions, radius, per_robot):  # pragma: no cover - compiled
-    """Robots ordered by cell (ties by index), their coordinates in that order, each cell's
-    first row, each robot's cell and the grid's width and height in cells."""
-    n = positions.shape[0]
+def grid_frame(positions, radius, per_robot):  # pragma: no cover - compiled
+    """The grid's lower corner (x0, y0), its cell size (units) and its width and height in
+    cells, for cells of at least ``radius`` over ``positions`` (see _cell_size)."""
     x0, y0 = positions[:, 0].min(), positions[:, 1].min()
     width, height = positions[:, 0].max() - x0, positions[:, 1].max() - y0
-    cell = _cell_size(width, height, n, radius, per_robot)
-    nx = int(width / cell) + 1
-    ny = int(height / cell) + 1
+    cell = _cell_size(width, height, positions.shape[0], radius, per_robot)
+    return x0, y0, cell, int(width / cell) + 1, int(height / cell) + 1
+
+
+@njit(cache=True)
+def grid(positions, radius, per_robot):  # pragma: no cover - compiled
+    """Robots ordered by cell (ties by index), their coordinates in that order, each cell's
+    first row, each robot's cell and the grid's width and height in cells (grid_frame)."""
+    n = positions.shape[0]
+    x0, y0, cell, nx, ny = grid_frame(positions, radius, per_robot)
     cell_of = np.empty(n, dtype=np.int64)
     starts = np.zeros(nx * ny + 1, dtype=np.int64)
     for i in range(n):
@@ -107,7 +113,7 @@ def _grid(positions, radius, per_robot):  # pragma: no cover - compiled
 @njit(cache=True)
 def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - compiled
     """Each robot's neighbours from the 3 x 3 cells round it, written (and sorted)."""
-    members, xs, ys, starts, cell_of, nx, ny = _grid(positions, radii.max(), per_robot)
+    members, xs, ys, starts, cell_of, nx, ny = grid(positions, radii.max(), per_robot)
     r = robots.shape[0]
     size = 0  # at most every robot in each one's 3 x 3 cells
     widest = 1  # the longest view can have at most this many rows

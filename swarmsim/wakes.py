@@ -15,6 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
+from swarmsim.cellsearch import MAX_CELLS_PER_ROBOT, grid, grid_frame
+
 
 @njit(cache=True)
 def drifted(positions, ref, velocities, eps):  # pragma: no cover - compiled
@@ -38,35 +40,18 @@ def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
     of a changed robot in ``sources`` (a source itself included), if it wakes on motion or
     that robot ``wakes_all`` (its broadcast changed, or it was pushed).
 
-    The sleepers are sorted into a grid of cells no smaller than the widest wake range plus
-    the margin, so each source looks at the 3 x 3 cells round it; the distance is the C
-    library's ``hypot`` against ``wake_range[j] + margin``, as a pair list would compare it.
+    The sleepers are sorted into a grid (cellsearch.grid) of cells no smaller than the widest
+    wake range plus the margin, so each source looks at the 3 x 3 cells round it; the
+    distance is the C library's ``hypot`` against ``wake_range[j] + margin``, as a pair list
+    would compare it.
     """
     sleepers = np.flatnonzero(asleep)
     if len(sleepers) == 0 or len(sources) == 0:
         return
-    xs, ys = positions[sleepers, 0], positions[sleepers, 1]
-    x0, y0 = xs.min(), ys.min()
-    cell = (wake_range[sleepers].max() + margin) * (1 + 1e-9) + 1e-12
-    most = 4 * len(sleepers) + 16  # cells: not many more than sleepers
-    width, height = xs.max() - x0, ys.max() - y0
-    if (width / cell + 1) * (height / cell + 1) > most:
-        cell = max(cell, math.sqrt(width * height / most) * 1.01, width / most, height / most)
-    nx, ny = int(width / cell) + 1, int(height / cell) + 1
-    cell_of = np.empty(len(sleepers), dtype=np.int64)
-    starts = np.zeros(nx * ny + 1, dtype=np.int64)
-    for k in range(len(sleepers)):
-        cx = min(int((xs[k] - x0) / cell), nx - 1)
-        cy = min(int((ys[k] - y0) / cell), ny - 1)
-        cell_of[k] = cy * nx + cx
-        starts[cell_of[k] + 1] += 1
-    for c in range(nx * ny):
-        starts[c + 1] += starts[c]
-    fill = starts[:-1].copy()
-    members = np.empty(len(sleepers), dtype=np.int64)
-    for k in range(len(sleepers)):
-        members[fill[cell_of[k]]] = sleepers[k]
-        fill[cell_of[k]] += 1
+    at = positions[sleepers]
+    reach = wake_range[sleepers].max() + margin
+    x0, y0, cell, nx, ny = grid_frame(at, reach, MAX_CELLS_PER_ROBOT)
+    members, _, _, starts, _, _, _ = grid(at, reach, MAX_CELLS_PER_ROBOT)
     for s in sources:
         fx, fy = (positions[s, 0] - x0) / cell, (positions[s, 1] - y0) / cell
         if fx < -1.0 or fy < -1.0 or fx >= nx + 1.0 or fy >= ny + 1.0:
@@ -76,7 +61,7 @@ def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
             for gx in range(max(cx - 1, 0), min(cx + 1, nx - 1) + 1):
                 c = gy * nx + gx
                 for m in range(starts[c], starts[c + 1]):
-                    j = members[m]
+                    j = sleepers[members[m]]
                     if not asleep[j] or not (wake_on_motion[j] or wakes_all[s]):
                         continue
                     d = math.hypot(positions[j, 0] - positions[s, 0],
