@@ -73,7 +73,8 @@ class GGCParams:
             than confined_reach from where the count started, and without hearing more
             arrived robots than it did when the count started, stops for good (our
             addition; Arrive on the target, else Surplus; rules/confined.py). Getting
-            farther, or hearing the structure grow, starts the count again.
+            farther, or hearing the structure grow, starts the count again; hearing robots
+            of its own group still waiting to be sent pauses it.
         confined_reach: see confined_ticks (multiples of d_cover; the mover's own odometry
             measures it).
         surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
