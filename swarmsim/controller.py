@@ -155,7 +155,7 @@ class DecideBatch:
         tick: the current tick.
         neighbours: the chunk's heard broadcasts and distances (units).
         offsets: (P, 2) each heard robot's position relative to the listener, units.
-        on_target: each robot's floor sensor.
+        on_target: (R,) bool, each robot's floor sensor.
         moved: (R, 2) each robot's own displacement during the previous tick, units (row k
             is robot k's).
         beacons: (R, 2) each robot's unit bearing toward the beacon (Perception.beacon), or
@@ -170,7 +170,7 @@ class DecideBatch:
     tick: int
     neighbours: NeighbourBatch
     offsets: np.ndarray
-    on_target: list[bool]
+    on_target: np.ndarray
     moved: np.ndarray
     beacons: np.ndarray | None
     probe: Callable[[int], Callable[[np.ndarray], bool]]

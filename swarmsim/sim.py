@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, contactrows, spawn, tallies, wakes
+from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -259,6 +259,7 @@ class Simulation:
         wakes.warm_up()
         tallies.warm_up()
         contactrows.warm_up()
+        tickrows.warm_up()
         self.info.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
@@ -312,9 +313,10 @@ class Simulation:
         velocities = np.zeros((self.n, 2))
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
         t1 = clock()
-        self._changed_msg = self._changed_rows(awake, new_messages)
+        self._changed_msg = tickrows.rows_differ(new_messages, self.messages, awake)
         self.messages = new_messages
-        self.velocities = self.imperfect.actuate(_clamp(velocities, self.config.v_max))
+        tickrows.clamp_rows(velocities, awake, self.config.v_max)  # the others stand still
+        self.velocities = self.imperfect.actuate(velocities)
         t2 = clock()
         sense_s, decide_s = (t1 - t0) - decide_s, decide_s + (t2 - t1)
         self.physics.command(self.velocities)
@@ -340,15 +342,6 @@ class Simulation:
         if len(moved):
             on_target[moved] = self.floor.on_target(self.positions[moved])
         return on_target
-
-    def _changed_rows(self, awake: np.ndarray, new_messages: np.ndarray) -> np.ndarray:
-        """(N,) bool: whose broadcast changed this tick. Only awake robots broadcast, so only
-        their rows are compared (a sleeper's new row is a copy of its old one)."""
-        changed = np.zeros(self.n, dtype=bool)
-        if len(awake):
-            changed[awake] = _rows_differ(np.take(new_messages, awake),
-                                          np.take(self.messages, awake))
-        return changed
 
     def _awake_robots(self) -> np.ndarray:
         """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
@@ -409,24 +402,30 @@ class Simulation:
         if len(awake) == 0:
             return
         heard = self._heard(views.neighbours)
-        ends = np.cumsum(views.counts)
-        starts = np.concatenate(([0], ends))
-        first, last = starts[:-1].tolist(), ends.tolist()
+        starts = np.zeros(len(awake) + 1, dtype=np.int64)
+        np.cumsum(views.counts, out=starts[1:])
         offsets, distances = views.offsets, views.distances
         here = self.positions[awake]
-        bearings = _bearings(self.world.beacon, here)
+        bearings = None if self.world.beacon is None else tickrows.bearings(self.world.beacon,
+                                                                           here)
         probe_at, tick = self.floor.probe_at, self.tick
-        at, on, shift = here.tolist(), self.on_target[awake].tolist(), moved[awake]
+        on, shift = self.on_target[awake], moved[awake]
+        lists: list = []  # Python lists of the per-robot path, made when first asked for
+
+        def listed() -> list:
+            if not lists:
+                lists.extend((starts.tolist(), here.tolist(), on.tolist()))
+            return lists
 
         def perceive(k: int) -> Perception:
-            a, b = first[k], last[k]
-            x, y = at[k]
-            return make_perception(tick, offsets[a:b], distances[a:b], heard[a:b], on[k],
-                                   probe_at(x, y), None if bearings is None else bearings[k],
+            bounds, at, on_list = listed()
+            a, b = bounds[k], bounds[k + 1]
+            return make_perception(tick, offsets[a:b], distances[a:b], heard[a:b], on_list[k],
+                                   probe_at(*at[k]), None if bearings is None else bearings[k],
                                    shift[k])
 
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
-                            bearings, lambda k: probe_at(*at[k]), perceive,
+                            bearings, lambda k: probe_at(*listed()[1][k]), perceive,
                             self.floor.probes(here))
         self._apply(awake, self.swarm.decide(awake, batch), new_messages, velocities)
 
@@ -647,25 +646,8 @@ def _old_objects_frozen() -> Iterator[None]:
         gc.unfreeze()
 
 
-def _clamp(velocities: np.ndarray, v_max: float) -> np.ndarray:
-    """Scale velocities (N, 2) down to at most v_max, keeping their directions."""
-    speed = np.hypot(velocities[:, 0], velocities[:, 1])
-    too_fast = speed > v_max
-    velocities[too_fast] *= (v_max / speed[too_fast])[:, None]
-    return velocities
-
-
 def _has_field(cls: type, name: str) -> bool:
     return name in getattr(cls, "__dataclass_fields__", {})
-
-
-def _bearings(beacon: tuple[float, float] | None, at: np.ndarray) -> np.ndarray | None:
-    """(k, 2) unit vectors from each point toward the beacon (zero on top of it)."""
-    if beacon is None:
-        return None
-    d = np.asarray(beacon, dtype=float) - at
-    n = np.hypot(d[:, 0], d[:, 1])[:, None]
-    return np.divide(d, n, out=np.zeros_like(d), where=n > 1e-12)
 
 
 def rows_to_array(rows: list[tuple], dtype: np.dtype) -> np.ndarray:
@@ -681,13 +663,6 @@ def rows_to_array(rows: list[tuple], dtype: np.dtype) -> np.ndarray:
         else:
             out[name] = np.asarray(column, dtype=field.base)
     return out
-
-
-def _rows_differ(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(N,) bool: which rows of two structured arrays differ (bytewise)."""
-    va = a.view(np.uint8).reshape(len(a), -1)
-    vb = b.view(np.uint8).reshape(len(b), -1)
-    return (va != vb).any(axis=1)
 
 
 def _progress_bar(total: int, enabled: bool):

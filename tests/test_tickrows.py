@@ -1,0 +1,58 @@
+"""The compiled per-tick row passes give the numpy expressions' values, to the bit."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from swarmsim import tickrows
+
+
+def _numpy_clamp(v: np.ndarray, v_max: float) -> np.ndarray:
+    speed = np.hypot(v[:, 0], v[:, 1])
+    fast = speed > v_max
+    v = v.copy()
+    v[fast] *= (v_max / speed[fast])[:, None]
+    return v
+
+
+def test_clamp_rows_matches_numpy_on_the_rows_and_leaves_the_others():
+    rng = np.random.default_rng(1)
+    v = rng.normal(0.0, 0.3, (500, 2))
+    v[::7] = 0.0
+    v[3] = (0.2, 0.0)  # exactly v_max: kept
+    rows = np.arange(0, 500, 2)
+    out = v.copy()
+    tickrows.clamp_rows(out, rows, 0.2)
+    expected = v.copy()
+    expected[rows] = _numpy_clamp(v[rows], 0.2)
+    assert np.array_equal(out, expected)
+    assert np.array_equal(out[1::2], v[1::2])  # not in rows: untouched
+    assert np.hypot(out[rows, 0], out[rows, 1]).max() <= 0.2 * (1 + 1e-15)
+    assert (np.hypot(v[rows, 0], v[rows, 1]) > 0.2).sum() > 100  # the test clamps many
+
+
+def test_bearings_match_numpy_and_are_zero_on_the_beacon():
+    rng = np.random.default_rng(2)
+    at = rng.uniform(-50, 50, (300, 2))
+    beacon = (3.25, -7.5)
+    at[5] = beacon
+    d = np.asarray(beacon) - at
+    n = np.hypot(d[:, 0], d[:, 1])[:, None]
+    expected = np.divide(d, n, out=np.zeros_like(d), where=n > 1e-12)
+    got = tickrows.bearings(beacon, at)
+    assert np.array_equal(got, expected)
+    assert np.array_equal(got[5], [0.0, 0.0])
+    assert np.allclose(np.hypot(got[:5, 0], got[:5, 1]), 1.0)
+
+
+def test_rows_differ_finds_each_changed_field_in_the_rows_asked():
+    dtype = np.dtype([("id", "i4"), ("status", "i1"), ("ldist", "f4", (3,)), ("flag", "?")])
+    old = np.zeros(10, dtype=dtype)
+    new = old.copy()
+    new["status"][1] = 2
+    new["ldist"][4, 2] = 1.5
+    new["flag"][6] = True
+    new["id"][7] = 9  # changed, but not asked about
+    got = tickrows.rows_differ(new, old, np.array([1, 2, 4, 6]))
+    assert got.tolist() == [i in (1, 4, 6) for i in range(10)]
+    assert not tickrows.rows_differ(old, old.copy(), np.arange(10)).any()
