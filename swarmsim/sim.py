@@ -450,18 +450,19 @@ class Simulation:
         if not isinstance(actions, ChunkActions):
             actions = ChunkActions.of(actions)
         vel = actions.velocities
-        velocities[awake] = vel
+        reach = self.sensing_range
+        tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
         if actions.broadcast is not None:
             new_messages[awake] = actions.broadcast
         elif actions.messages:
             self._send(awake, actions.messages, new_messages)
-        reach = self.sensing_range
-        listen = actions.listen
-        self.listen[awake] = np.minimum(np.where(np.isnan(listen), reach, listen), reach)
         if not self.config.allow_sleep:
             return
         if actions.sleep is not None:
-            self._sleep_columns(awake, actions)
+            tickrows.put_sleep(awake, vel, actions.sleep, actions.wake_range,
+                               actions.wake_on_motion, actions.wake_tick, reach, NEVER,
+                               self.asleep, self.wake_range, self.wake_on_motion,
+                               self.wake_tick)
             return
         for k, action in actions.sleepers.items():
             if vel[k, 0] == 0 and vel[k, 1] == 0:
@@ -471,21 +472,6 @@ class Simulation:
                 self.wake_tick[i] = NEVER if action.wake_tick is None else int(action.wake_tick)
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
-
-    def _sleep_columns(self, awake: np.ndarray, actions: ChunkActions) -> None:
-        """Sleep requests in the dense form (see ChunkActions.columns)."""
-        vel = actions.velocities
-        ok = actions.sleep & (vel[:, 0] == 0) & (vel[:, 1] == 0)
-        if not ok.any():
-            return
-        i = awake[ok]
-        reach = self.sensing_range
-        self.asleep[i] = True
-        self.wake_on_motion[i] = actions.wake_on_motion[ok]
-        tick = actions.wake_tick[ok]
-        self.wake_tick[i] = np.where(tick < 0, NEVER, tick)
-        wake = actions.wake_range[ok]
-        self.wake_range[i] = np.minimum(np.where(np.isnan(wake), reach, wake), reach)
 
     def _send(self, awake: np.ndarray, messages: dict[int, tuple | dict],
               new_messages: np.ndarray) -> None:

@@ -36,6 +36,29 @@ def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarra
     return _differ(a, b, np.require(rows, np.int64, "C"))
 
 
+def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: float,
+              velocities: np.ndarray, listen: np.ndarray) -> None:
+    """Write a chunk's actions to the robots ``rows`` (R,): ``velocities[rows] = vel`` (R, 2),
+    units per tick, and ``listen[rows]`` the asked ranges ``listen_in`` (R,), units (NaN: the
+    sensing range ``reach``), at most ``reach``; in place."""
+    _put_moves(np.require(rows, np.int64, "C"), np.require(vel, np.float64, "C"),
+               np.require(listen_in, np.float64, "C"), float(reach), velocities, listen)
+
+
+def put_sleep(rows: np.ndarray, vel: np.ndarray, sleep: np.ndarray, wake_range_in: np.ndarray,
+              wake_on_motion_in: np.ndarray, wake_tick_in: np.ndarray, reach: float,
+              never: int, asleep: np.ndarray, wake_range: np.ndarray,
+              wake_on_motion: np.ndarray, wake_tick: np.ndarray) -> None:
+    """Put to sleep the robots ``rows[k]`` that asked (``sleep[k]``) and stand still (``vel[k]``
+    zero), with their wake range (units; NaN: ``reach``; at most ``reach``), whether motion
+    wakes them, and their wake tick (negative: ``never``); in place."""
+    _put_sleep(np.require(rows, np.int64, "C"), np.require(vel, np.float64, "C"),
+               np.require(sleep, np.bool_, "C"), np.require(wake_range_in, np.float64, "C"),
+               np.require(wake_on_motion_in, np.bool_, "C"),
+               np.require(wake_tick_in, np.int64, "C"), float(reach), int(never), asleep,
+               wake_range, wake_on_motion, wake_tick)
+
+
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one = np.zeros((1, 2))
@@ -43,6 +66,10 @@ def warm_up() -> None:
     bearings((0.0, 0.0), one)
     flag = np.zeros(1, dtype=[("a", "i8")])
     rows_differ(flag, flag.copy(), np.zeros(1, dtype=np.int64))
+    row, no = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.bool_)
+    put_moves(row, one, np.ones(1), 1.0, one.copy(), np.ones(1))
+    put_sleep(row, one, no, np.ones(1), no, row, 1.0, 1, no.copy(), np.ones(1), no.copy(),
+              row.copy())
 
 
 @njit(cache=True)
@@ -75,3 +102,26 @@ def _differ(a, b, rows):  # pragma: no cover - compiled
                 out[i] = True
                 break
     return out
+
+
+@njit(cache=True)
+def _put_moves(rows, vel, listen_in, reach, velocities, listen):  # pragma: no cover
+    for k in range(rows.shape[0]):
+        i = rows[k]
+        velocities[i, 0], velocities[i, 1] = vel[k, 0], vel[k, 1]
+        ask = reach if math.isnan(listen_in[k]) else listen_in[k]
+        listen[i] = min(ask, reach)
+
+
+@njit(cache=True)
+def _put_sleep(rows, vel, sleep, wake_range_in, wake_on_motion_in, wake_tick_in, reach,
+               never, asleep, wake_range, wake_on_motion, wake_tick):  # pragma: no cover
+    for k in range(rows.shape[0]):
+        if not sleep[k] or vel[k, 0] != 0 or vel[k, 1] != 0:
+            continue
+        i = rows[k]
+        asleep[i] = True
+        wake_on_motion[i] = wake_on_motion_in[k]
+        wake_tick[i] = never if wake_tick_in[k] < 0 else wake_tick_in[k]
+        ask = reach if math.isnan(wake_range_in[k]) else wake_range_in[k]
+        wake_range[i] = min(ask, reach)

@@ -56,3 +56,30 @@ def test_rows_differ_finds_each_changed_field_in_the_rows_asked():
     got = tickrows.rows_differ(new, old, np.array([1, 2, 4, 6]))
     assert got.tolist() == [i in (1, 4, 6) for i in range(10)]
     assert not tickrows.rows_differ(old, old.copy(), np.arange(10)).any()
+
+
+def test_put_moves_writes_the_rows_and_caps_listening_at_the_reach():
+    velocities, listen = np.zeros((6, 2)), np.full(6, 15.0)
+    rows = np.array([4, 1, 2])
+    vel = np.array([[0.1, -0.2], [0.0, 0.0], [0.3, 0.4]])
+    tickrows.put_moves(rows, vel, np.array([np.nan, 3.0, 99.0]), 15.0, velocities, listen)
+    assert np.array_equal(velocities[rows], vel)
+    assert np.array_equal(velocities[[0, 3, 5]], np.zeros((3, 2)))
+    assert listen.tolist() == [15.0, 3.0, 15.0, 15.0, 15.0, 15.0]
+
+
+def test_put_sleep_puts_only_still_robots_that_asked_to_sleep():
+    n = 6
+    asleep, wake_range = np.zeros(n, dtype=bool), np.full(n, -1.0)
+    on_motion, wake_tick = np.ones(n, dtype=bool), np.zeros(n, dtype=np.int64)
+    rows = np.array([5, 0, 3, 2])
+    vel = np.array([[0.0, 0.0], [0.0, 0.1], [0.0, 0.0], [0.0, 0.0]])
+    tickrows.put_sleep(rows, vel, np.array([True, True, True, False]),
+                       np.array([np.nan, 2.0, 4.0, 1.0]), np.array([False, True, True, False]),
+                       np.array([-1, 7, 40, 9]), 15.0, 10**9, asleep, wake_range, on_motion,
+                       wake_tick)
+    assert np.flatnonzero(asleep).tolist() == [3, 5]  # 0 moves, 2 did not ask
+    assert wake_range[[5, 3]].tolist() == [15.0, 4.0]  # NaN: the sensing range
+    assert on_motion[[5, 3]].tolist() == [False, True]
+    assert wake_tick[[5, 3]].tolist() == [10**9, 40]  # negative: never
+    assert wake_range[[0, 1, 2, 4]].tolist() == [-1.0] * 4
