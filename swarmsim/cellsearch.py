@@ -24,6 +24,10 @@ MAX_CELLS_PER_ROBOT = 4
 """The grid has at most this many cells per robot: a tiny radius over a wide swarm gets
 larger cells (the same views; only fewer empty cells to build)."""
 
+CELL_SPLIT = 3
+"""The views' grid cells are this many times smaller than the widest listening radius, so a
+robot that listens less far looks at fewer robots (the same views for any value)."""
+
 
 def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
                ordered: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -111,17 +115,36 @@ def grid(positions, radius, per_robot):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
+def _span(at, reach, origin, cell, cells):  # pragma: no cover - compiled
+    """The first and last cell (along one axis, ``cells`` of them) that may hold a point within
+    ``reach`` units of coordinate ``at`` (the reach widened a hair: rounding cannot drop a
+    neighbour; the exact distance test decides)."""
+    lo = math.floor((at - reach - origin) / cell)  # an int in numba
+    hi = math.floor((at + reach - origin) / cell)
+    return max(lo, 0), min(hi, cells - 1)
+
+
+@njit(cache=True)
 def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - compiled
-    """Each robot's neighbours from the 3 x 3 cells round it, written (and sorted)."""
-    members, xs, ys, starts, cell_of, nx, ny = grid(positions, radii.max(), per_robot)
+    """Each robot's neighbours from the cells its own radius reaches, written (and sorted).
+
+    The cells are CELL_SPLIT times smaller than the widest radius, so a robot listening less
+    far than the widest looks at fewer cells (the same neighbours: the exact squared-distance
+    test decides, whatever cells are looked at)."""
+    widest_radius = radii.max()
+    x0, y0, cell, nx, ny = grid_frame(positions, widest_radius / CELL_SPLIT, per_robot)
+    members, xs, ys, starts, _, _, _ = grid(positions, widest_radius / CELL_SPLIT, per_robot)
     r = robots.shape[0]
-    size = 0  # at most every robot in each one's 3 x 3 cells
+    size = 0  # at most every robot in each one's cells
     widest = 1  # the longest view can have at most this many rows
     for k in range(r):
-        cx, cy = cell_of[robots[k]] % nx, cell_of[robots[k]] // nx
+        i = robots[k]
+        reach = radii[k] * (1 + 1e-9) + 1e-12
+        lo_x, hi_x = _span(positions[i, 0], reach, x0, cell, nx)
+        lo_y, hi_y = _span(positions[i, 1], reach, y0, cell, ny)
         rows = 0
-        for gy in range(max(cy - 1, 0), min(cy + 2, ny)):
-            rows += starts[gy * nx + min(cx + 2, nx)] - starts[gy * nx + max(cx - 1, 0)]
+        for gy in range(lo_y, hi_y + 1):
+            rows += starts[gy * nx + hi_x + 1] - starts[gy * nx + lo_x]
         size += rows
         widest = max(widest, rows)
     counts = np.empty(r, dtype=np.int64)
@@ -133,13 +156,14 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
     scratch = _scratch(widest)
     for k in range(r):
         i = robots[k]
-        cx, cy = cell_of[i] % nx, cell_of[i] // nx
-        lo_x, hi_x = max(cx - 1, 0), min(cx + 2, nx)
         r2 = radii[k] * radii[k]
         xi, yi = positions[i, 0], positions[i, 1]
+        reach = radii[k] * (1 + 1e-9) + 1e-12
+        lo_x, hi_x = _span(xi, reach, x0, cell, nx)
+        lo_y, hi_y = _span(yi, reach, y0, cell, ny)
         first = at
-        for gy in range(max(cy - 1, 0), min(cy + 2, ny)):
-            for m in range(starts[gy * nx + lo_x], starts[gy * nx + hi_x]):  # one run
+        for gy in range(lo_y, hi_y + 1):
+            for m in range(starts[gy * nx + lo_x], starts[gy * nx + hi_x + 1]):  # one run
                 dx = xs[m] - xi
                 dy = ys[m] - yi
                 dd = dx * dx + dy * dy
