@@ -16,13 +16,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
+from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_dtype
 
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
 from .rules.rulesets import HOLES, RULESETS, SURPLUS, YIELD
-from .state import broadcast_rows, new_state
+from .state import broadcast_rows, message_fields, new_state
 from .statuses import STATUSES
 
 COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
@@ -121,6 +121,10 @@ class GGCSwarm:
         self.params = params
         self.rules = rule_params(params, groups, scattered)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
+        # the broadcasts' kernel is typed by the run's message dtype (one ldist, lepoch entry
+        # per group): compiled or loaded now, before the run's clock starts
+        broadcast_rows(self.state, np.zeros(0, dtype=np.int64),
+                       message_dtype(message_fields(groups)))
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
         """The actions of the chunk's robots (``robots``: their rows, in the batch's order),

@@ -1,0 +1,52 @@
+"""GGC's broadcasts are its state rows' fields, cast to the message's types (state.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from controllers.ggc.state import STATE_DTYPE, broadcast_rows, message_fields
+from controllers.ggc.statuses import MOVING_STATUSES, STATUSES
+from swarmsim.controller import message_dtype
+
+SOURCE = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y", "hx": "hole_x",
+          "hy": "hole_y"}
+
+
+def _random_state(rng: np.random.Generator, n: int) -> np.ndarray:
+    """Rows whose every byte is random, then valid statuses, booleans and finite floats."""
+    state = np.frombuffer(rng.bytes(n * STATE_DTYPE.itemsize), dtype=STATE_DTYPE).copy()
+    for name in STATE_DTYPE.names:
+        if STATE_DTYPE[name] == np.bool_:
+            state[name] = rng.random(n) < 0.5
+    state["status"] = rng.integers(0, len(STATUSES), n)
+    for name in ("travel_x", "travel_y", "hole_x", "hole_y"):
+        state[name] = rng.normal(0, 50, n)
+    state["ldist"] = rng.normal(0, 1e3, state["ldist"].shape)
+    state["lepoch"] = rng.integers(-2**40, 2**40, state["lepoch"].shape)  # wraps to i4
+    return state
+
+
+@pytest.mark.parametrize("groups", [1, 3, 16])
+def test_broadcast_rows_equal_a_field_by_field_numpy_gather(groups):
+    rng = np.random.default_rng(groups)
+    state = _random_state(rng, 200)
+    rows = rng.permutation(200)[:77]
+    dtype = message_dtype(message_fields(groups))
+    got = broadcast_rows(state, rows, dtype)
+    expected = np.zeros(len(rows), dtype=dtype)
+    for name in dtype.names:
+        if name == "moving":
+            expected[name] = np.isin(state["status"][rows], MOVING_STATUSES)
+        elif name in ("ldist", "lepoch"):
+            expected[name] = state[name][rows, :groups]
+        else:
+            expected[name] = state[SOURCE.get(name, name)][rows]
+    assert got.tobytes() == expected.tobytes()
+    assert got["moving"].any() and not got["moving"].all()
+
+
+def test_broadcast_rows_refuse_a_dtype_they_do_not_fill():
+    dtype = message_dtype(message_fields(3) + [("extra", "i4")])
+    with pytest.raises(ValueError, match="GGC broadcasts have the fields"):
+        broadcast_rows(np.zeros(2, dtype=STATE_DTYPE), np.arange(2), dtype)
