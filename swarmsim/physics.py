@@ -251,8 +251,7 @@ class Physics:
     def read(self) -> tuple[np.ndarray, np.ndarray]:
         """Positions and velocities of all robots, (N, 2) each, as fresh arrays."""
         if self._sleep:
-            robots = self._read_by_id(pb.BodyFields.POSITION | pb.BodyFields.VELOCITY, 4)
-            return robots[:, 0:2].copy(), robots[:, 2:4].copy()
+            return self._read_by_id()
         self._buf.clear()
         pb.get_space_bodies(self.space, pb.BodyFields.POSITION | pb.BodyFields.VELOCITY,
                             self._buf)
@@ -263,25 +262,19 @@ class Physics:
         self._velocity_rows = rows[:, 2:4].copy()
         return robots[:, 0:2].copy(), robots[:, 2:4].copy()
 
-    def read_positions(self) -> np.ndarray:
-        """Positions of all robots, (N, 2), units, as a fresh array: :meth:`read`'s first
-        half (with sleepers, without reading the velocities)."""
-        if self._sleep:
-            return self._read_by_id(pb.BodyFields.POSITION, 2)
-        return self.read()[0]
-
-    def _read_by_id(self, fields: pb.BodyFields, width: int) -> np.ndarray:
-        """The robots' rows of the float ``fields`` (POSITION, then VELOCITY if asked: ``width``
-        2 or 4 columns) with sleepers: rows are matched to robots by body id, on every read."""
+    def _read_by_id(self) -> tuple[np.ndarray, np.ndarray]:
+        """read() with sleepers: rows are matched to robots by body id, on every read."""
         buf = self._buf
         buf.clear()
-        pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID | fields, buf)
-        rows = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, width)
+        pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID | pb.BodyFields.POSITION
+                            | pb.BodyFields.VELOCITY, buf)
+        rows = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 4)
         if rows.shape[0] != self.n_rows:
             raise RuntimeError("pymunk body rows changed; bodies must not be added or removed")
         self._rows.update(np.frombuffer(buf.int_buf(), dtype=np.uintp))
         self._rows_at = self._steps
-        return np.take(rows, self._rows.robot_rows, axis=0)
+        robots = np.take(rows, self._rows.robot_rows, axis=0)
+        return robots[:, 0:2].copy(), robots[:, 2:4].copy()
 
     @property
     def parked(self) -> np.ndarray:

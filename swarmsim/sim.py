@@ -323,7 +323,7 @@ class Simulation:
         self.physics.step()
         self.tick += 1
         self._prev_positions = pos
-        self.positions = self.physics.read_positions()
+        self.positions, _ = self.physics.read()
         self.on_target = self._on_target_now(pos)
         t3 = clock()
         if self.fault_hook is not None:

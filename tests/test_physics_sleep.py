@@ -84,7 +84,6 @@ def test_reads_map_rows_by_body_id_while_robots_sleep_and_wake():
         physics.step()
         got_pos, got_vel = physics.read()
         assert np.array_equal(got_pos, [tuple(b.position) for b in physics._robots])
-        assert np.array_equal(physics.read_positions(), got_pos)
         assert np.array_equal(got_vel, [tuple(b.velocity) for b in physics._robots])
         asleep = physics.bodies_asleep()
         assert np.array_equal(asleep, true_asleep(physics))
