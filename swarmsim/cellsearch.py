@@ -87,11 +87,11 @@ def grid_frame(positions, radius, per_robot):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def grid(positions, radius, per_robot):  # pragma: no cover - compiled
+def grid(positions, x0, y0, cell, nx, ny):  # pragma: no cover - compiled
     """Robots ordered by cell (ties by index), their coordinates in that order, each cell's
-    first row, each robot's cell and the grid's width and height in cells (grid_frame)."""
+    first row, each robot's cell and the grid's width and height in cells, for the frame
+    :func:`grid_frame` gave (corner x0, y0, cell size, nx x ny cells)."""
     n = positions.shape[0]
-    x0, y0, cell, nx, ny = grid_frame(positions, radius, per_robot)
     cell_of = np.empty(n, dtype=np.int64)
     starts = np.zeros(nx * ny + 1, dtype=np.int64)
     for i in range(n):
@@ -131,9 +131,8 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
     The cells are CELL_SPLIT times smaller than the widest radius, so a robot listening less
     far than the widest looks at fewer cells (the same neighbours: the exact squared-distance
     test decides, whatever cells are looked at)."""
-    widest_radius = radii.max()
-    x0, y0, cell, nx, ny = grid_frame(positions, widest_radius / CELL_SPLIT, per_robot)
-    members, xs, ys, starts, _, _, _ = grid(positions, widest_radius / CELL_SPLIT, per_robot)
+    x0, y0, cell, nx, ny = grid_frame(positions, radii.max() / CELL_SPLIT, per_robot)
+    members, xs, ys, starts, _, _, _ = grid(positions, x0, y0, cell, nx, ny)
     r = robots.shape[0]
     size = 0  # at most every robot in each one's cells
     widest = 1  # the longest view can have at most this many rows

@@ -53,10 +53,11 @@ still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps 
 they are dropped."""
 
 PHASES = ("sense", "decide", "physics", "metrics")
+"""Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
+
 TIMING_FIELDS = ("wall_seconds", "cpu_seconds")
 """Summary fields that time the run (seconds): the only ones in which two runs of the same
 seed and settings differ."""
-"""Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
 DECIDE_CHUNK = 1024
 """Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's

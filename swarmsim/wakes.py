@@ -51,7 +51,7 @@ def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
     at = positions[sleepers]
     reach = wake_range[sleepers].max() + margin
     x0, y0, cell, nx, ny = grid_frame(at, reach, MAX_CELLS_PER_ROBOT)
-    members, _, _, starts, _, _, _ = grid(at, reach, MAX_CELLS_PER_ROBOT)
+    members, _, _, starts, _, _, _ = grid(at, x0, y0, cell, nx, ny)
     for s in sources:
         fx, fy = (positions[s, 0] - x0) / cell, (positions[s, 1] - y0) / cell
         if fx < -1.0 or fy < -1.0 or fx >= nx + 1.0 or fy >= ny + 1.0:
