@@ -7,6 +7,7 @@ sleep are skipped until something within their sensing range moves or changes it
 
 from __future__ import annotations
 
+import functools
 import gc
 import time
 from collections.abc import Callable, Iterator, Mapping
@@ -411,12 +412,10 @@ class Simulation:
                                                                            here)
         probe_at, tick = self.floor.probe_at, self.tick
         on, shift = self.on_target[awake], moved[awake]
-        lists: list = []  # Python lists of the per-robot path, made when first asked for
 
-        def listed() -> list:
-            if not lists:
-                lists.extend((starts.tolist(), here.tolist(), on.tolist()))
-            return lists
+        @functools.cache  # the per-robot path's Python lists, made when first asked for
+        def listed() -> tuple[list, list, list]:
+            return starts.tolist(), here.tolist(), on.tolist()
 
         def perceive(k: int) -> Perception:
             bounds, at, on_list = listed()
