@@ -26,7 +26,10 @@ import pymunk
 from numba import njit
 from pymunk._chipmunk_cffi import lib
 
+from swarmsim import chipmunkcalls
+
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
+_KINEMATIC, _STATIC = int(pymunk.Body.KINEMATIC), int(pymunk.Body.STATIC)
 
 
 class IdTable:
@@ -160,6 +163,10 @@ class Parking:
     def __init__(self, robots: Sequence[pymunk.Body], controls: Sequence[pymunk.Body]):
         self._robot_ptrs = [b._body for b in robots]
         self._control_ptrs = [b._body for b in controls]
+        self._calls = chipmunkcalls.body_calls()
+        self._robot_at = np.array([chipmunkcalls.address(b) for b in robots], dtype=np.uintp)
+        self._control_at = np.array([chipmunkcalls.address(b) for b in controls],
+                                    dtype=np.uintp)
         n = len(robots)
         self.parked = np.zeros(n, dtype=bool)
         self._zero_before = np.zeros(n, dtype=bool)
@@ -169,6 +176,11 @@ class Parking:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
         v = np.require(velocities, np.float64, ("C", "W"))
         to_unpark, to_park, write = _plan(v, self._zero_before, self.parked, self._written)
+        calls = self._calls
+        if calls is not None:  # the same calls, in the same order, from compiled code
+            _call(calls.activate, calls.set_type, calls.set_velocity, self._robot_at,
+                  self._control_at, to_unpark, to_park, write, v)
+            return
         for i in to_unpark.tolist():
             lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver
             lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.KINEMATIC)
@@ -180,6 +192,20 @@ class Parking:
             for i, vx, vy in zip(write.tolist(), rows[:, 0].tolist(), rows[:, 1].tolist(),
                                  strict=True):
                 set_velocity(ptrs[i], (vx, vy))
+
+
+@njit(cache=True)
+def _call(activate, set_type, set_velocity, robot_at, control_at, to_unpark, to_park, write,
+          v):  # pragma: no cover - compiled
+    """Parking.command's Chipmunk calls (chipmunkcalls.BodyCalls), in Parking.command's order:
+    unpark (wake the robot, then its control body KINEMATIC), park (STATIC), write."""
+    for i in to_unpark:
+        activate(robot_at[i])
+        set_type(control_at[i], _KINEMATIC)
+    for i in to_park:
+        set_type(control_at[i], _STATIC)
+    for i in write:
+        set_velocity(control_at[i], v[i, 0], v[i, 1])
 
 
 @njit(cache=True)
