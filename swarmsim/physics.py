@@ -27,7 +27,7 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
-from swarmsim import contactrows
+from swarmsim import chipmunkcalls, contactrows
 from swarmsim.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.world import World
 
@@ -172,6 +172,8 @@ class Physics:
             self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
             self._parking = Parking(self._robots, self._controls)
             self._rows_at = -1  # the tick self._rows describes
+            self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
+            self._robot_at = chipmunkcalls.addresses(self._robots)
 
     def _add_walls(self, world: World) -> None:
         static = self.space.static_body
@@ -263,7 +265,14 @@ class Physics:
         return robots[:, 0:2].copy(), robots[:, 2:4].copy()
 
     def _read_by_id(self) -> tuple[np.ndarray, np.ndarray]:
-        """read() with sleepers: rows are matched to robots by body id, on every read."""
+        """read() with sleepers: each robot's body asked directly (compiled, see
+        swarmsim/chipmunkcalls.py), or pymunk.batch's rows matched to robots by body id."""
+        calls = self._calls
+        if calls is not None:
+            positions, velocities = np.empty((self.n, 2)), np.empty((self.n, 2))
+            chipmunkcalls.read_vects(calls.get_position, self._robot_at, positions)
+            chipmunkcalls.read_vects(calls.get_velocity, self._robot_at, velocities)
+            return positions, velocities
         buf = self._buf
         buf.clear()
         pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID | pb.BodyFields.POSITION
@@ -287,6 +296,10 @@ class Physics:
         """(N,) bool: robots whose bodies pymunk has put to sleep (out of its solver)."""
         if not self._sleep:
             return np.zeros(self.n, dtype=bool)
+        if self._calls is not None:
+            asleep = np.empty(self.n, dtype=bool)
+            chipmunkcalls.read_flags(self._calls.is_sleeping, self._robot_at, asleep)
+            return asleep
         if self._rows_at != self._steps:
             buf = pb.Buffer()
             pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID, buf)

@@ -9,7 +9,7 @@ import hashlib
 import numpy as np
 import pytest
 
-from swarmsim import Simulation
+from swarmsim import Simulation, chipmunkcalls
 from swarmsim.bodysleep import IdTable
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.spawn import hex_offsets
@@ -70,7 +70,10 @@ def test_a_sleeping_robot_pushed_by_a_mover_moves_and_wakes():
     np.testing.assert_allclose(pos_on, pos_off, atol=0.02)  # as far as when never asleep
 
 
-def test_reads_map_rows_by_body_id_while_robots_sleep_and_wake():
+@pytest.mark.parametrize("compiled", [True, False], ids=["chipmunk calls", "pymunk.batch"])
+def test_reads_are_right_while_robots_sleep_and_wake(monkeypatch, compiled):
+    if not compiled:  # pymunk.batch's rows, matched to robots by body id
+        monkeypatch.setattr(chipmunkcalls, "body_calls", lambda: None)
     pos = hex_offsets(40, 3.0) + np.array([20.0, 20.0])
     physics = Physics(square_world(), pos, SLEEP)
     rng = np.random.default_rng(3)
@@ -90,7 +93,8 @@ def test_reads_map_rows_by_body_id_while_robots_sleep_and_wake():
         most_asleep = max(most_asleep, int(asleep.sum()))
         orders.add(physics._rows.robot_rows.tobytes())
     assert most_asleep > 30  # many slept...
-    assert len(orders) > 10  # ...and pymunk's rows were reordered many times
+    if not compiled:
+        assert len(orders) > 10  # ...and pymunk's rows were reordered many times
 
 
 def test_commanding_movers_leaves_the_sleepers_asleep():
