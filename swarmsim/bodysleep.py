@@ -27,6 +27,7 @@ from numba import njit
 from pymunk._chipmunk_cffi import lib
 
 from swarmsim import chipmunkcalls
+from swarmsim.carrays import c_array
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
 _KINEMATIC, _STATIC = int(pymunk.Body.KINEMATIC), int(pymunk.Body.STATIC)
@@ -174,7 +175,7 @@ class Parking:
 
     def command(self, velocities: np.ndarray) -> None:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
-        v = np.require(velocities, np.float64, ("C", "W"))
+        v = c_array(velocities, np.float64, writeable=True)
         to_unpark, to_park, write = _plan(v, self._zero_before, self.parked, self._written)
         calls = self._calls
         if calls is not None:  # the same calls, in the same order, from compiled code

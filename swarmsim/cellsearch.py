@@ -20,6 +20,8 @@ import math
 import numpy as np
 from numba import njit
 
+from swarmsim.carrays import c_array
+
 MAX_CELLS_PER_ROBOT = 4
 """The grid has at most this many cells per robot: a tiny radius over a wide swarm gets
 larger cells (the same views; only fewer empty cells to build)."""
@@ -45,9 +47,9 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
         distances (P,) (units^2) and counts (R,): robot k's rows follow robot k-1's.
     """
     # contiguous and writeable: one compiled signature (a read-only array is another type)
-    positions = np.require(positions, np.float64, ("C", "W"))
-    robots = np.require(robots, np.int64, ("C", "W"))
-    radii = np.require(radii, np.float64, ("C", "W"))
+    positions = c_array(positions, np.float64, writeable=True)
+    robots = c_array(robots, np.int64, writeable=True)
+    radii = c_array(radii, np.float64, writeable=True)
     if len(robots) == 0 or len(positions) == 0:
         return (np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros(0),
                 np.zeros(len(robots), dtype=np.int64))

@@ -20,6 +20,7 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
+from swarmsim.carrays import c_array
 from swarmsim.errors import ConfigError
 from swarmsim.stamps import restamp
 from swarmsim.tallies import count_above, enter_settled, step_lengths, watch_settled
@@ -140,7 +141,7 @@ class IncrementalCoverage:
         self._half_j = _stencil_half(grid.radius, grid.dx)
         # r^2 as before; a radius whose square overflows (> 1e154 units) covers everything
         self._r2 = grid.radius**2 if grid.radius < 1e150 else math.inf
-        self._inside = np.require(grid.inside.ravel(), bool, ("C", "W"))  # one signature
+        self._inside = c_array(grid.inside.ravel(), bool, writeable=True)  # one signature
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
         self._positions = np.full(np.shape(positions), np.nan)  # stamped nowhere yet
@@ -150,7 +151,7 @@ class IncrementalCoverage:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
         g = self.grid
         self._covered += restamp(self._count, self._inside, self._positions,
-                                 np.require(positions, np.float64, "C"), g.x0, g.y0, g.dx, g.dy,
+                                 c_array(positions, np.float64), g.x0, g.y0, g.dx, g.dy,
                                  self._r2, self._half_i, self._half_j, self.rows, self.cols)
         pixels = self.grid.n_target_pixels
         return float(self._covered / pixels) if pixels else 0.0

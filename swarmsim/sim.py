@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
+from swarmsim.carrays import c_array
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -372,7 +373,7 @@ class Simulation:
         """
         margin = 2 * self.config.v_max + self.config.wake_eps
         wakes.wake_near(self.positions, self.asleep, self.wake_range, self.wake_on_motion,
-                        by_message, np.require(changed, np.intp, "C"), margin)
+                        by_message, c_array(changed, np.intp), margin)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray

@@ -14,18 +14,20 @@ import math
 import numpy as np
 from numba import njit
 
+from swarmsim.carrays import c_array
+
 
 def clamp_rows(velocities: np.ndarray, rows: np.ndarray, v_max: float) -> None:
     """Scale rows ``rows`` of ``velocities`` (N, 2), units per tick, down to at most ``v_max``
     (units per tick) each, keeping their directions; in place. Other rows are left alone."""
-    _clamp(velocities, np.require(rows, np.int64, "C"), float(v_max))
+    _clamp(velocities, c_array(rows, np.int64), float(v_max))
 
 
 def bearings(beacon: tuple[float, float], at: np.ndarray) -> np.ndarray:
     """(k, 2) unit vectors from each point of ``at`` (k, 2), units, toward ``beacon`` (x, y);
     a zero row for a point on top of it (closer than 1e-12 units)."""
     return _bearings(float(beacon[0]), float(beacon[1]),
-                     np.require(at, np.float64, ("C", "W")))
+                     c_array(at, np.float64, writeable=True))
 
 
 def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -33,7 +35,7 @@ def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarra
     dtype, (N,) each (the other entries False)."""
     a = np.require(new, requirements="C").view(np.uint8).reshape(len(new), -1)
     b = np.require(old, requirements="C").view(np.uint8).reshape(len(old), -1)
-    return _differ(a, b, np.require(rows, np.int64, "C"))
+    return _differ(a, b, c_array(rows, np.int64))
 
 
 def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: float,
@@ -41,8 +43,8 @@ def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: f
     """Write a chunk's actions to the robots ``rows`` (R,): ``velocities[rows] = vel`` (R, 2),
     units per tick, and ``listen[rows]`` the asked ranges ``listen_in`` (R,), units (NaN: the
     sensing range ``reach``), at most ``reach``; in place."""
-    _put_moves(np.require(rows, np.int64, "C"), np.require(vel, np.float64, "C"),
-               np.require(listen_in, np.float64, "C"), float(reach), velocities, listen)
+    _put_moves(c_array(rows, np.int64), c_array(vel, np.float64),
+               c_array(listen_in, np.float64), float(reach), velocities, listen)
 
 
 def put_sleep(rows: np.ndarray, vel: np.ndarray, sleep: np.ndarray, wake_range_in: np.ndarray,
@@ -52,10 +54,10 @@ def put_sleep(rows: np.ndarray, vel: np.ndarray, sleep: np.ndarray, wake_range_i
     """Put to sleep the robots ``rows[k]`` that asked (``sleep[k]``) and stand still (``vel[k]``
     zero), with their wake range (units; NaN: ``reach``; at most ``reach``), whether motion
     wakes them, and their wake tick (negative: ``never``); in place."""
-    _put_sleep(np.require(rows, np.int64, "C"), np.require(vel, np.float64, "C"),
-               np.require(sleep, np.bool_, "C"), np.require(wake_range_in, np.float64, "C"),
-               np.require(wake_on_motion_in, np.bool_, "C"),
-               np.require(wake_tick_in, np.int64, "C"), float(reach), int(never), asleep,
+    _put_sleep(c_array(rows, np.int64), c_array(vel, np.float64),
+               c_array(sleep, np.bool_), c_array(wake_range_in, np.float64),
+               c_array(wake_on_motion_in, np.bool_),
+               c_array(wake_tick_in, np.int64), float(reach), int(never), asleep,
                wake_range, wake_on_motion, wake_tick)
 
 

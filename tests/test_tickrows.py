@@ -83,3 +83,16 @@ def test_put_sleep_puts_only_still_robots_that_asked_to_sleep():
     assert on_motion[[5, 3]].tolist() == [False, True]
     assert wake_tick[[5, 3]].tolist() == [10**9, 40]  # negative: never
     assert wake_range[[0, 1, 2, 4]].tolist() == [-1.0] * 4
+
+
+def test_c_array_passes_arrays_through_only_when_they_qualify():
+    from swarmsim.carrays import c_array
+    a = np.zeros((4, 2))
+    assert c_array(a, np.float64) is a
+    assert c_array(a[:, 0], np.float64).flags.c_contiguous
+    assert c_array(np.arange(3), np.float64).dtype == np.float64
+    frozen = np.zeros(3)
+    frozen.flags.writeable = False
+    assert c_array(frozen, np.float64) is frozen
+    copied = c_array(frozen, np.float64, writeable=True)
+    assert copied.flags.writeable and np.array_equal(copied, frozen)

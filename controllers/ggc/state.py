@@ -123,7 +123,7 @@ def broadcast_rows(state: np.ndarray, rows: np.ndarray, dtype: np.dtype) -> np.n
     if dtype.names != BROADCAST_NAMES:
         raise ValueError(f"GGC broadcasts have the fields {BROADCAST_NAMES}, not {dtype.names}")
     out = np.empty(len(rows), dtype=dtype)
-    _fill_broadcasts(state, np.require(rows, np.int64, "C"), out)
+    _fill_broadcasts(state, np.ascontiguousarray(rows, dtype=np.int64), out)
     return out
 
 

@@ -136,14 +136,14 @@ class GGCSwarm:
         m.flags.writeable = False  # the rules read it (one compiled signature: read-only)
         # each column a strided view of the heard rows, not a copy: the rules read a
         # neighbour's fields from its one record
-        columns = (np.require(batch.neighbours.starts, np.int64, "C"),
-                   np.require(batch.offsets, np.float64, "C"),
-                   np.require(batch.neighbours.distances, np.float64, "C"),
+        columns = (np.ascontiguousarray(batch.neighbours.starts, dtype=np.int64),
+                   np.ascontiguousarray(batch.offsets, dtype=np.float64),
+                   np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
                    *(m[name] for name in COLUMNS))
         on_target = np.asarray(batch.on_target, dtype=bool)
-        moved = np.require(batch.moved, np.float64, "C")
+        moved = np.ascontiguousarray(batch.moved, dtype=np.float64)
         has_beacon = batch.beacons is not None
-        beacons = (np.require(batch.beacons, np.float64, "C") if has_beacon
+        beacons = (np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
                    else np.zeros((n, 2)))
         req = np.zeros((n, MAX_PROBES, 2))
         ans = np.full((n, MAX_PROBES), -1, dtype=np.int8)
