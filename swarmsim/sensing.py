@@ -13,10 +13,10 @@ from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
-import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
+from swarmsim import floortest
 from swarmsim.cellsearch import cell_views
 
 
@@ -32,35 +32,34 @@ class FloorSensor:
         if probe_range <= 0:
             raise ValueError(f"probe_range must be positive, got {probe_range!r}")
         self.target = target
-        shapely.prepare(self.target)
+        self._edges = floortest.polygon_edges(target)
         self.probe_range = float(probe_range)
 
     def on_target(self, positions: np.ndarray) -> np.ndarray:
-        """(N,) bool: is each robot's centre over the target?"""
-        return shapely.contains_xy(self.target, positions[:, 0], positions[:, 1])
+        """(N,) bool: is each robot's centre over the target (its interior)?"""
+        return floortest.contains(positions[:, 0], positions[:, 1], self._edges)
 
     def probes(self, at: np.ndarray) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
         """Many robots' probes in one query, for robots at ``at`` (R, 2), units:
         ``probes(at)(ks, offsets)`` is (M,) bool, entry j the floor at robot ``ks[j]``'s
         position plus ``offsets[j]`` (each within the probe range)."""
         limit2 = self.probe_range * self.probe_range * (1 + 1e-9)
+        at = np.ascontiguousarray(at, dtype=np.float64)
 
         def probe_many(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-            offsets = np.asarray(offsets, dtype=float).reshape(-1, 2)
-            ox, oy = offsets[:, 0], offsets[:, 1]
-            beyond = ox * ox + oy * oy > limit2
-            if beyond.any():
-                first = offsets[np.argmax(beyond)]
-                raise ValueError(f"probe offset {tuple(first.tolist())} is beyond the probe "
-                                 f"range {self.probe_range}")
-            here = at[np.asarray(ks, dtype=np.intp)]
-            return shapely.contains_xy(self.target, here[:, 0] + ox, here[:, 1] + oy)
+            offsets = np.ascontiguousarray(offsets, dtype=np.float64).reshape(-1, 2)
+            ks = np.ascontiguousarray(ks, dtype=np.intp)
+            found, beyond = floortest.probe(at, ks, offsets, limit2, self._edges)
+            if beyond >= 0:
+                raise ValueError(f"probe offset {tuple(offsets[beyond].tolist())} is beyond "
+                                 f"the probe range {self.probe_range}")
+            return found
 
         return probe_many
 
     def probe_at(self, x: float, y: float) -> FloorProbe:
         """A probe for a robot at (x, y): ``probe(offset)`` tells if floor at +offset is target."""
-        return FloorProbe(self.target, self.probe_range, x, y)
+        return FloorProbe(self._edges, self.probe_range, x, y)
 
 
 class FloorProbe:
@@ -68,22 +67,22 @@ class FloorProbe:
     of the target? (A Perception's ``probe``.)
 
     Args:
-        target: the target area (prepared).
+        edges: the target's edges (floortest.polygon_edges).
         limit: the probe's reach, units.
         x, y: the robot's position, units (held privately: a controller may only ask).
     """
 
-    __slots__ = ("_limit", "_target", "_x", "_y")  # private: the controller only asks
+    __slots__ = ("_edges", "_limit", "_x", "_y")  # private: the controller only asks
 
-    def __init__(self, target: Polygon, limit: float, x: float, y: float):
-        self._target, self._limit, self._x, self._y = target, limit, x, y
+    def __init__(self, edges: np.ndarray, limit: float, x: float, y: float):
+        self._edges, self._limit, self._x, self._y = edges, limit, x, y
 
     def __call__(self, offset: np.ndarray) -> bool:
         """Is the floor at +``offset`` (2,), units, target?"""
         ox, oy = float(offset[0]), float(offset[1])
         if self._beyond(ox, oy):
             raise self._too_far(ox, oy)
-        return bool(shapely.contains_xy(self._target, self._x + ox, self._y + oy))
+        return bool(self.many(np.array([[ox, oy]]))[0])
 
     def many(self, offsets: np.ndarray) -> np.ndarray:
         """(k,) bool: the same for each row of ``offsets`` (k, 2), units, in one query."""
@@ -92,7 +91,7 @@ class FloorProbe:
         if beyond.any():
             first = offsets[np.argmax(beyond)]
             raise self._too_far(float(first[0]), float(first[1]))
-        return shapely.contains_xy(self._target, self._x + ox, self._y + oy)
+        return floortest.contains(self._x + ox, self._y + oy, self._edges)
 
     def _beyond(self, ox: float | np.ndarray, oy: float | np.ndarray) -> bool | np.ndarray:
         """Whether offset (ox, oy), units (floats or arrays), is past the probe's reach."""

@@ -198,7 +198,8 @@ def test_floor_probe_many_answers_as_one_by_one():
     assert 0 < one_by_one.sum() < len(offsets)
     with pytest.raises(ValueError, match="beyond the probe range"):
         probe.many(np.array([[1.0, 0.0], [7.0, 0.0]]))
-    assert shapely.is_prepared(sensor.target)
+    at = np.array([2.0, 2.5]) + offsets
+    assert np.array_equal(one_by_one, shapely.contains_xy(sensor.target, at[:, 0], at[:, 1]))
 
 
 def test_a_still_cvt_robot_sleeps_once_its_sampling_disc_settles():
