@@ -59,3 +59,14 @@ def probe(at, ks, offsets, limit2, edges):  # pragma: no cover - compiled
             return out, j
         out[j] = _inside(at[ks[j], 0] + ox, at[ks[j], 1] + oy, edges)
     return out, -1
+
+
+@njit(cache=True)
+def refresh(on_target, positions, before, edges):  # pragma: no cover - compiled
+    """(N,) bool: ``on_target`` (the answers for the robots at ``before``) asked again only
+    for the robots whose position differs from ``before`` (N, 2), units."""
+    out = on_target.copy()
+    for i in range(positions.shape[0]):
+        if positions[i, 0] != before[i, 0] or positions[i, 1] != before[i, 1]:
+            out[i] = _inside(positions[i, 0], positions[i, 1], edges)
+    return out

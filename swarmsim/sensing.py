@@ -39,6 +39,13 @@ class FloorSensor:
         """(N,) bool: is each robot's centre over the target (its interior)?"""
         return floortest.contains(positions[:, 0], positions[:, 1], self._edges)
 
+    def on_target_after(self, on_target: np.ndarray, positions: np.ndarray,
+                        before: np.ndarray) -> np.ndarray:
+        """:meth:`on_target` at ``positions`` (N, 2), given its answers ``on_target`` at
+        ``before``: asked again only for robots that moved (a robot where it was reads the
+        same floor)."""
+        return floortest.refresh(on_target, positions, before, self._edges)
+
     def probes(self, at: np.ndarray) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
         """Many robots' probes in one query, for robots at ``at`` (R, 2), units:
         ``probes(at)(ks, offsets)`` is (M,) bool, entry j the floor at robot ``ks[j]``'s

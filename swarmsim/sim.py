@@ -18,7 +18,6 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
-from swarmsim.carrays import c_array
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -244,6 +243,7 @@ class Simulation:
         self.positions, _ = self.physics.read()
         self._prev_positions = self.positions.copy()
         self._ref_positions = self.positions.copy()
+        self._changed_msg = np.zeros(self.n, dtype=bool)  # broadcasts changed last tick
         self.asleep = np.zeros(self.n, dtype=bool)
         self.wake_range = np.full(self.n, self.sensing_range)
         self.listen = np.full(self.n, self.sensing_range)
@@ -338,42 +338,17 @@ class Simulation:
             self.phase_seconds[phase] += dt
 
     def _on_target_now(self, before: np.ndarray) -> np.ndarray:
-        """(N,) the floor sensors after the physics step: asked again only for robots that
-        moved (a robot where it was reads the same floor)."""
-        moved = np.flatnonzero((self.positions != before).any(axis=1))
-        on_target = self.on_target.copy()
-        if len(moved):
-            on_target[moved] = self.floor.on_target(self.positions[moved])
-        return on_target
+        """(N,) the floor sensors after the physics step (robots were at ``before``)."""
+        return self.floor.on_target_after(self.on_target, self.positions, before)
 
     def _awake_robots(self) -> np.ndarray:
-        """Indices of robots to decide this tick: awake ones plus sleepers something woke."""
-        sleeping = self.asleep & ~self.failed
-        if sleeping.any():
-            self.asleep[sleeping & (self.wake_tick <= self.tick)] = False  # their own timeouts
-            # drift: moved more than wake_eps since last looked at (its reference moves on);
-            # a robot that moved without being told to was pushed: that wakes even sleepers
-            # that asked not to be woken by motion (a pushed neighbour is not a passing mover)
-            drift, pushed = wakes.drifted(self.positions, self._ref_positions,
-                                          self.velocities, self.config.wake_eps)
-            by_message = getattr(self, "_changed_msg", np.zeros(self.n, dtype=bool))
-            changed = drift | by_message
-            if changed.any():
-                self._wake_near(np.flatnonzero(changed), by_message | pushed)
-                self.asleep[drift] = False
-        else:
-            self._ref_positions = self.positions.copy()
-        return np.flatnonzero(~self.asleep & ~self.failed)
-
-    def _wake_near(self, changed: np.ndarray, by_message: np.ndarray) -> None:
-        """Wake sleepers that have a changed robot within their wake range.
-
-        Sleepers that asked not to be woken by motion only wake for changed broadcasts and
-        pushed robots (``by_message``: the robots that wake those too).
-        """
+        """Indices of robots to decide this tick: awake ones plus sleepers something woke
+        (their own timeouts, drift, a changed or pushed robot near them: wakes.awake_robots)."""
         margin = 2 * self.config.v_max + self.config.wake_eps
-        wakes.wake_near(self.positions, self.asleep, self.wake_range, self.wake_on_motion,
-                        by_message, c_array(changed, np.intp), margin)
+        return wakes.awake_robots(self.asleep, self.failed, self.wake_tick, self.tick,
+                                  self.positions, self._ref_positions, self.velocities,
+                                  self.config.wake_eps, self._changed_msg, self.wake_range,
+                                  self.wake_on_motion, margin)
 
     def _sense_and_decide(self, search: NeighbourSearch, awake: np.ndarray,
                           new_messages: np.ndarray, velocities: np.ndarray

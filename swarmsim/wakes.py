@@ -70,8 +70,44 @@ def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
                         asleep[j] = False
 
 
+@njit(cache=True)
+def awake_robots(asleep, failed, wake_tick, tick, positions, ref, velocities, eps,
+                 changed_msg, wake_range, wake_on_motion, margin):  # pragma: no cover - compiled
+    """Indices of the robots to decide this tick: the awake ones, plus the sleepers that
+    wake now (``asleep`` is updated in place; failed robots are never listed).
+
+    A sleeper wakes at its own ``wake_tick``; when it drifted more than ``eps`` units since it
+    was last looked at (``ref``, moved on in place, see :func:`drifted`); and when it lies
+    within its wake range plus ``margin`` of a robot that drifted or whose broadcast changed
+    (``changed_msg``), see :func:`wake_near`. A robot that drifted without being told to move
+    was pushed, which wakes even the sleepers that asked not to be woken by motion. With no
+    sleeper, every ``ref`` is set to where its robot is.
+    """
+    n = positions.shape[0]
+    any_sleeping = False
+    for i in range(n):
+        if asleep[i] and not failed[i]:
+            any_sleeping = True
+            if wake_tick[i] <= tick:
+                asleep[i] = False
+    if any_sleeping:
+        drift, pushed = drifted(positions, ref, velocities, eps)
+        sources = np.flatnonzero(drift | changed_msg)
+        if len(sources):
+            wake_near(positions, asleep, wake_range, wake_on_motion, changed_msg | pushed,
+                      sources, margin)
+            for i in range(n):
+                if drift[i]:
+                    asleep[i] = False
+    else:
+        ref[:, :] = positions
+    return np.flatnonzero(~asleep & ~failed)
+
+
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one, flag = np.zeros((1, 2)), np.zeros(1, dtype=np.bool_)
     drifted(one, one.copy(), one, 1.0)
     wake_near(one, flag, np.ones(1), flag, flag, np.zeros(1, dtype=np.intp), 1.0)
+    awake_robots(flag, flag, np.zeros(1, dtype=np.int64), 0, one, one.copy(), one, 1.0, flag,
+                 np.ones(1), flag, 1.0)

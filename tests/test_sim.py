@@ -340,8 +340,11 @@ def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta(
 
 
 def test_wake_near_wakes_exactly_the_sleepers_in_range():
-    """_wake_near looks only in the cells round a changed robot: it must wake the same robots
-    as checking every changed robot against every sleeper."""
+    """wakes.wake_near, on a run's own sleepers, looks only in the cells round a changed
+    robot: it must wake the same robots as checking every changed robot against every
+    sleeper."""
+    from swarmsim import wakes
+
     from .test_ggc import small_world
 
     sim = Simulation(small_world(40, 30), controller="ggc", robots=120, groups=3, seed=1,
@@ -360,7 +363,8 @@ def test_wake_near_wakes_exactly_the_sleepers_in_range():
             sim.wake_on_motion[:, None] | by_message[changed][None, :])
         expected = sim.asleep & ~reached.any(axis=1)
         before = sim.asleep.copy()
-        sim._wake_near(changed, by_message)
+        wakes.wake_near(sim.positions, sim.asleep, sim.wake_range, sim.wake_on_motion,
+                        by_message, changed, margin)
         assert np.array_equal(sim.asleep, expected)
         checked += int((before & ~expected).sum())
         sim.asleep[:] = before  # leave the run as it was

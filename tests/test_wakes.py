@@ -3,7 +3,7 @@ drifted or were pushed, and which sleepers a changed robot wakes."""
 
 import numpy as np
 
-from swarmsim.wakes import drifted, wake_near
+from swarmsim.wakes import awake_robots, drifted, wake_near
 
 
 def test_drifted_is_the_numpy_rule():
@@ -60,3 +60,30 @@ def test_wake_near_wakes_exactly_at_the_rim():
     wake_near(positions, asleep, np.full(4, 6.0), wake_on_motion, np.zeros(4, dtype=bool),
               np.array([0]), 0.25)
     assert asleep.tolist() == [False, False, True, False]  # 6.25 and 5.0 away: woken
+
+
+def test_awake_robots_lists_the_awake_and_the_sleepers_woken_now():
+    # robots 0-5 in a row, 10 units apart; 1-5 asleep, 5 failed
+    positions = np.array([[10.0 * i, 0.0] for i in range(6)])
+    ref = positions.copy()
+    asleep = np.array([False, True, True, True, True, True])
+    failed = np.array([False] * 5 + [True])
+    wake_tick = np.array([0, 7, 99, 99, 99, 99], dtype=np.int64)
+    quiet, every = np.zeros(6, dtype=bool), np.ones(6, dtype=bool)
+    ranges, velocities = np.full(6, 5.0), np.zeros((6, 2))
+
+    def awake(tick, changed=quiet):
+        return awake_robots(asleep, failed, wake_tick, tick, positions, ref, velocities, 0.1,
+                            changed, ranges, every, 1.0).tolist()
+
+    assert awake(6) == [0]
+    assert awake(7) == [0, 1]  # its own timeout
+    positions[3, 0] += 0.5  # pushed: it drifted without being told to move
+    assert awake(8) == [0, 1, 3] and ref[3, 0] == positions[3, 0]
+    changed = quiet.copy()
+    changed[3] = True  # its broadcast changed: robots within 5 + 1 units of it wake
+    positions[2, 0] = 25.0
+    assert awake(9, changed) == [0, 1, 2, 3]  # robot 2 drifted and is near; 4 is 10.5 away
+    asleep[:] = False
+    positions[0, 0] = -3.0
+    assert awake(10) == [0, 1, 2, 3, 4] and ref[0, 0] == -3.0  # no sleeper: refs follow
