@@ -142,6 +142,11 @@ class _Arbiters:
         return _Arbiters(np.zeros((0, 2), dtype=np.intp), np.zeros(0), np.zeros(0))
 
 
+_ARBITER_FIELDS = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
+                   | pb.ArbiterFields.DISTANCE_1 | pb.ArbiterFields.TOTAL_IMPULSE)
+_BODY_FIELDS = pb.BodyFields.POSITION | pb.BodyFields.VELOCITY
+
+
 class Physics:
     """A pymunk Space with N disc robots; read states and write commands in batches."""
 
@@ -255,8 +260,7 @@ class Physics:
         if self._sleep:
             return self._read_by_id()
         self._buf.clear()
-        pb.get_space_bodies(self.space, pb.BodyFields.POSITION | pb.BodyFields.VELOCITY,
-                            self._buf)
+        pb.get_space_bodies(self.space, _BODY_FIELDS, self._buf)
         rows = np.frombuffer(self._buf.float_buf(), dtype=np.float64).reshape(-1, 4)
         if rows.shape[0] != self.n_rows:
             raise RuntimeError("pymunk body rows changed; bodies must not be added or removed")
@@ -365,10 +369,9 @@ class Physics:
         return live
 
     def _read_arbiters(self) -> _Arbiters:
-        buf = pb.Buffer()
-        fields = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
-                  | pb.ArbiterFields.DISTANCE_1 | pb.ArbiterFields.TOTAL_IMPULSE)
-        pb.get_space_arbiters(self.space, fields, buf)
+        buf = self._buf  # the rows below are copies: the buffer may be reused
+        buf.clear()
+        pb.get_space_arbiters(self.space, _ARBITER_FIELDS, buf)
         ids = np.frombuffer(buf.int_buf(), dtype=np.uintp).reshape(-1, 2)
         floats = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 3)
         if len(ids) == 0:
