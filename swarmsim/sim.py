@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
+from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
     Action,
@@ -312,7 +313,7 @@ class Simulation:
         pos = self.positions
         search = NeighbourSearch(pos)
         awake = self._awake_robots()
-        new_messages = self.messages.copy()
+        new_messages = as_records(self.messages).copy().view(self.dtype)
         velocities = np.zeros((self.n, 2))
         decide_s = self._sense_and_decide(search, awake, new_messages, velocities)
         t1 = clock()
@@ -408,8 +409,8 @@ class Simulation:
     def _heard(self, senders: np.ndarray) -> np.ndarray:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
         read as silent)."""
-        # np.take: ~20x faster than fancy indexing for a structured dtype, same rows
-        heard = np.take(self.messages, senders)
+        # the rows as opaque records, taken with np.take: bytes copied, not field by field
+        heard = np.take(as_records(self.messages), senders).view(self.dtype)
         if self.failed.any():
             heard[self.failed[senders]] = self.silent
         lost = self.imperfect.lost(len(heard))
@@ -429,7 +430,10 @@ class Simulation:
         reach = self.sensing_range
         tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
         if actions.broadcast is not None:
-            new_messages[awake] = actions.broadcast
+            if actions.broadcast.dtype == self.dtype:
+                as_records(new_messages)[awake] = as_records(actions.broadcast)
+            else:
+                new_messages[awake] = actions.broadcast
         elif actions.messages:
             self._send(awake, actions.messages, new_messages)
         if not self.config.allow_sleep:
