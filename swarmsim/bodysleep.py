@@ -64,17 +64,23 @@ class IdTable:
     def _slots(self, keys: np.ndarray) -> np.ndarray:
         return ((keys >> np.uint64(4)) * _GOLDEN >> self._shift).astype(np.intp)
 
+    @property
+    def arrays(self) -> tuple:
+        """(table, used, codes, shift, mask, probes): the table as :func:`lookup_ids` takes it
+        after the keys, for compiled callers."""
+        return self._keys, self._used, self._codes, self._shift, self._mask, self.probes
+
     def lookup(self, ids: np.ndarray) -> np.ndarray:
         """The code of each id (same shape); -1 for ids not in the table."""
         keys = np.ascontiguousarray(ids, dtype=np.uint64).ravel()
-        out = _lookup(keys, self._keys, self._used, self._codes, self._shift, self._mask,
+        out = lookup_ids(keys, self._keys, self._used, self._codes, self._shift, self._mask,
                       self.probes)
         return out.reshape(np.shape(ids))
 
 
 @njit(cache=True)
-def _lookup(keys, table, used, codes, shift, mask, probes):  # pragma: no cover - compiled
-    """IdTable.lookup's probing: each key's slot, then the next ones, until the key, an empty
+def lookup_ids(keys, table, used, codes, shift, mask, probes):  # pragma: no cover - compiled
+    """IdTable.lookup's probing (``keys`` uint64, then :attr:`IdTable.arrays`): each key's slot, then the next ones, until the key, an empty
     slot, or ``probes`` slots (as far as any key lies from its own): -1, not in the table."""
     out = np.full(len(keys), -1, dtype=np.intp)
     for k in range(len(keys)):

@@ -7,6 +7,8 @@ does.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 
@@ -22,4 +24,10 @@ def as_records(rows: np.ndarray) -> np.ndarray:
     that copying, taking and assigning rows move bytes (memcpy) instead of walking the
     fields one by one: for a 20-field broadcast, ~15x faster. ``.view(rows.dtype)`` turns
     the result back."""
-    return rows.view(np.dtype((np.void, rows.dtype.itemsize)))
+    return rows.view(_record(rows.dtype.itemsize))
+
+
+@functools.cache
+def _record(size: int) -> np.dtype:
+    """The opaque record dtype of ``size`` bytes (made once: making a dtype costs ~1 us)."""
+    return np.dtype((np.void, size))

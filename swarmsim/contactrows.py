@@ -9,8 +9,28 @@ over a few hundred rows, ~0.1 ms on K and ~1 ms in a crowd of movers.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
+
+from swarmsim.bodysleep import IdTable, lookup_ids
+
+
+@njit(cache=True)
+def from_batch(ids, floats, table, used, codes, shift, mask, probes):  # pragma: no cover
+    """pymunk.batch's arbiter rows as contact rows: ``ids`` (2M,) uint64 the bodies of each
+    arbiter, ``floats`` (3M,) its TOTAL_IMPULSE (x, y) and DISTANCE_1, then an IdTable's
+    :attr:`arrays` (body id -> robot). Returns robots (M, 2) (-1: not a robot), depth (M,)
+    (the penetration, -DISTANCE_1, at least 0) and impulse (M,) (its length, libm's hypot)."""
+    m = len(ids) // 2
+    robots = lookup_ids(ids, table, used, codes, shift, mask, probes).reshape(m, 2)
+    depth, impulse = np.empty(m), np.empty(m)
+    for row in range(m):
+        d = -floats[3 * row + 2]
+        depth[row] = d if (d > 0.0 or math.isnan(d)) else 0.0  # np.maximum(0, d)
+        impulse[row] = math.hypot(floats[3 * row], floats[3 * row + 1])
+    return robots, depth, impulse
 
 
 @njit(cache=True)
@@ -73,3 +93,4 @@ def warm_up() -> None:
     robots, one, flag = np.zeros((1, 2), dtype=np.intp), np.zeros(1), np.zeros(1, np.bool_)
     carry_over(robots, one, one, robots, one, one, flag)
     tally(robots, one, 1)
+    from_batch(np.full(2, 16, dtype=np.uint64), np.zeros(3), *IdTable([16], [0]).arrays)

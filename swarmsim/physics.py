@@ -372,17 +372,12 @@ class Physics:
         buf = self._buf  # the rows below are copies: the buffer may be reused
         buf.clear()
         pb.get_space_arbiters(self.space, _ARBITER_FIELDS, buf)
-        ids = np.frombuffer(buf.int_buf(), dtype=np.uintp).reshape(-1, 2)
-        floats = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 3)
+        ids = np.frombuffer(buf.int_buf(), dtype=np.uint64)
         if len(ids) == 0:
             return _Arbiters.none()
         # pymunk.batch lays float fields out in flag order: TOTAL_IMPULSE (x, y), DISTANCE_1
-        return _Arbiters(self._robots_of(ids), np.maximum(0.0, -floats[:, 2]),
-                         np.hypot(floats[:, 0], floats[:, 1]))
-
-    def _robots_of(self, body_ids: np.ndarray) -> np.ndarray:
-        """Robot index of each body id (same shape), -1 for bodies that are not robots."""
-        return self._robot_ids.lookup(body_ids)
+        floats = np.frombuffer(buf.float_buf(), dtype=np.float64)
+        return _Arbiters(*contactrows.from_batch(ids, floats, *self._robot_ids.arrays))
 
     def neighbours_by_query(self, i: int, radius: float) -> np.ndarray:
         """Reference sensing backend: robots whose centres lie within ``radius`` of robot i.

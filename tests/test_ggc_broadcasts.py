@@ -50,3 +50,19 @@ def test_broadcast_rows_refuse_a_dtype_they_do_not_fill():
     dtype = message_dtype(message_fields(3) + [("extra", "i4")])
     with pytest.raises(ValueError, match="GGC broadcasts have the fields"):
         broadcast_rows(np.zeros(2, dtype=STATE_DTYPE), np.arange(2), dtype)
+
+
+def test_open_probes_lists_the_unanswered_questions_in_order():
+    from controllers.ggc.rules.common import MAX_PROBES
+    from controllers.ggc.swarm import open_probes
+    rng = np.random.default_rng(1)
+    n = 50
+    calls = rng.integers(0, MAX_PROBES + 2, n)  # more calls than slots: only the slots count
+    ans = rng.choice(np.array([-1, 0, 1], dtype=np.int8), size=(n, MAX_PROBES))
+    req = rng.normal(size=(n, MAX_PROBES, 2))
+    todo = np.flatnonzero(rng.random(n) < 0.6)
+    robots, slots, offsets = open_probes(todo, calls, ans, req)
+    rows, c = np.nonzero((np.arange(MAX_PROBES) < calls[todo, None]) & (ans[todo] < 0))
+    assert robots.tolist() == todo[rows].tolist() and slots.tolist() == c.tolist()
+    assert np.array_equal(offsets, req[todo[rows], c])
+    assert len(robots) > 10

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
+from numba import njit
 
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_dtype
 
@@ -125,6 +126,8 @@ class GGCSwarm:
         # per group): compiled or loaded now, before the run's clock starts
         broadcast_rows(self.state, np.zeros(0, dtype=np.int64),
                        message_dtype(message_fields(groups)))
+        open_probes(np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.int64),
+                    np.zeros((0, MAX_PROBES), dtype=np.int8), np.zeros((0, MAX_PROBES, 2)))
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
         """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
@@ -169,15 +172,13 @@ class GGCSwarm:
     def _answer(batch: DecideBatch, todo: np.ndarray, req: np.ndarray, ans: np.ndarray,
                 calls: np.ndarray) -> None:
         """Answer the open probe questions of the robots ``todo`` (in place, in ``ans``)."""
-        asked = np.arange(MAX_PROBES) < calls[todo, None]
-        rows, c = np.nonzero(asked & (ans[todo] < 0))
-        if len(rows) == 0:
+        k, c, offsets = open_probes(todo, calls, ans, req)
+        if len(k) == 0:
             return
-        k = todo[rows]
         if batch.probe_many is not None:
-            answers = batch.probe_many(k, req[k, c])
+            answers = batch.probe_many(k, offsets)
         else:
-            answers = [batch.probe(j)(offset) for j, offset in zip(k.tolist(), req[k, c],
+            answers = [batch.probe(j)(offset) for j, offset in zip(k.tolist(), offsets,
                                                                      strict=True)]
         ans[k, c] = answers
 
@@ -199,3 +200,24 @@ class GGCSwarm:
                 "collision_stops": int(s["collision_stops"].sum()),
                 "surplus_stops": int(s["surplus"].sum())}
 
+
+@njit(cache=True)
+def open_probes(todo, calls, ans, req):  # pragma: no cover - compiled
+    """The probe questions of robots ``todo`` still unanswered: for robot k, its first
+    ``calls[k]`` questions (at most as many as ``ans`` has slots) whose ``ans[k, c]`` is -1, robot by robot, question by question.
+    Returns the robots (M,), the questions' slots (M,) and their offsets (M, 2), units."""
+    m = 0
+    for k in todo:
+        for c in range(min(calls[k], ans.shape[1])):
+            if ans[k, c] < 0:
+                m += 1
+    robots, slots = np.empty(m, dtype=np.intp), np.empty(m, dtype=np.intp)
+    offsets = np.empty((m, 2))
+    m = 0
+    for k in todo:
+        for c in range(min(calls[k], ans.shape[1])):
+            if ans[k, c] < 0:
+                robots[m], slots[m] = k, c
+                offsets[m, 0], offsets[m, 1] = req[k, c, 0], req[k, c, 1]
+                m += 1
+    return robots, slots, offsets
