@@ -73,15 +73,15 @@ class IdTable:
     def lookup(self, ids: np.ndarray) -> np.ndarray:
         """The code of each id (same shape); -1 for ids not in the table."""
         keys = np.ascontiguousarray(ids, dtype=np.uint64).ravel()
-        out = lookup_ids(keys, self._keys, self._used, self._codes, self._shift, self._mask,
-                      self.probes)
+        out = lookup_ids(keys, *self.arrays)
         return out.reshape(np.shape(ids))
 
 
 @njit(cache=True)
 def lookup_ids(keys, table, used, codes, shift, mask, probes):  # pragma: no cover - compiled
-    """IdTable.lookup's probing (``keys`` uint64, then :attr:`IdTable.arrays`): each key's slot, then the next ones, until the key, an empty
-    slot, or ``probes`` slots (as far as any key lies from its own): -1, not in the table."""
+    """IdTable.lookup's probing (``keys`` uint64, then :attr:`IdTable.arrays`): each key's
+    slot, then the next ones, until the key, an empty slot, or ``probes`` slots (as far as any
+    key lies from its own): -1, not in the table."""
     out = np.full(len(keys), -1, dtype=np.intp)
     for k in range(len(keys)):
         key = keys[k]
@@ -171,9 +171,8 @@ class Parking:
         self._robot_ptrs = [b._body for b in robots]
         self._control_ptrs = [b._body for b in controls]
         self._calls = chipmunkcalls.body_calls()
-        self._robot_at = np.array([chipmunkcalls.address(b) for b in robots], dtype=np.uintp)
-        self._control_at = np.array([chipmunkcalls.address(b) for b in controls],
-                                    dtype=np.uintp)
+        self._robot_at = chipmunkcalls.addresses(robots)
+        self._control_at = chipmunkcalls.addresses(controls)
         n = len(robots)
         self.parked = np.zeros(n, dtype=bool)
         self._zero_before = np.zeros(n, dtype=bool)

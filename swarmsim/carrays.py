@@ -22,12 +22,12 @@ def c_array(a: np.ndarray, dtype: type | np.dtype, writeable: bool = False) -> n
 def as_records(rows: np.ndarray) -> np.ndarray:
     """A view of a structured array's rows as opaque records (numpy void of the same size), so
     that copying, taking and assigning rows move bytes (memcpy) instead of walking the
-    fields one by one: for a 20-field broadcast, ~15x faster. ``.view(rows.dtype)`` turns
+    fields one by one (see docs/performance-log.md). ``.view(rows.dtype)`` turns
     the result back."""
     return rows.view(_record(rows.dtype.itemsize))
 
 
 @functools.cache
 def _record(size: int) -> np.dtype:
-    """The opaque record dtype of ``size`` bytes (made once: making a dtype costs ~1 us)."""
+    """The opaque record dtype of ``size`` bytes (made once per size, not per call)."""
     return np.dtype((np.void, size))

@@ -1,7 +1,7 @@
 """Chipmunk's body functions, callable from compiled code (numba), so that a loop over many
 bodies runs without a Python call per body.
 
-pymunk reaches Chipmunk through cffi; each call from Python costs ~0.4 µs. numba calls a C
+pymunk reaches Chipmunk through cffi, one Python call per body and function. numba calls a C
 function through a ctypes function pointer at the cost of a C call, and takes such a pointer as
 an argument (a first-class function), so the compiled code stays cacheable.
 
@@ -21,6 +21,7 @@ import ctypes
 import functools
 import platform
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -60,7 +61,7 @@ def address(body: pymunk.Body) -> int:
     return int(ffi.cast("uintptr_t", body._body))
 
 
-def addresses(bodies: list[pymunk.Body]) -> np.ndarray:
+def addresses(bodies: Sequence[pymunk.Body]) -> np.ndarray:
     """(len,) uintp: :func:`address` of each body."""
     return np.array([address(b) for b in bodies], dtype=np.uintp)
 

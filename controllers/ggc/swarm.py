@@ -204,8 +204,8 @@ class GGCSwarm:
 @njit(cache=True)
 def open_probes(todo, calls, ans, req):  # pragma: no cover - compiled
     """The probe questions of robots ``todo`` still unanswered: for robot k, its first
-    ``calls[k]`` questions (at most as many as ``ans`` has slots) whose ``ans[k, c]`` is -1, robot by robot, question by question.
-    Returns the robots (M,), the questions' slots (M,) and their offsets (M, 2), units."""
+    ``calls[k]`` questions (at most as many as ``ans`` has slots) whose ``ans[k, c]`` is -1,
+    robot by robot, question by question. Returns the robots (M,), the questions' slots (M,) and their offsets (M, 2), units."""
     m = 0
     for k in todo:
         for c in range(min(calls[k], ans.shape[1])):
