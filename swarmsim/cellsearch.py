@@ -132,13 +132,88 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
 
     The cells are CELL_SPLIT times smaller than the widest radius, so a robot listening less
     far than the widest looks at fewer cells (the same neighbours: the exact squared-distance
-    test decides, whatever cells are looked at)."""
+    test decides, whatever cells are looked at). A robot's rows are gathered into scratch
+    arrays, sorted there by moving only their places and keys, and written once, in order,
+    into the result: arrays sized for every robot in the cells looked at, returned as their
+    first rows.
+
+    The sort: a counting sort into as many buckets of squared distance as there are rows,
+    then an insertion sort of the nearly sorted places (few moves, well-predicted branches),
+    by (squared distance, index), a total order (indices differ), so any correct sort gives
+    the same rows. One function on purpose: a compiled call per robot for the gather or the
+    sort costs more than the sort's moves (docs/performance-log.md has the figures).
+    """
     x0, y0, cell, nx, ny = grid_frame(positions, radii.max() / CELL_SPLIT, per_robot)
     members, xs, ys, starts, _, _, _ = grid(positions, x0, y0, cell, nx, ny)
+    size, widest = _bounds(positions, robots, radii, x0, y0, cell, nx, ny, starts)
     r = robots.shape[0]
-    size = 0  # at most every robot in each one's cells
-    widest = 1  # the longest view can have at most this many rows
+    counts = np.empty(r, dtype=np.int64)
+    flat = np.empty(size, dtype=np.int64)
+    offsets = np.empty((size, 2), dtype=np.float64)
+    d2 = np.empty(size, dtype=np.float64)
+    # scratch: a view's squared distances, indices and offsets in the grid's order; the
+    # sort's buckets, their counts, and the rows' places and keys in sorted order
+    keys, ids, tx, ty = np.empty(widest), np.empty(widest, np.int64), np.empty(widest), \
+        np.empty(widest)
+    bucket, count = np.empty(widest, np.int64), np.empty(widest + 1, np.int64)
+    place, sorted_keys = np.empty(widest, np.int64), np.empty(widest)
+    at = 0
     for k in range(r):
+        i = robots[k]
+        r2 = radii[k] * radii[k]
+        xi, yi = positions[i, 0], positions[i, 1]
+        reach = radii[k] * (1 + 1e-9) + 1e-12
+        lo_x, hi_x = _span(xi, reach, x0, cell, nx)
+        lo_y, hi_y = _span(yi, reach, y0, cell, ny)
+        n = 0
+        for gy in range(lo_y, hi_y + 1):
+            for m in range(starts[gy * nx + lo_x], starts[gy * nx + hi_x + 1]):  # one run
+                dx = xs[m] - xi
+                dy = ys[m] - yi
+                dd = dx * dx + dy * dy
+                if dd <= r2 and members[m] != i:
+                    keys[n], ids[n], tx[n], ty[n] = dd, members[m], dx, dy
+                    n += 1
+        counts[k] = n
+        if not ordered or n < 2:
+            for s in range(n):
+                place[s], sorted_keys[s] = s, keys[s]
+        else:
+            scale = n / r2 if r2 > 0 else 0.0
+            count[:n + 1] = 0
+            for s in range(n):
+                q = min(int(keys[s] * scale), n - 1)
+                bucket[s] = q
+                count[q + 1] += 1
+            for q in range(n):
+                count[q + 1] += count[q]
+            for s in range(n):
+                o = count[bucket[s]]
+                count[bucket[s]] = o + 1
+                place[o], sorted_keys[o] = s, keys[s]
+            for s in range(1, n):
+                key, p = sorted_keys[s], place[s]
+                t = s - 1
+                while t >= 0 and (sorted_keys[t] > key
+                                  or (sorted_keys[t] == key and ids[place[t]] > ids[p])):
+                    sorted_keys[t + 1], place[t + 1] = sorted_keys[t], place[t]
+                    t -= 1
+                sorted_keys[t + 1], place[t + 1] = key, p
+        for o in range(n):
+            s = place[o]
+            flat[at + o], offsets[at + o, 0], offsets[at + o, 1] = ids[s], tx[s], ty[s]
+            d2[at + o] = sorted_keys[o]
+        at += n
+    return flat[:at], offsets[:at], d2[:at], counts
+
+
+@njit(cache=True)
+def _bounds(positions, robots, radii, x0, y0, cell, nx, ny, starts):  # pragma: no cover
+    """How many rows the views can have in all (every robot in each one's cells) and the
+    most any one view can have, for the grid :func:`grid` gave."""
+    size = 0
+    widest = 1
+    for k in range(robots.shape[0]):
         i = robots[k]
         reach = radii[k] * (1 + 1e-9) + 1e-12
         lo_x, hi_x = _span(positions[i, 0], reach, x0, cell, nx)
@@ -148,80 +223,4 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
             rows += starts[gy * nx + hi_x + 1] - starts[gy * nx + lo_x]
         size += rows
         widest = max(widest, rows)
-    counts = np.empty(r, dtype=np.int64)
-    flat = np.empty(size, dtype=np.int64)
-    ox = np.empty(size, dtype=np.float64)
-    oy = np.empty(size, dtype=np.float64)
-    d2 = np.empty(size, dtype=np.float64)
-    at = 0
-    scratch = _scratch(widest)
-    for k in range(r):
-        i = robots[k]
-        r2 = radii[k] * radii[k]
-        xi, yi = positions[i, 0], positions[i, 1]
-        reach = radii[k] * (1 + 1e-9) + 1e-12
-        lo_x, hi_x = _span(xi, reach, x0, cell, nx)
-        lo_y, hi_y = _span(yi, reach, y0, cell, ny)
-        first = at
-        for gy in range(lo_y, hi_y + 1):
-            for m in range(starts[gy * nx + lo_x], starts[gy * nx + hi_x + 1]):  # one run
-                dx = xs[m] - xi
-                dy = ys[m] - yi
-                dd = dx * dx + dy * dy
-                if dd <= r2 and members[m] != i:
-                    flat[at] = members[m]
-                    ox[at] = dx
-                    oy[at] = dy
-                    d2[at] = dd
-                    at += 1
-        counts[k] = at - first
-        if ordered:
-            _order(flat, ox, oy, d2, first, at, r2, scratch)
-    offsets = np.empty((at, 2), dtype=np.float64)
-    offsets[:, 0] = ox[:at]
-    offsets[:, 1] = oy[:at]
-    return flat[:at].copy(), offsets, d2[:at].copy(), counts
-
-
-@njit(cache=True)
-def _scratch(rows):  # pragma: no cover - compiled
-    """The sort's scratch for views of up to ``rows`` rows: squared distances, indices, x and
-    y offsets, each row's bucket, and the buckets' counts."""
-    return (np.empty(rows), np.empty(rows, dtype=np.int64), np.empty(rows), np.empty(rows),
-            np.empty(rows, dtype=np.int64), np.empty(rows + 1, dtype=np.int64))
-
-
-@njit(cache=True)
-def _order(flat, ox, oy, d2, a, b, r2, scratch):  # pragma: no cover - compiled
-    """Sort rows a..b (squared distances at most ``r2``) by (squared distance, index): a total
-    order (indices differ), so any correct sort gives the same rows.
-
-    A counting sort into as many buckets of squared distance as there are rows, then an
-    insertion sort of the nearly sorted result (few moves, well-predicted branches;
-    docs/performance-log.md has the figures).
-    """
-    keys, ids, tx, ty, bucket, count = scratch
-    n = b - a
-    if n < 2:
-        return
-    scale = n / r2 if r2 > 0 else 0.0
-    count[:n + 1] = 0
-    for s in range(n):
-        q = min(int(d2[a + s] * scale), n - 1)
-        bucket[s] = q
-        count[q + 1] += 1
-    for q in range(n):
-        count[q + 1] += count[q]
-    for s in range(n):
-        o = count[bucket[s]]
-        count[bucket[s]] = o + 1
-        keys[o], ids[o], tx[o], ty[o] = d2[a + s], flat[a + s], ox[a + s], oy[a + s]
-    for s in range(1, n):
-        k, i, x, y = keys[s], ids[s], tx[s], ty[s]
-        t = s - 1
-        while t >= 0 and (keys[t] > k or (keys[t] == k and ids[t] > i)):
-            keys[t + 1], ids[t + 1], tx[t + 1], ty[t + 1] = keys[t], ids[t], tx[t], ty[t]
-            t -= 1
-        keys[t + 1], ids[t + 1], tx[t + 1], ty[t + 1] = k, i, x, y
-    for s in range(n):
-        flat[a + s], ox[a + s], oy[a + s], d2[a + s] = ids[s], tx[s], ty[s], keys[s]
+    return size, widest
