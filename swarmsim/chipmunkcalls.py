@@ -21,6 +21,7 @@ import ctypes
 import functools
 import platform
 import sys
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -29,6 +30,7 @@ import numpy as np
 import pymunk
 from llvmlite import ir
 from numba import njit, types
+from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 from pymunk._chipmunk_cffi import ffi, lib
 
@@ -120,7 +122,14 @@ def body_calls() -> BodyCalls | None:
         is_sleeping=_pointer("cpBodyIsSleeping", ctypes.c_ubyte, ctypes.c_void_p),
         get_position=_address_of("cpBodyGetPosition"),
         get_velocity=_address_of("cpBodyGetVelocity"))
-    return calls if _works(calls) else None
+    try:
+        works = _works(calls)
+    except (RuntimeError, NumbaError) as error:  # e.g. under a numba setting that breaks them
+        warnings.warn(f"compiled Chipmunk calls unavailable ({type(error).__name__}: "
+                      f"{str(error).splitlines()[0] if str(error) else ''}); pymunk's own "
+                      "calls are used (slower, the same runs)", RuntimeWarning, stacklevel=2)
+        return None
+    return calls if works else None
 
 
 def _works(calls: BodyCalls) -> bool:

@@ -53,3 +53,17 @@ def end_state(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> bytes:
 
 def test_a_run_is_the_same_with_compiled_calls_and_with_pymunks(monkeypatch):
     assert end_state(monkeypatch, True) == end_state(monkeypatch, False)
+
+
+@pytest.mark.skipif(not KNOWN_ABI, reason="the two-double cpVect convention is not assumed here")
+def test_calls_the_compiler_cannot_build_fall_back_to_pymunks_with_a_warning(monkeypatch):
+    def cannot_build(calls):
+        raise RuntimeError("LLVM IR parsing error\nmore")
+
+    monkeypatch.setattr(chipmunkcalls, "_works", cannot_build)
+    chipmunkcalls.body_calls.cache_clear()
+    try:
+        with pytest.warns(RuntimeWarning, match=r"\(RuntimeError: LLVM IR parsing error\); pymunk"):
+            assert chipmunkcalls.body_calls() is None
+    finally:
+        chipmunkcalls.body_calls.cache_clear()
