@@ -42,14 +42,16 @@ def explore(points, target, offsets, distances, r_sense, r_occupied, kappa_fill,
     qf = np.empty((k, 2))
     limit = r_occupied ** 2
     for i in range(k):
-        nearest = np.inf
+        occupied = False
         for j in range(neighbours.shape[0]):
             dx = q[i, 0] - neighbours[j, 0]
             dy = q[i, 1] - neighbours[j, 1]
             d2 = dx * dx
             d2 += dy * dy
-            nearest = min(nearest, d2)
-        if nearest > limit:
+            if d2 <= limit:  # the nearest is at least this near: the point is taken
+                occupied = True
+                break
+        if not occupied:
             wf[free] = w[i]
             qf[free, 0] = q[i, 0]
             qf[free, 1] = q[i, 1]
