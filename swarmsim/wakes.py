@@ -18,6 +18,22 @@ from numba import njit
 from swarmsim.cellsearch import MAX_CELLS_PER_ROBOT, grid, grid_frame
 
 
+@njit(cache=True, inline="always")
+def hypot_at_most(dx, dy, limit):  # pragma: no cover - compiled
+    """``math.hypot(dx, dy) <= limit``, to the bit, mostly without calling ``hypot``: the
+    squared length decides wherever it is more than a relative 1e-9 from ``limit`` squared
+    (its rounding error is ~1e-16), and ``hypot`` decides the rest (NaN, a negative or
+    subnormal ``limit`` squared included)."""
+    d2 = dx * dx + dy * dy
+    square = limit * limit
+    if limit >= 0 and square > 1e-300:  # a normal number: its rounding is relative
+        if d2 < square * (1 - 1e-9):
+            return True
+        if d2 > square * (1 + 1e-9):
+            return False
+    return math.hypot(dx, dy) <= limit
+
+
 @njit(cache=True)
 def drifted(positions, ref, velocities, eps):  # pragma: no cover - compiled
     """(N,) drift: robots farther than ``eps`` units from ``ref`` (their position when last
@@ -26,7 +42,7 @@ def drifted(positions, ref, velocities, eps):  # pragma: no cover - compiled
     n = positions.shape[0]
     drift, pushed = np.zeros(n, dtype=np.bool_), np.zeros(n, dtype=np.bool_)
     for i in range(n):
-        if math.hypot(positions[i, 0] - ref[i, 0], positions[i, 1] - ref[i, 1]) > eps:
+        if not hypot_at_most(positions[i, 0] - ref[i, 0], positions[i, 1] - ref[i, 1], eps):
             drift[i] = True
             pushed[i] = velocities[i, 0] == 0 and velocities[i, 1] == 0
             ref[i, 0], ref[i, 1] = positions[i, 0], positions[i, 1]
@@ -64,9 +80,8 @@ def wake_near(positions, asleep, wake_range, wake_on_motion, wakes_all, sources,
                     j = sleepers[members[m]]
                     if not asleep[j] or not (wake_on_motion[j] or wakes_all[s]):
                         continue
-                    d = math.hypot(positions[j, 0] - positions[s, 0],
-                                   positions[j, 1] - positions[s, 1])
-                    if d <= wake_range[j] + margin:
+                    if hypot_at_most(positions[j, 0] - positions[s, 0],
+                                     positions[j, 1] - positions[s, 1], wake_range[j] + margin):
                         asleep[j] = False
 
 

@@ -3,7 +3,7 @@ drifted or were pushed, and which sleepers a changed robot wakes."""
 
 import numpy as np
 
-from swarmsim.wakes import awake_robots, drifted, wake_near
+from swarmsim.wakes import awake_robots, drifted, hypot_at_most, wake_near
 
 
 def test_drifted_is_the_numpy_rule():
@@ -87,3 +87,23 @@ def test_awake_robots_lists_the_awake_and_the_sleepers_woken_now():
     asleep[:] = False
     positions[0, 0] = -3.0
     assert awake(10) == [0, 1, 2, 3, 4] and ref[0, 0] == -3.0  # no sleeper: refs follow
+
+
+def test_hypot_at_most_is_hypot_compared_to_the_bit_at_and_near_the_limit():
+    rng = np.random.default_rng(5)
+    dx = rng.normal(size=4000) * 10.0 ** rng.integers(-200, 200, 4000)
+    dy = rng.normal(size=4000) * 10.0 ** rng.integers(-200, 200, 4000)
+    exact = np.hypot(dx, dy)
+    ulps = rng.integers(-3, 4, 4000)
+    limits = np.concatenate([
+        exact,  # on the rim
+        np.nextafter(exact, np.where(ulps > 0, np.inf, -np.inf)),  # an ulp either side
+        exact * (1 + rng.normal(size=4000) * 1e-9),  # by the margin the squares decide on
+        exact * rng.uniform(0, 2, 4000),
+        [-1.0, -0.0, 0.0, np.nan, np.inf, 1e-160, 1e200]])
+    for k, limit in enumerate(limits):
+        i = k % len(dx)
+        assert hypot_at_most(dx[i], dy[i], limit) == (np.hypot(dx[i], dy[i]) <= limit), (
+            dx[i], dy[i], limit)
+    assert hypot_at_most(0.0, 0.0, 0.0) and hypot_at_most(3.0, 4.0, 5.0)
+    assert not hypot_at_most(3.0, 4.0, np.nextafter(5.0, 0.0))
