@@ -358,9 +358,9 @@ class Physics:
         if self._contacts_at == self._steps:
             return self._contacts
         live = self._read_arbiters()
-        if self._sleep and self._parking.parked.any():
+        if self._sleep and np.count_nonzero(self._parking.parked):
             asleep = self.bodies_asleep()
-            if asleep.any():  # their live arbiters are stale: they keep their last ones
+            if np.count_nonzero(asleep):  # their live arbiters are stale: they keep their last ones
                 before = self._contacts
                 live = _Arbiters(*contactrows.carry_over(
                     live.robots, live.depth, live.impulse, before.robots, before.depth,

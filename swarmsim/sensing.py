@@ -198,7 +198,7 @@ class NeighbourSearch:
         result is the same to the bit, ``perturb`` included (it is called on the chunks'
         offsets in order, and a numpy Generator's draws do not depend on how they are split).
         """
-        radii = np.broadcast_to(np.asarray(radius, dtype=float), (len(robots),))
+        radii = as_radii(radius, len(robots))
         parts = [self._neighbourhood_chunk(robots[a:a + NEIGHBOURHOOD_CHUNK],
                                            radii[a:a + NEIGHBOURHOOD_CHUNK], perturb)
                  for a in range(0, len(robots), NEIGHBOURHOOD_CHUNK)]
@@ -289,6 +289,14 @@ class NeighbourSearch:
     def pairs(self, radius: float) -> np.ndarray:
         """(P, 2) unique index pairs i < j closer than ``radius``."""
         return self.tree.query_pairs(radius, output_type="ndarray")
+
+
+def as_radii(radius: float | np.ndarray, n: int) -> np.ndarray:
+    """(n,) float64 radii (units): ``radius`` itself when it already is that (the tick's
+    listening ranges), else broadcast (numpy's broadcast_to costs microseconds a call)."""
+    if isinstance(radius, np.ndarray) and radius.dtype == np.float64 and radius.shape == (n,):
+        return radius
+    return np.broadcast_to(np.asarray(radius, dtype=float), (n,))
 
 
 def stable_radix_order(keys: np.ndarray, bits: int, order: np.ndarray | None = None

@@ -333,7 +333,7 @@ class Simulation:
         if self.fault_hook is not None:
             self.fault_hook(self)
         self.metrics.observe(self.tick, self.positions, self.on_target, self.messages,
-                             awake=len(awake), changed=bool(self._changed_msg.any()))
+                             awake=len(awake), changed=np.count_nonzero(self._changed_msg) > 0)
         t4 = clock()
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
@@ -411,7 +411,7 @@ class Simulation:
         read as silent)."""
         # the rows as opaque records, taken with np.take: bytes copied, not field by field
         heard = np.take(as_records(self.messages), senders).view(self.dtype)
-        if self.failed.any():
+        if np.count_nonzero(self.failed):
             heard[self.failed[senders]] = self.silent
         lost = self.imperfect.lost(len(heard))
         if lost is not None:
