@@ -28,6 +28,7 @@ from pymunk._chipmunk_cffi import lib
 
 from swarmsim import chipmunkcalls
 from swarmsim.carrays import c_array
+from swarmsim.chipmunkcalls import call_body, call_body_int, call_body_xy
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
 _KINEMATIC, _STATIC = int(pymunk.Body.KINEMATIC), int(pymunk.Body.STATIC)
@@ -206,12 +207,12 @@ def _call(activate, set_type, set_velocity, robot_at, control_at, to_unpark, to_
     """Parking.command's Chipmunk calls (chipmunkcalls.BodyCalls), in Parking.command's order:
     unpark (wake the robot, then its control body KINEMATIC), park (STATIC), write."""
     for i in to_unpark:
-        activate(robot_at[i])
-        set_type(control_at[i], _KINEMATIC)
+        call_body(activate, robot_at[i])
+        call_body_int(set_type, control_at[i], _KINEMATIC)
     for i in to_park:
-        set_type(control_at[i], _STATIC)
+        call_body_int(set_type, control_at[i], _STATIC)
     for i in write:
-        set_velocity(control_at[i], v[i, 0], v[i, 1])
+        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
 
 
 @njit(cache=True)

@@ -1,23 +1,24 @@
 """Chipmunk's body functions, callable from compiled code (numba), so that a loop over many
 bodies runs without a Python call per body.
 
-pymunk reaches Chipmunk through cffi, one Python call per body and function. numba calls a C
-function through a ctypes function pointer at the cost of a C call, and takes such a pointer as
-an argument (a first-class function), so the compiled code stays cacheable.
+pymunk reaches Chipmunk through cffi, one Python call per body and function. Here each
+function is passed to compiled code as its address, a plain integer, and called through an
+LLVM call of the function's C type (the intrinsics below): a C call per body, and the compiled
+code stays cacheable (the address is an argument, not a constant). Plain integers also keep
+numba's dispatch cheap (a ctypes function pointer as an argument is converted on every call).
 
 ``cpBodySetVelocity`` takes a ``cpVect`` (two doubles) by value, and ``cpBodyGetPosition``
 returns one. On the platforms listed in ``_SAME_ABI`` such a struct travels exactly as two
 doubles do, both ways (the SysV x86-64 ABI: two SSE registers; AArch64: a homogeneous float
-aggregate, two vector registers). So the setter is declared as taking two doubles, and the
-getters are called by :func:`read_vects` through an LLVM call returning ``{double, double}``,
-which LLVM lowers to those registers. Elsewhere (Windows x64 passes and returns it through
-memory) :func:`body_calls` returns None and callers use pymunk's own calls. :func:`body_calls`
-also checks every function once, on bodies of its own, before anyone relies on it.
+aggregate, two vector registers). So the setter is called as taking two doubles, and the
+getters through an LLVM call returning ``{double, double}``, which LLVM lowers to those
+registers. Elsewhere (Windows x64 passes and returns it through memory) :func:`body_calls`
+returns None and callers use pymunk's own calls. :func:`body_calls` also checks every
+function once, on bodies of its own, before anyone relies on it.
 """
 
 from __future__ import annotations
 
-import ctypes
 import functools
 import platform
 import sys
@@ -39,21 +40,25 @@ _SAME_ABI = {"x86_64", "amd64", "aarch64", "arm64"}
 
 @dataclass(frozen=True)
 class BodyCalls:
-    """Chipmunk body functions as ctypes pointers, to pass to compiled code.
+    """The addresses of Chipmunk's body functions, to pass to compiled code (each called
+    through the intrinsic named).
 
     Attributes:
-        set_velocity: ``(body address, vx, vy)``, velocity in units per second of pymunk time.
-        activate: ``(body address)``, wakes a sleeping body and its component.
-        set_type: ``(body address, type)``, a pymunk body type (DYNAMIC, KINEMATIC, STATIC).
-        is_sleeping: ``(body address) -> 0 or 1``, is the body asleep in pymunk.
-        get_position: the address of ``cpBodyGetPosition``, for :func:`read_vects`.
-        get_velocity: the address of ``cpBodyGetVelocity``, for :func:`read_vects`.
+        set_velocity: ``cpBodySetVelocity(body, vx, vy)`` (:func:`call_body_xy`), velocity in
+            units per second of pymunk time.
+        activate: ``cpBodyActivate(body)`` (:func:`call_body`): wakes a sleeping body and its
+            component.
+        set_type: ``cpBodySetType(body, type)`` (:func:`call_body_int`), a pymunk body type
+            (DYNAMIC, KINEMATIC, STATIC).
+        is_sleeping: ``cpBodyIsSleeping(body) -> 0 or 1`` (:func:`call_body_flag`).
+        get_position: ``cpBodyGetPosition`` (:func:`read_vects`).
+        get_velocity: ``cpBodyGetVelocity`` (:func:`read_vects`).
     """
 
-    set_velocity: Any
-    activate: Any
-    set_type: Any
-    is_sleeping: Any
+    set_velocity: int
+    activate: int
+    set_type: int
+    is_sleeping: int
     get_position: int
     get_velocity: int
 
@@ -72,21 +77,86 @@ def _address_of(name: str) -> int:
     return int(ffi.cast("uintptr_t", ffi.addressof(lib, name)))
 
 
-def _pointer(name: str, restype: Any, *argtypes: Any) -> Any:
-    return ctypes.CFUNCTYPE(restype, *argtypes)(_address_of(name))
+def _is_address(*values: Any) -> bool:
+    return all(isinstance(v, types.Integer) for v in values)
+
+
+def _callee(builder: ir.IRBuilder, address: Any, result: Any, *params: Any) -> Any:
+    """The C function at ``address`` (an integer value), of LLVM type ``result(*params)``."""
+    return builder.inttoptr(address, ir.FunctionType(result, params).as_pointer())
+
+
+_BYTE_PTR = ir.IntType(8).as_pointer()
+
+
+@intrinsic
+def call_body(typingctx, function, body):
+    """Call ``void function(cpBody *body)``, both given as addresses."""
+    if not _is_address(function, body):
+        return None
+
+    def codegen(context, builder, signature, args):
+        callee = _callee(builder, args[0], ir.VoidType(), _BYTE_PTR)
+        builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR)])
+        return context.get_dummy_value()
+
+    return types.none(function, body), codegen
+
+
+@intrinsic
+def call_body_int(typingctx, function, body, value):
+    """Call ``void function(cpBody *body, int value)`` (an enum such as cpBodyType)."""
+    if not (_is_address(function, body) and isinstance(value, types.Integer)):
+        return None
+
+    def codegen(context, builder, signature, args):
+        callee = _callee(builder, args[0], ir.VoidType(), _BYTE_PTR, ir.IntType(32))
+        value = context.cast(builder, args[2], signature.args[2], types.int32)
+        builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR), value])
+        return context.get_dummy_value()
+
+    return types.none(function, body, value), codegen
+
+
+@intrinsic
+def call_body_xy(typingctx, function, body, x, y):
+    """Call ``void function(cpBody *body, cpVect (x, y))``, the vector passed as two doubles
+    (the ABIs of ``_SAME_ABI``)."""
+    if not (_is_address(function, body) and x == types.float64 and y == types.float64):
+        return None
+
+    def codegen(context, builder, signature, args):
+        double = ir.DoubleType()
+        callee = _callee(builder, args[0], ir.VoidType(), _BYTE_PTR, double, double)
+        builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR), args[2], args[3]])
+        return context.get_dummy_value()
+
+    return types.none(function, body, x, y), codegen
+
+
+@intrinsic
+def call_body_flag(typingctx, function, body):
+    """Call ``cpBool function(const cpBody *body)``: 0 or 1 (cpBool is an unsigned char)."""
+    if not _is_address(function, body):
+        return None
+
+    def codegen(context, builder, signature, args):
+        callee = _callee(builder, args[0], ir.IntType(8), _BYTE_PTR)
+        return builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR)])
+
+    return types.uint8(function, body), codegen
 
 
 @intrinsic
 def _vect_of(typingctx, function, body):
     """Call ``cpVect function(const cpBody *body)``, both given as addresses: (x, y)."""
-    if not (isinstance(function, types.Integer) and isinstance(body, types.Integer)):
+    if not _is_address(function, body):
         return None
 
     def codegen(context, builder, signature, args):
-        double, byte_ptr = ir.DoubleType(), ir.IntType(8).as_pointer()
-        call_type = ir.FunctionType(ir.LiteralStructType([double, double]), [byte_ptr])
-        callee = builder.inttoptr(args[0], call_type.as_pointer())
-        vect = builder.call(callee, [builder.inttoptr(args[1], byte_ptr)])
+        double = ir.DoubleType()
+        callee = _callee(builder, args[0], ir.LiteralStructType([double, double]), _BYTE_PTR)
+        vect = builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR)])
         return context.make_tuple(builder, signature.return_type,
                                   [builder.extract_value(vect, 0), builder.extract_value(vect, 1)])
 
@@ -105,7 +175,7 @@ def read_vects(getter, bodies, out):  # pragma: no cover - compiled
 def read_flags(is_sleeping, bodies, out):  # pragma: no cover - compiled
     """``out[k] = is_sleeping(bodies[k]) != 0`` for body addresses ``bodies`` (K,)."""
     for k in range(len(bodies)):
-        out[k] = is_sleeping(bodies[k]) != 0
+        out[k] = call_body_flag(is_sleeping, bodies[k]) != 0
 
 
 @functools.cache
@@ -115,11 +185,10 @@ def body_calls() -> BodyCalls | None:
     if sys.platform == "win32" or platform.machine().lower() not in _SAME_ABI:
         return None
     calls = BodyCalls(
-        set_velocity=_pointer("cpBodySetVelocity", None, ctypes.c_void_p, ctypes.c_double,
-                              ctypes.c_double),
-        activate=_pointer("cpBodyActivate", None, ctypes.c_void_p),
-        set_type=_pointer("cpBodySetType", None, ctypes.c_void_p, ctypes.c_int),
-        is_sleeping=_pointer("cpBodyIsSleeping", ctypes.c_ubyte, ctypes.c_void_p),
+        set_velocity=_address_of("cpBodySetVelocity"),
+        activate=_address_of("cpBodyActivate"),
+        set_type=_address_of("cpBodySetType"),
+        is_sleeping=_address_of("cpBodyIsSleeping"),
         get_position=_address_of("cpBodyGetPosition"),
         get_velocity=_address_of("cpBodyGetVelocity"))
     try:
@@ -139,11 +208,11 @@ def _works(calls: BodyCalls) -> bool:
     body, resting = pymunk.Body(body_type=pymunk.Body.KINEMATIC), pymunk.Body(1.0, 1.0)
     body.position, resting.position = (0.5, -2.25), (40.0, 40.0)
     space.add(body, resting, pymunk.Circle(resting, 1.0))
-    calls.set_velocity(address(body), 1.25, -3.5)
-    calls.set_type(address(body), pymunk.Body.STATIC)
+    _set_velocity(calls.set_velocity, address(body), 1.25, -3.5)
+    _set_type(calls.set_type, address(body), pymunk.Body.STATIC)
     stopped = tuple(body.velocity) == (0.0, 0.0)  # Chipmunk zeroes a static body's velocity
-    calls.set_type(address(body), pymunk.Body.KINEMATIC)
-    calls.set_velocity(address(body), 1.25, -3.5)
+    _set_type(calls.set_type, address(body), pymunk.Body.KINEMATIC)
+    _set_velocity(calls.set_velocity, address(body), 1.25, -3.5)
     for _ in range(5):
         space.step(0.1)
     both = addresses([body, resting])
@@ -154,5 +223,21 @@ def _works(calls: BodyCalls) -> bool:
     same = same and vects.tolist() == [list(body.position), list(resting.position)]
     read_flags(calls.is_sleeping, both, flags)
     same = same and flags.tolist() == [False, True] == [body.is_sleeping, resting.is_sleeping]
+    _activate(calls.activate, address(resting))
     return (stopped and same and body.body_type == pymunk.Body.KINEMATIC
-            and tuple(body.velocity) == (1.25, -3.5))
+            and tuple(body.velocity) == (1.25, -3.5) and not resting.is_sleeping)
+
+
+@njit(cache=True)
+def _set_velocity(function, body, vx, vy):  # pragma: no cover - compiled
+    call_body_xy(function, body, vx, vy)
+
+
+@njit(cache=True)
+def _set_type(function, body, kind):  # pragma: no cover - compiled
+    call_body_int(function, body, kind)
+
+
+@njit(cache=True)
+def _activate(function, body):  # pragma: no cover - compiled
+    call_body(function, body)
