@@ -54,46 +54,15 @@ def _stamp(count, inside, x, y, sign, x0, y0, dx, dy, r2, half_i, half_j, rows,
         return 0  # nowhere: stamps nothing
     ci = math.floor((y - y0) / dy)  # an int in numba
     cj = math.floor((x - x0) / dx)
-    lo_j, hi_j = max(cj - half_j, 0), min(cj + half_j + 1, cols)
     flipped = 0
     for i in range(max(ci - half_i, 0), min(ci + half_i + 1, rows)):
         ey = y0 + (i + 0.5) * dy - y
         ey = ey * ey
-        a, b = _row_span(x, x0, dx, ey, r2, lo_j, hi_j)
-        for c in range(i * cols + a, i * cols + b):
-            if inside[c] and count[c] == (0 if sign > 0 else 1):
-                flipped += 1
-            count[c] += sign
+        for j in range(max(cj - half_j, 0), min(cj + half_j + 1, cols)):
+            ex = x0 + (j + 0.5) * dx - x
+            if ex * ex + ey <= r2:
+                c = i * cols + j
+                if inside[c] and count[c] == (0 if sign > 0 else 1):
+                    flipped += 1
+                count[c] += sign
     return flipped
-
-
-@njit(cache=True, inline="always")
-def _covers(j, x, x0, dx, ey, r2):  # pragma: no cover - compiled
-    """Whether pixel column ``j``'s centre, ``ey`` (squared) above or below, is within r."""
-    ex = x0 + (j + 0.5) * dx - x
-    return ex * ex + ey <= r2
-
-
-@njit(cache=True)
-def _row_span(x, x0, dx, ey, r2, lo, hi):  # pragma: no cover - compiled
-    """The columns [a, b) of ``lo``..``hi`` (exclusive) that a robot at ``x`` covers in a row
-    whose centres lie ``ey`` (squared) above or below it: the exact test on the columns at
-    the ends of the circle's chord only. The covered columns are contiguous (a centre's x
-    offset grows with the column, in floats too), so the span is found from the chord's
-    estimate by testing its ends, one column at a time."""
-    if not ey <= r2:
-        return lo, lo
-    half = math.sqrt(r2 - ey) / dx
-    at = (x - x0) / dx - 0.5  # the column whose centre is the robot's x
-    a = min(max(math.floor(at - half), lo), hi)
-    b = max(min(math.floor(at + half) + 1, hi), a)
-    while a > lo and _covers(a - 1, x, x0, dx, ey, r2):
-        a -= 1
-    while a < b and not _covers(a, x, x0, dx, ey, r2):
-        a += 1
-    b = max(b, a)
-    while b < hi and _covers(b, x, x0, dx, ey, r2):
-        b += 1
-    while b > a and not _covers(b - 1, x, x0, dx, ey, r2):
-        b -= 1
-    return a, b
