@@ -22,7 +22,9 @@ def step_lengths(positions, before):  # pragma: no cover - compiled
     step = np.empty(n)
     longest = 0.0
     for i in range(n):
-        step[i] = math.hypot(positions[i, 0] - before[i, 0], positions[i, 1] - before[i, 1])
+        dx, dy = positions[i, 0] - before[i, 0], positions[i, 1] - before[i, 1]
+        # a robot that stood still (most: asleep) skips libm's hypot; hypot(0, 0) is 0.0 too
+        step[i] = math.hypot(dx, dy) if dx != 0.0 or dy != 0.0 else 0.0
         longest = max(longest, step[i])
     return step, longest
 
