@@ -47,9 +47,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from controllers import formationkernel
 from controllers.edges import CirclingWatch, ProgressWatch
 from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, message_dtype, register
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
 STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
@@ -84,24 +85,26 @@ class FormationTravel:
             counts[cls.STATUSES[r.status]] = counts.get(cls.STATUSES[r.status], 0) + 1
         return {"status_counts": dict(sorted(counts.items()))}
 
+    @classmethod
+    def warm_up(cls) -> None:
+        """Compile or load the formation's kernels for this class's broadcasts before a
+        run's clock starts."""
+        formationkernel.warm_up(message_dtype(cls.MESSAGE_FIELDS))
+
     def heard(self, p: Perception) -> np.ndarray:
         return p.messages["id"] != NO_SENDER
 
     def formation_gradient(self, p: Perception) -> int | None:
         """1 + the smallest gradient of stationary neighbours within 1.5 d_min."""
-        m = p.messages
-        ok = (p.distances <= 1.5 * self.p.d_min) & ~m["moving"] & self.heard(p)
-        ok &= m["gradient"] < INF_GRADIENT
-        if not ok.any():
-            return None
-        return int(m["gradient"][ok].min()) + 1
+        low = formationkernel.lowest_gradient(p.distances, p.messages, 1.5 * self.p.d_min,
+                                              NO_SENDER, INF_GRADIENT)
+        return None if low < 0 else int(low) + 1
 
     def travel_parent(self, p: Perception) -> np.void | None:
-        m = p.messages
-        ok = (p.distances <= 1.5 * self.p.d_min) & ~m["moving"] & self.heard(p)
-        ok &= m["gradient"] == self.grad - 1
-        idx = np.flatnonzero(ok)
-        return m[idx[0]] if len(idx) else None
+        """The nearest stationary neighbour within 1.5 d_min one gradient below mine."""
+        k = formationkernel.first_parent(p.distances, p.messages, 1.5 * self.p.d_min,
+                                         self.grad - 1, NO_SENDER)
+        return p.messages[k] if k >= 0 else None
 
     def follow_travel(self, p: Perception) -> int | None:
         """Copy the parent's travel command; returns the command, or None with no gradient."""
@@ -286,15 +289,9 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
 
     def blocked(self, p: Perception) -> bool:
         """Kilobot's start rule: wait while a robot moves nearby or a waiting one outranks."""
-        m = p.messages
-        heard = self.heard(p)
-        if ((p.distances <= self.p.quiet_range) & m["moving"] & heard).any():
-            return True
-        near = (p.distances <= self.p.start_range) & heard
-        near &= (m["status"] == WAIT) | (m["status"] == TRAVEL)
-        outranks = (m["gradient"] > self.grad) | ((m["gradient"] == self.grad)
-                                                  & (m["id"] > self.id))
-        return bool((near & outranks).any())
+        return bool(formationkernel.blocked(p.distances, p.messages, self.p.quiet_range,
+                                            self.p.start_range, self.grad, self.id, NO_SENDER,
+                                            WAIT, TRAVEL))
 
     # ------------------------------------------------------------------ moving
     def move(self, p: Perception) -> Action:
@@ -339,11 +336,11 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         return bool(m["id"] != NO_SENDER and m["status"] == JOINED and m["gradient"] >= self.grad)
 
     def update_gradient(self, p: Perception) -> None:
-        m = p.messages
-        ok = (p.distances <= self.p.gradient_reach * self.p.d_cover) & ~m["moving"]
-        ok &= self.heard(p) & (m["gradient"] < INF_GRADIENT)
-        if ok.any():
-            self.grad = int(m["gradient"][ok].min()) + 1
+        low = formationkernel.lowest_gradient(p.distances, p.messages,
+                                              self.p.gradient_reach * self.p.d_cover,
+                                              NO_SENDER, INF_GRADIENT)
+        if low >= 0:
+            self.grad = int(low) + 1
 
     def stuck(self, p: Perception) -> bool:
         """Moved less than theta over the last T_r ticks."""

@@ -217,3 +217,42 @@ def test_a_still_cvt_robot_sleeps_once_its_sampling_disc_settles():
     robot.extent, robot.heard = 3.5, 7.0  # ... and back: a cycle of two discs
     assert robot.settle_disc((3.5 + 1.2 * step, 7.0 + 2.4 * step))
     assert (robot.extent, robot.heard) == (3.5 + 1.2 * step, 7.0 + 2.4 * step)
+
+
+def test_formation_kernels_match_the_numpy_formulas():
+    """Kilobot's (and FCDFS's) neighbour tests, compiled, against the numpy they replaced."""
+    from controllers import formationkernel as fk
+    from controllers.gradient import INF_GRADIENT
+    from controllers.kilobot import MESSAGE_FIELDS, TRAVEL, WAIT
+    from swarmsim.controller import message_dtype
+
+    rng = np.random.default_rng(11)
+    dtype = message_dtype(MESSAGE_FIELDS)
+    hits = {"low": 0, "parent": 0, "blocked": 0}
+    for _ in range(400):
+        k = int(rng.integers(0, 30))
+        m = np.zeros(k, dtype=dtype)
+        m["id"] = np.where(rng.random(k) < 0.15, NO_SENDER, rng.integers(0, 50, k))
+        m["moving"] = rng.random(k) < 0.4
+        m["status"] = rng.integers(0, 5, k)
+        m["gradient"] = np.where(rng.random(k) < 0.2, INF_GRADIENT, rng.integers(0, 6, k))
+        m.flags.writeable = False
+        dist = np.sort(rng.uniform(0, 12, k))
+        reach, grad, me = rng.uniform(0, 12), int(rng.integers(0, 6)), int(rng.integers(0, 50))
+        heard = m["id"] != NO_SENDER
+        ok = (dist <= reach) & ~m["moving"] & heard & (m["gradient"] < INF_GRADIENT)
+        low = fk.lowest_gradient(dist, m, reach, NO_SENDER, INF_GRADIENT)
+        assert low == (int(m["gradient"][ok].min()) if ok.any() else -1)
+        parent = (dist <= reach) & ~m["moving"] & heard & (m["gradient"] == grad)
+        first = fk.first_parent(dist, m, reach, grad, NO_SENDER)
+        assert first == (int(np.flatnonzero(parent)[0]) if parent.any() else -1)
+        quiet, start = rng.uniform(0, 12), rng.uniform(0, 12)
+        near = (dist <= start) & heard & ((m["status"] == WAIT) | (m["status"] == TRAVEL))
+        outranks = (m["gradient"] > grad) | ((m["gradient"] == grad) & (m["id"] > me))
+        expected = ((dist <= quiet) & m["moving"] & heard).any() or (near & outranks).any()
+        answer = fk.blocked(dist, m, quiet, start, grad, me, NO_SENDER, WAIT, TRAVEL)
+        assert answer == expected
+        hits["low"] += low >= 0
+        hits["parent"] += first >= 0
+        hits["blocked"] += bool(answer)
+    assert all(40 < v < 360 for v in hits.values()), hits  # each test answered both ways
