@@ -26,7 +26,7 @@ def polygon_edges(polygon: Polygon) -> np.ndarray:
 
 
 @njit(cache=True)
-def _inside(px, py, edges):  # pragma: no cover - compiled
+def inside(px, py, edges):  # pragma: no cover - compiled
     """Is (px, py) in the interior of the polygon whose edges (E, 4) are given?"""
     inside = False
     for e in range(edges.shape[0]):
@@ -44,7 +44,7 @@ def contains(xs, ys, edges):  # pragma: no cover - compiled
     """(N,) bool: is each point (xs[k], ys[k]), units, in the polygon's interior?"""
     out = np.empty(len(xs), dtype=np.bool_)
     for k in range(len(xs)):
-        out[k] = _inside(xs[k], ys[k], edges)
+        out[k] = inside(xs[k], ys[k], edges)
     return out
 
 
@@ -57,7 +57,7 @@ def probe(at, ks, offsets, limit2, edges):  # pragma: no cover - compiled
         ox, oy = offsets[j, 0], offsets[j, 1]
         if ox * ox + oy * oy > limit2:
             return out, j
-        out[j] = _inside(at[ks[j], 0] + ox, at[ks[j], 1] + oy, edges)
+        out[j] = inside(at[ks[j], 0] + ox, at[ks[j], 1] + oy, edges)
     return out, -1
 
 
@@ -68,5 +68,5 @@ def refresh(on_target, positions, before, edges):  # pragma: no cover - compiled
     out = on_target.copy()
     for i in range(positions.shape[0]):
         if positions[i, 0] != before[i, 0] or positions[i, 1] != before[i, 1]:
-            out[i] = _inside(positions[i, 0], positions[i, 1], edges)
+            out[i] = inside(positions[i, 0], positions[i, 1], edges)
     return out

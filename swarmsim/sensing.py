@@ -89,8 +89,7 @@ class FloorProbe:
         ox, oy = float(offset[0]), float(offset[1])
         if self._beyond(ox, oy):
             raise self._too_far(ox, oy)
-        return bool(floortest.contains(np.array([self._x + ox]), np.array([self._y + oy]),
-                                       self._edges)[0])
+        return bool(floortest.inside(self._x + ox, self._y + oy, self._edges))
 
     def many(self, offsets: np.ndarray) -> np.ndarray:
         """(k,) bool: the same for each row of ``offsets`` (k, 2), units, in one query."""
