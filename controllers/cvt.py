@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
 
 from .cellkernel import owned
 from .cellkernel import warm_up as _warm_up_cell
@@ -297,8 +297,8 @@ class CVT:
         """The tick's Action: sleep only when standing still is this robot's fixed point."""
         msg = self.message(moving)
         if settled:
-            return Action((0.0, 0.0), msg, sleep=True, wake_range=self.heard, listen=self.heard)
-        return Action((float(v[0]), float(v[1])), msg, listen=self.heard)
+            return make_action((0.0, 0.0), msg, sleep=True, wake_range=self.heard, listen=self.heard)
+        return make_action((float(v[0]), float(v[1])), msg, listen=self.heard)
 
     def disc_radius(self, disc: tuple[float, float] | None = None) -> float:
         """Radius (units) of the disc (extent, heard) a cell is sampled in (default: the

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
 
 from .dashkernel import spacing_view
 from .dashkernel import warm_up as _warm_up_spacing
@@ -136,7 +136,7 @@ class Dash:
     def act(self, v=(0.0, 0.0), moving: bool = False, sleep: bool = False) -> Action:
         """The action, listening only as far as the next decision needs (cheaper)."""
         listen = 1.5 * self.p.d_cover if self.status != SEEKING else 1.5 * self.p.d_safe
-        return Action((float(v[0]), float(v[1])), self.message(moving), sleep, None, listen)
+        return make_action((float(v[0]), float(v[1])), self.message(moving), sleep, None, listen)
 
     def push(self, p: Perception, radius: float) -> np.ndarray:
         """Away from the neighbours closer than ``radius`` (units), harder the closer."""

@@ -13,7 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
 
 IDLE, SEEKING, SPREADING = 0, 1, 2
 
@@ -81,5 +81,5 @@ class Dispersion:
         status = SPREADING if speed > self.p.deadband else (SEEKING if not p.on_target else IDLE)
         msg = (self.id, status, speed > self.p.deadband)
         if speed <= self.p.deadband:
-            return Action((0.0, 0.0), msg, sleep=True)
-        return Action((float(v[0]), float(v[1])), msg)
+            return make_action((0.0, 0.0), msg, sleep=True)
+        return make_action((float(v[0]), float(v[1])), msg)

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import Action, Perception, RobotSetup, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
 
 from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
 
@@ -210,7 +210,7 @@ class FCDFS(FormationTravel):
         msg = (self.id, self.status, moving, grad, self.group, self.leader, self.cmd,
                float(self.travel[0]), float(self.travel[1]), self.door, self.pdir, self.touch,
                self.hops, c[0], c[1])
-        return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
+        return make_action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
                       self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:

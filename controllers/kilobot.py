@@ -50,7 +50,15 @@ import numpy as np
 from controllers import formationkernel
 from controllers.edges import CirclingWatch, ProgressWatch
 from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, message_dtype, register
+from swarmsim.controller import (
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+    message_dtype,
+    register,
+)
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
 STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
@@ -230,7 +238,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
             wake_range: float | None = None, wake_tick: int | None = None) -> Action:
         msg = (self.id, self.status, self.status in MOVING, self.grad, self.group, self.leader,
                self.cmd, float(self.travel[0]), float(self.travel[1]))
-        return Action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
+        return make_action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
                       self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:

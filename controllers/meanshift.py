@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, register
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
 
 from .cvt import LocalMap, clamp, sq_norms
 from .mapkernel import warm_up as _warm_up_map
@@ -174,10 +174,10 @@ class MeanShift:
         if speed < self.p.deadband and math.hypot(*cmd) < self.p.deadband:
             self.velocity = np.zeros(2)
             self.status = RESTING if p.on_target else SEEKING
-            return Action((0.0, 0.0), self.message(), sleep=True)
+            return make_action((0.0, 0.0), self.message(), sleep=True)
         self.velocity = v
         self.status = EXPLORING if p.on_target else SEEKING
-        return Action((float(v[0]), float(v[1])), self.message())
+        return make_action((float(v[0]), float(v[1])), self.message())
 
 
 __all__ = ["MeanShift", "MeanShiftParams"]
