@@ -53,17 +53,27 @@ def cell_views(positions: np.ndarray, robots: np.ndarray, radii: np.ndarray,
     if len(robots) == 0 or len(positions) == 0:
         return (np.zeros(0, dtype=np.intp), np.zeros((0, 2)), np.zeros(0),
                 np.zeros(len(robots), dtype=np.int64))
-    if not np.isfinite(positions).all():
+    if not _all_finite(positions):
         raise ValueError("robot positions must be finite (a body left the world?)")
     flat, offsets, d2, counts = _views(positions, robots, radii, MAX_CELLS_PER_ROBOT,
                                        ordered)
     return flat.astype(np.intp, copy=False), offsets, d2, counts
 
 
+@njit(cache=True)
+def _all_finite(values):  # pragma: no cover - compiled
+    """Whether every entry of the (N, 2) ``values`` is finite (np.isfinite(...).all())."""
+    for i in range(values.shape[0]):
+        if not (math.isfinite(values[i, 0]) and math.isfinite(values[i, 1])):
+            return False
+    return True
+
+
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now, so that a
     run's clock does not count it."""
     cell_views(np.zeros((2, 2)), np.zeros(1, dtype=np.int64), np.ones(1))
+    _all_finite(np.zeros((1, 2)))
 
 
 @njit(cache=True)

@@ -265,3 +265,16 @@ def test_compiled_views_compile_once_whatever_arrays_callers_pass():
         robots.astype(np.intp), 3.0)
     assert np.array_equal(fast[0], ref.neighbours) and np.array_equal(fast[1], ref.offsets)
     assert len(cellsearch._views.signatures) == 1
+
+
+def test_cell_views_refuse_positions_that_are_not_finite():
+    from swarmsim.cellsearch import cell_views
+
+    robots, radii = np.arange(3, dtype=np.int64), np.full(3, 5.0)
+    for bad in (np.nan, np.inf, -np.inf):
+        positions = np.zeros((3, 2))
+        positions[2, 1] = bad
+        with pytest.raises(ValueError, match="must be finite"):
+            cell_views(positions, robots, radii)
+    flat, _, _, counts = cell_views(np.zeros((3, 2)), robots, radii)
+    assert counts.tolist() == [2, 2, 2] and len(flat) == 6
