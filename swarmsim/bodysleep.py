@@ -28,10 +28,8 @@ from pymunk._chipmunk_cffi import lib
 
 from swarmsim import chipmunkcalls
 from swarmsim.carrays import c_array
-from swarmsim.chipmunkcalls import call_body, call_body_int, call_body_xy
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
-_KINEMATIC, _STATIC = int(pymunk.Body.KINEMATIC), int(pymunk.Body.STATIC)
 
 
 class IdTable:
@@ -185,7 +183,7 @@ class Parking:
         to_unpark, to_park, write = _plan(v, self._zero_before, self.parked, self._written)
         calls = self._calls
         if calls is not None:  # the same calls, in the same order, from compiled code
-            _call(calls.activate, calls.set_type, calls.set_velocity, self._robot_at,
+            chipmunkcalls.command(calls, self._robot_at,
                   self._control_at, to_unpark, to_park, write, v)
             return
         for i in to_unpark.tolist():
@@ -199,20 +197,6 @@ class Parking:
             for i, vx, vy in zip(write.tolist(), rows[:, 0].tolist(), rows[:, 1].tolist(),
                                  strict=True):
                 set_velocity(ptrs[i], (vx, vy))
-
-
-@njit(cache=True)
-def _call(activate, set_type, set_velocity, robot_at, control_at, to_unpark, to_park, write,
-          v):  # pragma: no cover - compiled
-    """Parking.command's Chipmunk calls (chipmunkcalls.BodyCalls), in Parking.command's order:
-    unpark (wake the robot, then its control body KINEMATIC), park (STATIC), write."""
-    for i in to_unpark:
-        call_body(activate, robot_at[i])
-        call_body_int(set_type, control_at[i], _KINEMATIC)
-    for i in to_park:
-        call_body_int(set_type, control_at[i], _STATIC)
-    for i in write:
-        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
 
 
 @njit(cache=True)

@@ -35,6 +35,8 @@ from numba.core.errors import NumbaError
 from numba.extending import intrinsic
 from pymunk._chipmunk_cffi import ffi, lib
 
+_KINEMATIC, _STATIC = int(pymunk.Body.KINEMATIC), int(pymunk.Body.STATIC)
+
 _SAME_ABI = {"x86_64", "amd64", "aarch64", "arm64"}
 
 
@@ -178,6 +180,29 @@ def read_flags(is_sleeping, bodies, out):  # pragma: no cover - compiled
         out[k] = call_body_flag(is_sleeping, bodies[k]) != 0
 
 
+def command(calls: BodyCalls, robot_at: np.ndarray, control_at: np.ndarray,
+            to_unpark: np.ndarray, to_park: np.ndarray, write: np.ndarray, v: np.ndarray
+            ) -> None:
+    """Parking's Chipmunk calls in one compiled pass, in its order: unpark robots
+    ``to_unpark`` (wake the robot's body ``robot_at[i]`` first, then make its control body
+    ``control_at[i]`` KINEMATIC), park ``to_park`` (control body STATIC), then set the control
+    bodies' velocities ``v[i]`` of ``write`` (units per second of pymunk time)."""
+    _command(calls.activate, calls.set_type, calls.set_velocity, robot_at, control_at,
+             to_unpark, to_park, write, v)
+
+
+@njit(cache=True)
+def _command(activate, set_type, set_velocity, robot_at, control_at, to_unpark, to_park,
+             write, v):  # pragma: no cover - compiled
+    for i in to_unpark:
+        call_body(activate, robot_at[i])
+        call_body_int(set_type, control_at[i], _KINEMATIC)
+    for i in to_park:
+        call_body_int(set_type, control_at[i], _STATIC)
+    for i in write:
+        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
+
+
 @functools.cache
 def body_calls() -> BodyCalls | None:
     """The body functions for compiled code, or None where their calling convention is not
@@ -202,17 +227,20 @@ def body_calls() -> BodyCalls | None:
 
 
 def _works(calls: BodyCalls) -> bool:
-    """Do the compiled calls do what pymunk's own calls do, on bodies of their own?"""
+    """Do the compiled calls do what pymunk's own calls do, on bodies of their own? Only the
+    kernels a run uses are called (no extra compiled code to load)."""
     space = pymunk.Space()
     space.sleep_time_threshold = 0.01
     body, resting = pymunk.Body(body_type=pymunk.Body.KINEMATIC), pymunk.Body(1.0, 1.0)
     body.position, resting.position = (0.5, -2.25), (40.0, 40.0)
     space.add(body, resting, pymunk.Circle(resting, 1.0))
-    _set_velocity(calls.set_velocity, address(body), 1.25, -3.5)
-    _set_type(calls.set_type, address(body), pymunk.Body.STATIC)
-    stopped = tuple(body.velocity) == (0.0, 0.0)  # Chipmunk zeroes a static body's velocity
-    _set_type(calls.set_type, address(body), pymunk.Body.KINEMATIC)
-    _set_velocity(calls.set_velocity, address(body), 1.25, -3.5)
+    robot_at, control_at = addresses([resting]), addresses([body])
+    one, none, v = np.zeros(1, np.int64), np.zeros(0, np.int64), np.array([[1.25, -3.5]])
+    command(calls, robot_at, control_at, none, none, one, v)  # a velocity
+    written = tuple(body.velocity) == (1.25, -3.5)
+    command(calls, robot_at, control_at, none, one, none, v)  # parked
+    parked = body.body_type == pymunk.Body.STATIC and tuple(body.velocity) == (0.0, 0.0)
+    command(calls, robot_at, control_at, one, none, one, v)  # unparked, the velocity again
     for _ in range(5):
         space.step(0.1)
     both = addresses([body, resting])
@@ -223,21 +251,6 @@ def _works(calls: BodyCalls) -> bool:
     same = same and vects.tolist() == [list(body.position), list(resting.position)]
     read_flags(calls.is_sleeping, both, flags)
     same = same and flags.tolist() == [False, True] == [body.is_sleeping, resting.is_sleeping]
-    _activate(calls.activate, address(resting))
-    return (stopped and same and body.body_type == pymunk.Body.KINEMATIC
+    command(calls, robot_at, control_at, one, none, none, v)  # wakes the resting body
+    return (written and parked and same and body.body_type == pymunk.Body.KINEMATIC
             and tuple(body.velocity) == (1.25, -3.5) and not resting.is_sleeping)
-
-
-@njit(cache=True)
-def _set_velocity(function, body, vx, vy):  # pragma: no cover - compiled
-    call_body_xy(function, body, vx, vy)
-
-
-@njit(cache=True)
-def _set_type(function, body, kind):  # pragma: no cover - compiled
-    call_body_int(function, body, kind)
-
-
-@njit(cache=True)
-def _activate(function, body):  # pragma: no cover - compiled
-    call_body(function, body)

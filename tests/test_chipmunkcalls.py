@@ -8,7 +8,6 @@ import pymunk
 import pytest
 
 from swarmsim import Simulation, chipmunkcalls
-from swarmsim.bodysleep import _call
 
 KNOWN_ABI = sys.platform != "win32" and platform.machine().lower() in {"x86_64", "aarch64"}
 
@@ -29,14 +28,13 @@ def test_compiled_calls_set_velocity_and_type_on_the_bodies_named():
     control_at = np.array([chipmunkcalls.address(b) for b in controls], dtype=np.uintp)
     v = np.array([[0.5, -0.25], [3.0, 4.0], [-1e-3, 7.5]])
     none = np.zeros(0, dtype=np.int64)
-    _call(calls.activate, calls.set_type, calls.set_velocity, robot_at, control_at, none,
-          np.array([1]), np.array([0, 2]), v)
+    chipmunkcalls.command(calls, robot_at, control_at, none, np.array([1]), np.array([0, 2]),
+                          v)
     assert tuple(controls[0].velocity) == (0.5, -0.25)
     assert tuple(controls[2].velocity) == (-1e-3, 7.5)
     assert controls[1].body_type == pymunk.Body.STATIC
     assert tuple(controls[1].velocity) == (0.0, 0.0)
-    _call(calls.activate, calls.set_type, calls.set_velocity, robot_at, control_at,
-          np.array([1]), none, np.array([1]), v)
+    chipmunkcalls.command(calls, robot_at, control_at, np.array([1]), none, np.array([1]), v)
     assert controls[1].body_type == pymunk.Body.KINEMATIC
     assert tuple(controls[1].velocity) == (3.0, 4.0)
 
