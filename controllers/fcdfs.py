@@ -211,7 +211,7 @@ class FCDFS(FormationTravel):
                float(self.travel[0]), float(self.travel[1]), self.door, self.pdir, self.touch,
                self.hops, c[0], c[1])
         return make_action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
-                      self.listen_range(), wake_tick=wake_tick)
+                           self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper)."""

@@ -239,7 +239,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         msg = (self.id, self.status, self.status in MOVING, self.grad, self.group, self.leader,
                self.cmd, float(self.travel[0]), float(self.travel[1]))
         return make_action((float(velocity[0]), float(velocity[1])), msg, sleep, wake_range,
-                      self.listen_range(), wake_tick=wake_tick)
+                           self.listen_range(), wake_tick=wake_tick)
 
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper)."""

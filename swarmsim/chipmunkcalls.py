@@ -80,6 +80,7 @@ def _address_of(name: str) -> int:
 
 
 def _is_address(*values: Any) -> bool:
+    """Are these numba types integers (addresses are passed as plain integers)?"""
     return all(isinstance(v, types.Integer) for v in values)
 
 
