@@ -297,7 +297,8 @@ class CVT:
         """The tick's Action: sleep only when standing still is this robot's fixed point."""
         msg = self.message(moving)
         if settled:
-            return make_action((0.0, 0.0), msg, sleep=True, wake_range=self.heard, listen=self.heard)
+            return make_action((0.0, 0.0), msg, sleep=True, wake_range=self.heard,
+                               listen=self.heard)
         return make_action((float(v[0]), float(v[1])), msg, listen=self.heard)
 
     def disc_radius(self, disc: tuple[float, float] | None = None) -> float:

@@ -183,8 +183,8 @@ class Parking:
         to_unpark, to_park, write = _plan(v, self._zero_before, self.parked, self._written)
         calls = self._calls
         if calls is not None:  # the same calls, in the same order, from compiled code
-            chipmunkcalls.command(calls, self._robot_at,
-                  self._control_at, to_unpark, to_park, write, v)
+            chipmunkcalls.command(calls, self._robot_at, self._control_at, to_unpark, to_park,
+                                  write, v)
             return
         for i in to_unpark.tolist():
             lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver

@@ -28,15 +28,15 @@ def polygon_edges(polygon: Polygon) -> np.ndarray:
 @njit(cache=True)
 def inside(px, py, edges):  # pragma: no cover - compiled
     """Is (px, py) in the interior of the polygon whose edges (E, 4) are given?"""
-    inside = False
+    odd = False  # crossings so far
     for e in range(edges.shape[0]):
         x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
         if (min(x0, x1) <= px <= max(x0, x1) and min(y0, y1) <= py <= max(y0, y1)
                 and (x1 - x0) * (py - y0) - (y1 - y0) * (px - x0) == 0.0):
             return False  # on the boundary
         if (y0 > py) != (y1 > py) and px < (x1 - x0) * (py - y0) / (y1 - y0) + x0:
-            inside = not inside
-    return inside
+            odd = not odd
+    return odd
 
 
 @njit(cache=True)

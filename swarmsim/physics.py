@@ -360,7 +360,8 @@ class Physics:
         live = self._read_arbiters()
         if self._sleep and np.count_nonzero(self._parking.parked):
             asleep = self.bodies_asleep()
-            if np.count_nonzero(asleep):  # their live arbiters are stale: they keep their last ones
+            # sleepers' live arbiters are stale: they keep their last ones
+            if np.count_nonzero(asleep):
                 before = self._contacts
                 live = _Arbiters(*contactrows.carry_over(
                     live.robots, live.depth, live.impulse, before.robots, before.depth,

@@ -205,14 +205,11 @@ class GGCSwarm:
 def open_probes(todo, calls, ans, req):  # pragma: no cover - compiled
     """The probe questions of robots ``todo`` still unanswered: for robot k, its first
     ``calls[k]`` questions (at most as many as ``ans`` has slots) whose ``ans[k, c]`` is -1,
-    robot by robot, question by question. Returns the robots (M,), the questions' slots (M,) and their offsets (M, 2), units."""
-    m = 0
-    for k in todo:
-        for c in range(min(calls[k], ans.shape[1])):
-            if ans[k, c] < 0:
-                m += 1
-    robots, slots = np.empty(m, dtype=np.intp), np.empty(m, dtype=np.intp)
-    offsets = np.empty((m, 2))
+    robot by robot, question by question. Returns the robots (M,), the questions' slots (M,)
+    and their offsets (M, 2), units."""
+    most = len(todo) * ans.shape[1]
+    robots, slots = np.empty(most, dtype=np.intp), np.empty(most, dtype=np.intp)
+    offsets = np.empty((most, 2))
     m = 0
     for k in todo:
         for c in range(min(calls[k], ans.shape[1])):
@@ -220,4 +217,4 @@ def open_probes(todo, calls, ans, req):  # pragma: no cover - compiled
                 robots[m], slots[m] = k, c
                 offsets[m, 0], offsets[m, 1] = req[k, c, 0], req[k, c, 1]
                 m += 1
-    return robots, slots, offsets
+    return robots[:m], slots[:m], offsets[:m]
