@@ -60,6 +60,21 @@ def test_the_structure_growing_near_me_starts_the_count_again():
     assert bot.me["status"] == SURPLUS
 
 
+def test_a_mover_that_walks_past_confined_walk_gives_up():
+    """Walking on, the mover leaves its reach again and again, so the count of ticks never
+    ends; the walk since it left its formation does: 5 * d_cover * max(d_cover, 2) = 20 units
+    at d_cover 2, here 80 ticks of 0.25 units."""
+    bot = Bot(groups=1, d_cover=2.0, confined_ticks=50.0, confined_walk=5.0)
+    _search(bot, 80, moved=(0.25, 0.0))
+    assert bot.me["status"] == COVERAGE and bot.me["path"] == pytest.approx(20.0)
+    assert bot.me["roam_ticks"] < 75  # the count alone would not end the walk
+    _search(bot, 1, moved=(0.25, 0.0))
+    assert bot.me["status"] == SURPLUS
+    paper = Bot(groups=1, d_cover=2.0, confined_walk=5.0, ruleset="paper")
+    _search(paper, 200, moved=(0.25, 0.0))
+    assert paper.me["status"] == COVERAGE  # the paper's rules walk on
+
+
 @pytest.mark.parametrize("settings", [{"d_cover": 6.0}, {"d_cover": 2.0, "ruleset": "paper"},
                                       {"d_cover": 2.0, "ruleset": "yield"}])
 def test_no_give_up_at_d_cover_6_or_without_the_surplus_flag(settings):

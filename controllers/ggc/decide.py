@@ -40,9 +40,11 @@ RuleParams = namedtuple("RuleParams", [
     "T_settle", "T_quiet", "handover_reach", "join_tolerance", "boundary_probe",
     "surplus_frontier", "surplus_winding", "surplus_spread", "yield_release", "lattice_stop",
     "lattice_reach", "groups", "scattered", "surplus_rule", "boundary_fill",
-    "selection_ticks", "gather_deadline", "ruleset", "confined_ticks", "confined_reach"])
+    "selection_ticks", "gather_deadline", "ruleset", "confined_ticks", "confined_reach",
+    "confined_walk"])
 """The run's parameters as the rules read them (GGCParams' plus the run's: groups, start,
-which of our additions apply; surplus_winding in radians; confined_reach in units)."""
+which of our additions apply; surplus_winding in radians; confined_reach and confined_walk in
+units)."""
 
 
 @njit(cache=True)

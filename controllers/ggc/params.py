@@ -77,6 +77,12 @@ class GGCParams:
             of its own group still waiting to be sent pauses it.
         confined_reach: see confined_ticks (multiples of d_cover; the mover's own odometry
             measures it).
+        confined_walk: under the same flag and bound, a mover in Coverage that has walked
+            more than confined_walk * d_cover * max(d_cover, 2 d_safe) / d_safe units since it
+            left its formation gives up as a confined one does (our addition; a walk along
+            the structure restarts the count of confined_ticks whenever it hears more
+            arrived robots, so the count alone lets such a mover walk for ever; the places
+            lie d_cover apart, so the walk a search needs grows faster than d_cover).
         surplus_stop: with one group (with groups, under the rule set's SURPLUS flag where
             holes are not filled) and d_cover > yield_release, surplus robots stop (our addition; False: the paper's
             robots circle on; rules/surplus.py). A mover that has been out of
@@ -98,7 +104,7 @@ class GGCParams:
             holes sealed inside the structure (rules/holes.py), and surplus movers of every
             group stop once the target is full (at d_cover 8 and 10; rules/surplus.py), or,
             at d_cover <= yield_release, once they stay confined without a place
-            (confined_ticks; rules/confined.py);
+            (confined_ticks, confined_walk; rules/confined.py);
             "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
@@ -135,6 +141,7 @@ class GGCParams:
     yield_release: float = 4.0
     confined_ticks: float = 3000.0
     confined_reach: float = 6.0
+    confined_walk: float = 75.0
     lattice_stop: bool = True
     lattice_reach: float = 6.93
     ruleset: str = DEFAULT_RULESET
@@ -143,7 +150,7 @@ class GGCParams:
         positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
                     "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout", "T_settle",
                     "T_quiet", "aggregation_timeout", "join_tolerance", "handover_reach",
-                    "boundary_probe", "confined_ticks", "confined_reach")
+                    "boundary_probe", "confined_ticks", "confined_reach", "confined_walk")
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"GGC parameter {name} must be positive, got "

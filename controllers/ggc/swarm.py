@@ -54,13 +54,19 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
         boundary_fill=one, selection_ticks=int(selection),
         gather_deadline=int(selection + p.aggregation_timeout + 1),
         ruleset=flags, confined_ticks=confined_ticks(p),
-        confined_reach=float(p.confined_reach * p.d_cover))
+        confined_reach=float(p.confined_reach * p.d_cover), confined_walk=confined_walk(p))
 
 
 def confined_ticks(p: GGCParams) -> int:
     """How long a mover may stay within its reach before it gives up (rules/confined.py):
     p.confined_ticks at d_cover = d_safe, in proportion to d_safe + d_cover (ticks)."""
     return round(p.confined_ticks * (p.d_safe + p.d_cover) / (2 * p.d_safe))
+
+
+def confined_walk(p: GGCParams) -> float:
+    """How far a mover may walk in Coverage since leaving its formation before it gives up
+    (rules/confined.py): p.confined_walk * d_cover * max(d_cover, 2 d_safe) / d_safe (units)."""
+    return float(p.confined_walk * p.d_cover * max(p.d_cover, 2 * p.d_safe) / p.d_safe)
 
 
 def surplus_between_groups(flags: int) -> bool:

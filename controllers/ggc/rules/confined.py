@@ -22,6 +22,11 @@ progress. It pauses while the mover hears robots of its own group waiting to be 
 (Initial or Detection): beside a formation that still releases robots, a slow search is not
 yet a hopeless one (at d_cover 2 with one group, movers there gave up and left floor
 uncovered).
+
+A walk along the structure changes how many arrived robots the mover hears, so the count
+can start afresh for ever while the mover circles a stretch of it (K at d_cover 2 with one
+group: hundreds of restarts). So a mover that has walked more than RuleParams.confined_walk
+units in Coverage since it left its formation (``me.path``) gives up too.
 """
 
 from __future__ import annotations
@@ -55,7 +60,8 @@ def arrived_heard(view):  # pragma: no cover - compiled
 def confined(view, me, sense, P):  # pragma: no cover - compiled
     """Count one tick of my search, my displacement and the arrived robots I hear since the
     count started; True once I have spent P.confined_ticks ticks within P.confined_reach units
-    of where it started, hearing no more arrived robots than I did then (see the module
+    of where it started, hearing no more arrived robots than I did then, or once I have
+    walked more than P.confined_walk units since I left my formation (see the module
     docstring)."""
     if not watched(P):
         return False
@@ -67,4 +73,4 @@ def confined(view, me, sense, P):  # pragma: no cover - compiled
         me.roam_seen = heard
     if not group_waiting_heard(view, me):  # my formation still has robots to send: wait
         me.roam_ticks += 1
-    return me.roam_ticks >= P.confined_ticks
+    return me.roam_ticks >= P.confined_ticks or me.path > P.confined_walk
