@@ -50,8 +50,7 @@ def main() -> None:
           " | parked but awake (touching)")
 
     def report(s: Simulation) -> None:
-        if s.tick % args.block and s._should_stop() is None:
-            return
+        """Print the block that ends at this tick."""
         now, n = time.perf_counter(), s.tick - last["tick"]
         ms = [1000 * (s.phase_seconds[k] - last["phases"].get(k, 0.0)) / n
               for k in ("sense", "decide", "physics", "metrics")]
@@ -63,10 +62,11 @@ def main() -> None:
         last.update(t=time.perf_counter(), tick=s.tick, phases=dict(s.phase_seconds))
 
     began = time.perf_counter()
-    result = sim.run(on_tick=report)
+    result = sim.run(on_tick=lambda s: None if s.tick % args.block else report(s))
+    if sim.tick > last["tick"]:  # the last, shorter block
+        report(sim)
     print(f"{result.summary['ticks']} ticks, {result.summary['stop_reason']}, "
           f"{time.perf_counter() - began:.1f} s")
-
 
 if __name__ == "__main__":
     main()
