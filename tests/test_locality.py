@@ -103,7 +103,8 @@ def test_every_controller_is_declared_properly():
 
 RULE_PARAMETERS = {
     "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
-    "nearest", "a", "b", "r", "reach", "status", "whole", "sender", "waiting", "max_gap",  # rows, numbers, codes
+    "nearest", "a", "b", "r", "reach", "status", "whole", "sender", "waiting", "max_gap",
+    "side", "grad",  # rows, numbers, codes
     "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
     "dist", "wake_range", "wake_on_motion", "wake_tick",
     "px", "py", "bx", "by", "cx", "cy", "hx", "hy"}  # points relative to me

@@ -74,6 +74,8 @@ def test_the_canonical_rule_set_is_the_first_with_the_same_acting_flags():
     assert canonical("paper-holes", 4, 1) == "paper-holes"
     assert canonical("paper-holes", 6, 1) == "yield-holes"  # the first with HOLES alone
     assert acting_flags(GGCParams(d_cover=8), 3) == YIELD | SURPLUS  # no HOLES at d_cover 8
+    assert acting_flags(GGCParams(d_cover=6, ruleset="yield-holes-aside"), 1) == HOLES
+    assert canonical("yield-holes-aside", 6, 1) == "yield-holes"  # one group: no other to meet
 
 
 def test_the_world_defaults_count_and_a_run_that_does_not_check_keeps_its_settings():

@@ -101,12 +101,12 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
          borrowed(c[5]), borrowed(c[6]), borrowed(c[7]), borrowed(c[8]), borrowed(c[9]),
          borrowed(c[10]), borrowed(c[11]), borrowed(c[12]), borrowed(c[13]), borrowed(c[14]),
          borrowed(c[15]), borrowed(c[16]), borrowed(c[17]), borrowed(c[18]), borrowed(c[19]),
-         borrowed(c[20]), borrowed(c[21]), borrowed(c[22]))
+         borrowed(c[20]), borrowed(c[21]), borrowed(c[22]), borrowed(c[23]))
     req, ans, calls, pending = borrowed(req), borrowed(ans), borrowed(calls), borrowed(pending)
     view = View(c[1][:0], c[2][:0], c[3][:0], c[4][:0], c[5][:0], c[6][:0], c[7][:0],
                 c[8][:0], c[9][:0], c[10][:0], c[11][:0], c[12][:0], c[13][:0], c[14][:0],
                 c[15][:0], c[16][:0], c[17][:0], c[18][:0], c[19][:0], c[20][:0], c[21][:0],
-                c[22][:0])
+                c[22][:0], c[23][:0])
     pb = Probe(req[0], ans[0], calls[0:1], pending[0:1])
     for j in todo:
         i = rows[j]
@@ -122,7 +122,7 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
         view.touch, view.stepped, view.enclosed = c[12][a:b], c[13][a:b], c[14][a:b]
         view.h, view.handover, view.quiet = c[15][a:b], c[16][a:b], c[17][a:b]
         view.ldist, view.lepoch, view.hole = c[18][a:b], c[19][a:b], c[20][a:b]
-        view.hx, view.hy = c[21][a:b], c[22][a:b]
+        view.hx, view.hy, view.blocked = c[21][a:b], c[22][a:b], c[23][a:b]
         sense = Sense(tick, on_target[j], moved[j, 0], moved[j, 1], has_beacon,
                       beacons[j, 0], beacons[j, 1])
         calls[j] = 0

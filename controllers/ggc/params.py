@@ -109,7 +109,9 @@ class GGCParams:
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
             "yield-holes-cross" (experimental): yield-holes, and a mover walled in beside its
-            formation crosses the structure toward the beacon (rules/cross.py).
+            formation crosses the structure toward the beacon (rules/cross.py);
+            "yield-holes-aside" (experimental): yield-holes, and a formation that meets
+            another group's robots on its way turns aside along them (rules/aside.py).
     """
 
     d_safe: float = 1.0

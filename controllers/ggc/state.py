@@ -29,10 +29,10 @@ STATE_DTYPE = np.dtype([
     ("id", "i4"), ("group", "i2"), ("leader", "?"), ("status", "i1"), ("visited", "u2"),
     ("grad", "i4"),
     ("cmd", "i1"), ("travel_x", "f8"), ("travel_y", "f8"), ("touch", "?"), ("stepped", "?"),
-    ("enclosed", "?"),
+    ("enclosed", "?"), ("blocked", "i1"),
     # travel: the route my formation took (it decides my group's orbit sense)
     ("route_x", "f8"), ("route_y", "f8"), ("has_route", "?"), ("orbit_chosen", "?"),
-    ("initial_since", "i8"),
+    ("initial_since", "i8"), ("grad_low", "i4"),
     # edge following
     ("sense", "f8"), ("head_x", "f8"), ("head_y", "f8"), ("stepping", "?"),
     ("no_way", "i4", (NO_WAY_SLOTS,)), ("no_way_next", "i8"),
@@ -68,7 +68,8 @@ ALL_MESSAGE_FIELDS = [("gradient", "i4"), ("group", "i2"), ("leader", "?"), ("cm
                       ("vx", "f4"), ("vy", "f4"), ("touch", "?"), ("stepped", "?"),
                       ("enclosed", "?"), ("h", "i1"), ("handover", "i4"),
                       ("ldist", "f4", (MAX_GROUPS,)), ("lepoch", "i4", (MAX_GROUPS,)),
-                      ("quiet", "i4"), ("hole", "i1"), ("hx", "f4"), ("hy", "f4")]
+                      ("quiet", "i4"), ("hole", "i1"), ("hx", "f4"), ("hy", "f4"),
+                      ("blocked", "i1")]
 """GGC's broadcast fields (beside the engine's id, status, moving) for up to MAX_GROUPS
 groups; a run has one ldist and lepoch entry per group (:func:`message_fields`)."""
 
@@ -94,6 +95,7 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
     s["status"] = np.where(scattered, np.where(leader, FORMED, APPROACH), INITIAL)
     s["visited"] = 1 << s["status"].astype(np.uint16)
     s["grad"] = np.where(leader, 0, INF_GRADIENT)
+    s["grad_low"] = s["grad"]
     s["sense"] = float(orbit)
     s["no_way"] = NO_SENDER
     s["circ_id"] = NO_SENDER
@@ -143,3 +145,4 @@ def _fill_broadcasts(state, rows, out):  # pragma: no cover - compiled
         for g in range(msg.ldist.shape[0]):
             msg.ldist[g], msg.lepoch[g] = me.ldist[g], me.lepoch[g]
         msg.hole, msg.hx, msg.hy = me.hole, me.hole_x, me.hole_y
+        msg.blocked = me.blocked

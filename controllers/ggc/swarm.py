@@ -22,12 +22,13 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_d
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import HOLES, RULESETS, SURPLUS, YIELD
+from .rules.rulesets import ASIDE, HOLES, RULESETS, SURPLUS, YIELD
 from .state import broadcast_rows, message_fields, new_state
 from .statuses import STATUSES
 
 COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
-           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch", "hole", "hx", "hy")
+           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch", "hole", "hx", "hy",
+           "blocked")
 """The broadcast columns a rule's view holds, in View's order (after off, dist)."""
 
 
@@ -99,7 +100,7 @@ def acting_flags(p: GGCParams, groups: int) -> int:
     one group must change this function."""
     flags = rule_flags(p)
     if groups == 1:
-        flags &= ~YIELD
+        flags &= ~(YIELD | ASIDE)
         if p.d_cover > p.yield_release:
             flags &= ~SURPLUS
     return int(flags)

@@ -21,7 +21,7 @@ from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
 
 VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving", "cmd", "vx",
                "vy", "touch", "stepped", "enclosed", "h", "handover", "quiet", "ldist",
-               "lepoch", "hole", "hx", "hy")
+               "lepoch", "hole", "hx", "hy", "blocked")
 
 
 # Each struct type subclasses types.StructRef itself. A shared base class with the one

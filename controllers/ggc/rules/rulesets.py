@@ -20,6 +20,12 @@ each flag switches on the functions of one module:
   instead of circling on. At d_cover <= yield_release, where the surplus lap does not apply,
   a mover that stays within a small reach for long without a place gives up instead
   (rules/confined.py).
+* ASIDE (rules/aside.py), with groups: a formation in Initial whose front meets another
+  group's robots turns at right angles to the beacon's bearing, away from them, and slides
+  along them, instead of pushing its way through (which packs both formations until their
+  robots touch, and keeps them awake in pymunk); a follower that lost its formation starts
+  alone. Experimental: "yield-holes-aside" is not the default (docs/ggc-findings.md,
+  "Formations that turn aside").
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
@@ -31,7 +37,7 @@ rule applies. docs/ggc-findings.md has each rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS, SURPLUS = 1, 2, 4, 8
+YIELD, HOLES, CROSS, SURPLUS, ASIDE = 1, 2, 4, 8, 16
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS,
@@ -39,6 +45,7 @@ RULESETS = {
     "yield": YIELD,
     "paper-holes": HOLES,
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
+    "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 from numba import njit
 
-from ..statuses import ARRIVE, CMD_HALT, CMD_TRAVEL, DETECTION
-from .common import move, rest, set_status, still, within
+from ..statuses import ARRIVE, CMD_HALT, CMD_NONE, CMD_TRAVEL, DETECTION
+from .aside import blocked_side, lost, turned
+from .common import INF, move, rest, set_status, still, within
 from .gradient import formation_gradient, parent_row
 
 
@@ -40,10 +41,16 @@ def lead(view, me, sense, P):  # pragma: no cover - compiled
     if touching(view, me, sense, P) or not sense.has_beacon:
         me.cmd = CMD_HALT
         me.travel_x, me.travel_y = 0.0, 0.0
+        me.blocked = 0
         set_status(me, ARRIVE)
         return still()
     me.cmd = CMD_TRAVEL
-    me.travel_x, me.travel_y = sense.beacon_x * P.v, sense.beacon_y * P.v
+    bx, by = sense.beacon_x, sense.beacon_y
+    me.travel_x, me.travel_y = bx * P.v, by * P.v
+    me.blocked = blocked_side(view, me, P)
+    if me.blocked != 0:
+        bx, by = turned(bx, by, me.blocked)
+    me.travel_x, me.travel_y = bx * P.v, by * P.v
     remember_route(me)
     return move(me.travel_x, me.travel_y)
 
@@ -59,12 +66,17 @@ def initial(view, me, sense, P):  # pragma: no cover - compiled
         if sense.tick - me.initial_since >= P.init_timeout:
             set_status(me, DETECTION)
         return rest(reach, True, me.initial_since + P.init_timeout)
+    if lost(me, grad, P):  # start alone, as one that heard no gradient does
+        set_status(me, DETECTION)
+        me.grad, me.cmd, me.travel_x, me.travel_y, me.blocked = INF, CMD_NONE, 0.0, 0.0, 0
+        return still()
     me.grad = grad
     me.touch = touching(view, me, sense, P)
     parent = parent_row(view, me, reach)
     me.cmd = view.cmd[parent]
     me.travel_x, me.travel_y = float(view.vx[parent]), float(view.vy[parent])
     remember_route(me)
+    me.blocked = blocked_side(view, me, P) if me.cmd == CMD_TRAVEL else 0
     if me.cmd == CMD_HALT:
         me.travel_x, me.travel_y = 0.0, 0.0
         set_status(me, DETECTION)
