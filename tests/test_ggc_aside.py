@@ -1,12 +1,12 @@
-"""Formations turn aside (rules/aside.py, the experimental rule set "yield-holes-aside"): a
-formation whose front meets another group's robots slides along them instead of pushing
-through."""
+"""Formations that meet another group's: they turn aside (rules/aside.py, the experimental
+rule set "yield-holes-aside") and slide along its robots, or halt beside a formation that
+reached the target ("yield-holes-beside"), instead of pushing through."""
 
 import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from controllers.ggc.statuses import ARRIVE, CMD_TRAVEL, DETECTION, INITIAL
+from controllers.ggc.statuses import ARRIVE, CMD_TRAVEL, COVERAGE, DETECTION, INITIAL
 from swarmsim import Simulation
 from swarmsim.world import world_from_dict
 
@@ -22,11 +22,12 @@ def _follower(ruleset: str = ASIDE) -> Bot:
     return Bot(groups=3, status=INITIAL, ruleset=ruleset)
 
 
-def _travel(bot: Bot, others) -> int:
-    """One tick copying its parent's travel straight up, beside ``others``; the side it says."""
+def _travel(bot: Bot, others, **fields) -> int:
+    """One tick copying its parent's travel straight up, beside ``others`` (``fields``: their
+    broadcasts' columns, the parent's first); the side it says."""
     parent = ((0.0, -1.0), 0, 1, INITIAL)
     rows = [parent, *others]
-    bot.step(rows, gradient=[0] + [0] * len(others), cmd=CMD_TRAVEL, vx=0.0, vy=V)
+    bot.step(rows, gradient=[0] + [0] * len(others), cmd=CMD_TRAVEL, vx=0.0, vy=V, **fields)
     return int(bot.me["blocked"])
 
 
@@ -107,3 +108,28 @@ def test_the_formation_behind_goes_round_the_one_ahead_instead_of_through_it(see
     assert mixed <= 5 and same <= 30
     mixed, same = _touching_when_halted("yield-holes", seed)
     assert mixed >= 10 and same >= 50  # pushed through: both formations packed
+
+
+BESIDE = "yield-holes-beside"
+
+
+def test_a_formation_halts_beside_another_groups_formation_that_reached_the_target():
+    halted = ((0.0, 1.2), 7, 2, DETECTION)  # another group's, waiting in its formation
+    for ruleset, expected in ((BESIDE, True), ("yield-holes", False)):
+        bot = _follower(ruleset)
+        _travel(bot, [halted], touch=[False, True])
+        assert bool(bot.me["touch"]) is expected, ruleset
+    bot = _follower(BESIDE)  # its formation has not reached the target: travel on
+    _travel(bot, [halted], touch=[False, False])
+    assert not bot.me["touch"]
+    bot = _follower(BESIDE)  # a mover that came from such a formation is not one
+    _travel(bot, [((0.0, 1.2), 7, 2, COVERAGE)], touch=[False, True])
+    assert not bot.me["touch"]
+    leader = Bot(groups=3, status=INITIAL, leader=True, ruleset=BESIDE)
+    d = leader.step([halted], beacon_deg=90.0, touch=True)
+    assert leader.me["status"] == ARRIVE and np.allclose(d.velocities[0], [0.0, 0.0])
+
+
+def test_the_formation_behind_halts_behind_the_one_ahead():
+    mixed, same = _touching_when_halted(BESIDE, 0)
+    assert mixed <= 5 and same <= 5

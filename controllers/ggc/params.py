@@ -111,7 +111,9 @@ class GGCParams:
             "yield-holes-cross" (experimental): yield-holes, and a mover walled in beside its
             formation crosses the structure toward the beacon (rules/cross.py);
             "yield-holes-aside" (experimental): yield-holes, and a formation that meets
-            another group's robots on its way turns aside along them (rules/aside.py).
+            another group's robots on its way turns aside along them (rules/aside.py);
+            "yield-holes-beside" (experimental): yield-holes, and a formation halts where it
+            meets another group's halted formation that reached the target (flag BESIDE).
     """
 
     d_safe: float = 1.0

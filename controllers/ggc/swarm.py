@@ -22,7 +22,7 @@ from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_d
 from .decide import RuleParams, decide_chunk
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import ASIDE, HOLES, RULESETS, SURPLUS, YIELD
+from .rules.rulesets import ASIDE, BESIDE, HOLES, RULESETS, SURPLUS, YIELD
 from .state import broadcast_rows, message_fields, new_state
 from .statuses import STATUSES
 
@@ -95,12 +95,14 @@ def acting_flags(p: GGCParams, groups: int) -> int:
     acts nowhere (rules/intergroup.py answers as the paper's rule does when P.groups == 1,
     deadlock.wedged reads YIELD only when P.groups > 1), nor does SURPLUS while d_cover >
     yield_release (there it is read only by :func:`surplus_between_groups`, for runs with
-    groups; at d_cover <= yield_release it is kept, for rules of one group there). Every other
-    flag is taken to act: a rule that reads YIELD, or SURPLUS at d_cover > yield_release, with
-    one group must change this function."""
+    groups; at d_cover <= yield_release it is kept, for rules of one group there), nor do
+    ASIDE and BESIDE (each acts on another group's robots only; aside.blocked_side returns
+    at once when P.groups == 1). Every other flag is taken to act: a rule that reads YIELD,
+    ASIDE or BESIDE, or SURPLUS at d_cover > yield_release, with one group must change this
+    function."""
     flags = rule_flags(p)
     if groups == 1:
-        flags &= ~(YIELD | ASIDE)
+        flags &= ~(YIELD | ASIDE | BESIDE)
         if p.d_cover > p.yield_release:
             flags &= ~SURPLUS
     return int(flags)

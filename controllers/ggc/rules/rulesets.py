@@ -26,6 +26,11 @@ each flag switches on the functions of one module:
   robots touch, and keeps them awake in pymunk); a follower that lost its formation starts
   alone. Experimental: "yield-holes-aside" is not the default (docs/ggc-findings.md,
   "Formations that turn aside").
+* BESIDE (rules/travel.py, ``touching``), with groups: a formation in Initial halts where its
+  front meets a halted formation of another group that reached the target (its robots in
+  Detection that say so) as if it had touched the target, so that no formation pushes
+  into another. Experimental: "yield-holes-beside" is not the default (docs/ggc-findings.md,
+  "Formations that halt beside another").
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
@@ -37,7 +42,7 @@ rule applies. docs/ggc-findings.md has each rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS, SURPLUS, ASIDE = 1, 2, 4, 8, 16
+YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE = 1, 2, 4, 8, 16, 32
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS,
@@ -46,6 +51,7 @@ RULESETS = {
     "paper-holes": HOLES,
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
+    "yield-holes-beside": YIELD | HOLES | SURPLUS | BESIDE,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""

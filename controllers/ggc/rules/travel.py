@@ -3,7 +3,9 @@
 The leader heads for the beacon and broadcasts a travel command with its velocity; every
 robot copies its gradient parent's command one tick later, so the formation moves rigidly.
 When the formation's front touches the target the leader halts (Arrive) and the halt runs
-back the same way; each robot then waits in Detection.
+back the same way; each robot then waits in Detection. Beyond the paper, with groups: the
+flag ASIDE turns a formation aside along another group's robots it meets (rules/aside.py),
+and BESIDE halts it there when they belong to a formation that reached the target.
 """
 
 from __future__ import annotations
@@ -14,16 +16,19 @@ from ..statuses import ARRIVE, CMD_HALT, CMD_NONE, CMD_TRAVEL, DETECTION
 from .aside import blocked_side, lost, turned
 from .common import INF, move, rest, set_status, still, within
 from .gradient import formation_gradient, parent_row
+from .rulesets import BESIDE
 
 
 @njit(cache=True)
 def touching(view, me, sense, P):  # pragma: no cover - compiled
     """Has the formation's front touched the target (my floor sensor, or a formation
-    neighbour of my group that says so)?"""
+    neighbour of my group that says so; with BESIDE, or a halted robot, in Detection, of
+    another group's formation that says so)?"""
     if sense.on_target:
         return True
     for r in range(within(view.dist, 1.5 * P.d_min)):
-        if view.group[r] == me.group and view.touch[r]:
+        if view.touch[r] and (view.group[r] == me.group or (
+                P.ruleset & BESIDE and view.status[r] == DETECTION)):
             return True
     return False
 
