@@ -51,11 +51,11 @@ def lead(view, me, sense, P):  # pragma: no cover - compiled
         return still()
     me.cmd = CMD_TRAVEL
     bx, by = sense.beacon_x, sense.beacon_y
-    me.travel_x, me.travel_y = bx * P.v, by * P.v
+    me.travel_x, me.travel_y = bx * P.v, by * P.v  # "ahead" is toward the beacon
     me.blocked = blocked_side(view, me, P)
     if me.blocked != 0:
         bx, by = turned(bx, by, me.blocked)
-    me.travel_x, me.travel_y = bx * P.v, by * P.v
+        me.travel_x, me.travel_y = bx * P.v, by * P.v
     remember_route(me)
     return move(me.travel_x, me.travel_y)
 
