@@ -1,6 +1,7 @@
-"""Formations that meet another group's: they turn aside (rules/aside.py, the experimental
-rule set "yield-holes-aside") and slide along its robots, or halt beside a formation that
-reached the target ("yield-holes-beside"), instead of pushing through."""
+"""Formations that meet another group's: they halt beside a formation that reached the
+target (flag BESIDE, the default "yield-holes"), or turn aside (rules/aside.py, the
+experimental rule set "yield-holes-aside") and slide along its robots, instead of pushing
+through (as under "yield-holes-push", the default without BESIDE)."""
 
 import numpy as np
 import pytest
@@ -15,6 +16,10 @@ from .ggc_bot import Bot
 V = 0.1
 """The formation's speed, units per tick (GGCParams.v)."""
 ASIDE = "yield-holes-aside"
+PUSH = "yield-holes-push"
+"""The default rules without BESIDE: formations push into each other."""
+BESIDE = "yield-holes"
+"""The default rule set, with BESIDE."""
 
 
 def _follower(ruleset: str = ASIDE) -> Bot:
@@ -39,7 +44,7 @@ def test_a_robot_says_to_turn_away_from_another_groups_robot_ahead():
 
 
 def test_the_default_rules_and_one_group_never_turn():
-    for ruleset in ("yield-holes", "paper"):
+    for ruleset in (BESIDE, PUSH, "paper"):
         assert _travel(_follower(ruleset), [((0.0, 1.0), 7, 2, DETECTION)]) == 0
     lone = Bot(groups=1, status=INITIAL, ruleset=ASIDE)
     lone.step([((0.0, -1.0), 0, 1, INITIAL), ((0.2, 1.0), 7, 1, DETECTION)],
@@ -106,16 +111,13 @@ def test_the_formation_behind_goes_round_the_one_ahead_instead_of_through_it(see
     alone (LOST_HOPS) instead of travelling on for ever."""
     mixed, same = _touching_when_halted(ASIDE, seed)
     assert mixed <= 5 and same <= 30
-    mixed, same = _touching_when_halted("yield-holes", seed)
+    mixed, same = _touching_when_halted(PUSH, seed)
     assert mixed >= 10 and same >= 50  # pushed through: both formations packed
-
-
-BESIDE = "yield-holes-beside"
 
 
 def test_a_formation_halts_beside_another_groups_formation_that_reached_the_target():
     halted = ((0.0, 1.2), 7, 2, DETECTION)  # another group's, waiting in its formation
-    for ruleset, expected in ((BESIDE, True), ("yield-holes", False)):
+    for ruleset, expected in ((BESIDE, True), (PUSH, False), ("paper", False)):
         bot = _follower(ruleset)
         _travel(bot, [halted], touch=[False, True])
         assert bool(bot.me["touch"]) is expected, ruleset

@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from controllers.ggc.params import GGCParams
-from controllers.ggc.rules.rulesets import HOLES, RULESETS, SURPLUS, YIELD
+from controllers.ggc.rules.rulesets import BESIDE, HOLES, RULESETS, SURPLUS, YIELD
 from controllers.ggc.swarm import acting_flags, same_run_ruleset
 from swarmsim.experiments.spec import RunSpec, run_id, same_run_settings, spec_from_dict
 from swarmsim.sim import Simulation
@@ -73,9 +73,14 @@ def test_the_canonical_rule_set_is_the_first_with_the_same_acting_flags():
     assert acting_flags(GGCParams(d_cover=4), 1) == HOLES | SURPLUS
     assert canonical("paper-holes", 4, 1) == "paper-holes"
     assert canonical("paper-holes", 6, 1) == "yield-holes"  # the first with HOLES alone
-    assert acting_flags(GGCParams(d_cover=8), 3) == YIELD | SURPLUS  # no HOLES at d_cover 8
+    assert acting_flags(GGCParams(d_cover=8), 3) == YIELD | SURPLUS | BESIDE  # no HOLES at 8
+    # ASIDE and BESIDE act only on another group's robots: with one group, gone
     assert acting_flags(GGCParams(d_cover=6, ruleset="yield-holes-aside"), 1) == HOLES
+    assert acting_flags(GGCParams(d_cover=6), 1) == HOLES
+    assert acting_flags(GGCParams(d_cover=6), 3) == YIELD | HOLES | SURPLUS | BESIDE
     assert canonical("yield-holes-aside", 6, 1) == "yield-holes"  # one group: no other to meet
+    assert canonical("yield-holes-push", 6, 1) == "yield-holes"
+    assert canonical("yield-holes-push", 6, 3) == "yield-holes-push"
 
 
 def test_the_world_defaults_count_and_a_run_that_does_not_check_keeps_its_settings():

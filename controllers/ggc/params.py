@@ -101,19 +101,21 @@ class GGCParams:
         ruleset: which of our rules beyond the paper's apply (rules/rulesets.py):
             "yield-holes" (default): no Stop between groups (movers of all groups give way
             to a larger-id mover close ahead, as movers of one group do), movers fill
-            holes sealed inside the structure (rules/holes.py), and surplus movers of every
+            holes sealed inside the structure (rules/holes.py), surplus movers of every
             group stop once the target is full (at d_cover 8 and 10; rules/surplus.py), or,
             at d_cover <= yield_release, once they stay confined without a place
-            (confined_ticks, confined_walk; rules/confined.py);
+            (confined_ticks, confined_walk; rules/confined.py), and a formation halts where
+            it meets another group's halted formation that reached the target (flag BESIDE,
+            rules/travel.py);
             "paper": the paper's rules
             (Section 4.3: a mover stops while another group's mover in Coverage with a
             larger id is within d_cover); "yield" and "paper-holes": one of the two;
-            "yield-holes-cross" (experimental): yield-holes, and a mover walled in beside its
-            formation crosses the structure toward the beacon (rules/cross.py);
-            "yield-holes-aside" (experimental): yield-holes, and a formation that meets
-            another group's robots on its way turns aside along them (rules/aside.py);
-            "yield-holes-beside" (experimental): yield-holes, and a formation halts where it
-            meets another group's halted formation that reached the target (flag BESIDE).
+            "yield-holes-push": the default without BESIDE (formations push into each
+            other), as the default was before BESIDE joined it;
+            "yield-holes-cross" (experimental): yield-holes-push, and a mover walled in
+            beside its formation crosses the structure toward the beacon (rules/cross.py);
+            "yield-holes-aside" (experimental): yield-holes-push, and a formation that meets
+            another group's robots on its way turns aside along them (rules/aside.py).
     """
 
     d_safe: float = 1.0

@@ -29,8 +29,8 @@ each flag switches on the functions of one module:
 * BESIDE (rules/travel.py, ``touching``), with groups: a formation in Initial halts where its
   front meets a halted formation of another group that reached the target (its robots in
   Detection that say so) as if it had touched the target, so that no formation pushes
-  into another. Experimental: "yield-holes-beside" is not the default (docs/ggc-findings.md,
-  "Formations that halt beside another").
+  into another. Part of the default; "yield-holes-push" is the default without it, as it
+  was before (docs/ggc-findings.md, "Formations that halt beside another").
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
@@ -45,13 +45,13 @@ from __future__ import annotations
 YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE = 1, 2, 4, 8, 16, 32
 """The flags."""
 RULESETS = {
-    "yield-holes": YIELD | HOLES | SURPLUS,
+    "yield-holes": YIELD | HOLES | SURPLUS | BESIDE,
     "paper": 0,
     "yield": YIELD,
     "paper-holes": HOLES,
+    "yield-holes-push": YIELD | HOLES | SURPLUS,
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
-    "yield-holes-beside": YIELD | HOLES | SURPLUS | BESIDE,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
