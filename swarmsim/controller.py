@@ -47,12 +47,13 @@ NO_SENDER = -1
 """``id`` of a neighbour row whose message did not arrive (failed robot, lost message)."""
 
 
-def run_message_fields(cls: Any, groups: int) -> list[tuple[str, Any]]:
-    """A controller class's broadcast fields for a run with ``groups`` groups: its
-    ``message_fields_for(groups)`` if it has one, else its ``MESSAGE_FIELDS``."""
+def run_message_fields(cls: Any, groups: int, scattered: bool) -> list[tuple[str, Any]]:
+    """A controller class's broadcast fields for a run with ``groups`` groups, its robots
+    started ``scattered`` (RobotSetup.scattered) or not: its
+    ``message_fields_for(groups, scattered)`` if it has one, else its ``MESSAGE_FIELDS``."""
     fields_for = getattr(cls, "message_fields_for", None)
     if fields_for is not None:
-        return list(fields_for(groups))
+        return list(fields_for(groups, scattered))
     return list(getattr(cls, "MESSAGE_FIELDS", []))
 
 
@@ -363,7 +364,8 @@ class ControllerClass(Protocol):
     :func:`swarmsim.controller_info.describe`:
 
     - ``MESSAGE_FIELDS`` ([]): broadcast fields beyond ``id``, ``status``, ``moving``
-      (numpy dtype spec); ``message_fields_for(groups)`` if they depend on the group count.
+      (numpy dtype spec); ``message_fields_for(groups, scattered)`` if they depend on the
+      run's group count or start (RobotSetup.scattered).
     - ``SILENT`` ({}): values of those fields in the row of a neighbour that is not heard.
     - ``SETTLED_STATUSES`` (()): statuses meaning "done, standing still" (metrics count robots
       pushed out of place there; faults fail them last).

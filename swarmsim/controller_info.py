@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.controller import RobotSetup, Swarm
+from swarmsim.controller import RobotSetup, Swarm, run_message_fields
 from swarmsim.errors import ConfigError
 
 COLOURING_KINDS = ("scale", "category")
@@ -88,12 +88,10 @@ class ControllerInfo:
         """The status codes of these status names (names it does not have are left out)."""
         return tuple(i for i, s in enumerate(self.statuses) if s in names)
 
-    def message_fields(self, groups: int) -> list[tuple[str, Any]]:
-        """Its broadcast fields beyond the base fields, for a run with ``groups`` groups."""
-        fields_for = getattr(self.cls, "message_fields_for", None)
-        if fields_for is not None:
-            return list(fields_for(groups))
-        return list(getattr(self.cls, "MESSAGE_FIELDS", []))
+    def message_fields(self, groups: int, scattered: bool) -> list[tuple[str, Any]]:
+        """Its broadcast fields beyond the base fields, for a run with ``groups`` groups, its
+        robots started ``scattered`` or not (controller.run_message_fields)."""
+        return run_message_fields(self.cls, groups, scattered)
 
     def sensing_range(self, params: Any) -> float:
         """How far its robots sense, units."""

@@ -236,7 +236,8 @@ class Simulation:
             shuffled=cfg.decide_order == "shuffled", order_rng=order_rng,
             batch=cfg.batch_decide)
         self.statuses = self.info.statuses
-        self.dtype = message_dtype(self.info.message_fields(cfg.groups))
+        scattered = any(s.scattered for s in setups)
+        self.dtype = message_dtype(self.info.message_fields(cfg.groups, scattered))
         self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent

@@ -19,10 +19,12 @@ from swarmsim.controller import (
 )
 
 
-def messages(rows, groups: int = 3, **fields) -> tuple[np.ndarray, np.ndarray]:
-    """rows: (offset, id, group, status), nearest first -> (offsets (k, 2), messages); a
-    robot in Coverage broadcasts moving; ``fields``: columns to set (a value or a list)."""
-    m = np.zeros(len(rows), dtype=message_dtype(run_message_fields(GGC, groups)))
+def messages(rows, groups: int = 3, scattered: bool = False, **fields
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """rows: (offset, id, group, status), nearest first -> (offsets (k, 2), messages) of a
+    run with ``groups`` groups, started ``scattered`` or not; a robot in Coverage broadcasts
+    moving; ``fields``: columns to set (a value or a list)."""
+    m = np.zeros(len(rows), dtype=message_dtype(run_message_fields(GGC, groups, scattered)))
     offsets = np.array([r[0] for r in rows], dtype=float).reshape(-1, 2)
     for k, (_, rid, group, status) in enumerate(rows):
         m[k]["id"], m[k]["group"], m[k]["status"] = rid, group, status
@@ -41,6 +43,7 @@ class Bot:
         setup = RobotSetup(robot_id, leader=leader, group=group, groups=groups,
                            scattered=scattered)
         self.groups = groups
+        self.scattered = scattered
         self.swarm = GGCSwarm([setup], GGCParams(**params), [np.random.default_rng(0)])
         self.me["status"] = status
         self.tick = 10
@@ -54,7 +57,7 @@ class Bot:
              moved=(0.1, 0.0), beacon_deg: float | None = None, tick: int | None = None,
              **fields) -> ChunkActions:
         """Decide one tick with these neighbours (see :func:`messages`)."""
-        offsets, m = messages(rows, self.groups, **fields)
+        offsets, m = messages(rows, self.groups, self.scattered, **fields)
         distances = np.hypot(offsets[:, 0], offsets[:, 1])
         beacon = None if beacon_deg is None else np.array(
             [[np.cos(np.radians(beacon_deg)), np.sin(np.radians(beacon_deg))]])
@@ -66,9 +69,9 @@ class Bot:
         return self.swarm.decide(np.array([0]), batch)
 
 
-def view(rows, groups: int = 3, **fields) -> View:
+def view(rows, groups: int = 3, scattered: bool = False, **fields) -> View:
     """A rule's view of these neighbours (see :func:`messages`), for calling a rule alone."""
-    offsets, m = messages(rows, groups, **fields)
+    offsets, m = messages(rows, groups, scattered, **fields)
     m.flags.writeable = False  # as the driver passes them: read-only strided columns
     return View(offsets, np.hypot(offsets[:, 0], offsets[:, 1]), *(m[name] for name in COLUMNS))
 

@@ -27,19 +27,21 @@ def _random_state(rng: np.random.Generator, n: int) -> np.ndarray:
     return state
 
 
-@pytest.mark.parametrize("groups", [1, 3, 16])
-def test_broadcast_rows_equal_a_field_by_field_numpy_gather(groups):
+@pytest.mark.parametrize(("groups", "scattered"), [(1, True), (3, True), (16, True),
+                                                    (3, False), (10, False)])
+def test_broadcast_rows_equal_a_field_by_field_numpy_gather(groups, scattered):
     rng = np.random.default_rng(groups)
     state = _random_state(rng, 200)
     rows = rng.permutation(200)[:77]
-    dtype = message_dtype(message_fields(groups))
+    dtype = message_dtype(message_fields(groups, scattered))
+    assert dtype["ldist"].shape == ((groups,) if scattered else (0,))
     got = broadcast_rows(state, rows, dtype)
     expected = np.zeros(len(rows), dtype=dtype)
     for name in dtype.names:
         if name == "moving":
             expected[name] = np.isin(state["status"][rows], MOVING_STATUSES)
         elif name in ("ldist", "lepoch"):
-            expected[name] = state[name][rows, :groups]
+            expected[name] = state[name][rows, :groups if scattered else 0]
         else:
             expected[name] = state[SOURCE.get(name, name)][rows]
     assert got.tobytes() == expected.tobytes()
@@ -47,7 +49,7 @@ def test_broadcast_rows_equal_a_field_by_field_numpy_gather(groups):
 
 
 def test_broadcast_rows_refuse_a_dtype_they_do_not_fill():
-    dtype = message_dtype(message_fields(3) + [("extra", "i4")])
+    dtype = message_dtype(message_fields(3, True) + [("extra", "i4")])
     with pytest.raises(ValueError, match="GGC broadcasts have the fields"):
         broadcast_rows(np.zeros(2, dtype=STATE_DTYPE), np.arange(2), dtype)
 

@@ -153,6 +153,14 @@ def test_broadcasts_carry_one_leader_distance_per_group(groups):
     assert heard_of_last_leader.sum() > 10
 
 
+def test_formations_broadcast_no_leader_distances():
+    """Formations never read the scattered start's per-group fields: their rows hold none
+    (every row a robot hears is copied each tick)."""
+    sim = Simulation(small_world(), controller="ggc", robots=60, groups=3, seed=0)
+    assert sim.messages["ldist"].shape == (60, 0) and sim.messages["lepoch"].shape == (60, 0)
+    assert sim.dtype.itemsize <= 48
+
+
 def test_a_robot_not_formed_in_time_covers_on_its_own():
     """aggregation_timeout: a robot of a group still gathering that long after leader selection
     covers on its own (Detection, then Coverage); it does not stop for good as Surplus."""

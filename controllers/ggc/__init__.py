@@ -63,7 +63,7 @@ class GGC:
     Params = GGCParams
     STATUSES = STATUSES
     SETTLED_STATUSES = SETTLED
-    MESSAGE_FIELDS = message_fields(MAX_GROUPS)
+    MESSAGE_FIELDS = message_fields(MAX_GROUPS, scattered=True)
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
@@ -77,9 +77,10 @@ class GGC:
     """Parameters that are floor-probe lengths (checked against the probe range)."""
 
     @classmethod
-    def message_fields_for(cls, groups: int) -> list[tuple]:
-        """GGC's broadcast fields for a run with ``groups`` groups."""
-        return message_fields(groups)
+    def message_fields_for(cls, groups: int, scattered: bool) -> list[tuple]:
+        """GGC's broadcast fields for a run with ``groups`` groups, its robots started
+        ``scattered`` or not (state.message_fields)."""
+        return message_fields(groups, scattered)
 
     @classmethod
     def sensing_range(cls, params: GGCParams) -> float:
@@ -106,13 +107,14 @@ class GGC:
         run's types: two robots of a made-up chunk decided."""
         setups = [RobotSetup(0, leader=True, group=1), RobotSetup(1, group=1)]
         swarm = GGCSwarm(setups, cls.Params(), [np.random.default_rng(s) for s in (0, 1)])
-        messages = np.zeros(2, dtype=message_dtype(run_message_fields(cls, 1)))
-        messages["id"] = [1, 0]
-        batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
-                            np.array([[1.0, 0.0], [-1.0, 0.0]]), [False, False],
-                            np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None,
-                            lambda ks, offsets: np.zeros(len(ks), dtype=bool))
-        swarm.decide(np.arange(2), batch)
+        for scattered in (False, True):  # the two starts' broadcasts: two column types
+            messages = np.zeros(2, dtype=message_dtype(run_message_fields(cls, 1, scattered)))
+            messages["id"] = [1, 0]
+            batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
+                                np.array([[1.0, 0.0], [-1.0, 0.0]]), [False, False],
+                                np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None,
+                                lambda ks, offsets: np.zeros(len(ks), dtype=bool))
+            swarm.decide(np.arange(2), batch)
 
 
 __all__ = ["GGC", "GGCParams", "GGCSwarm"]

@@ -131,10 +131,10 @@ class GGCSwarm:
         self.params = params
         self.rules = rule_params(params, groups, scattered)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
-        # the broadcasts' kernel is typed by the run's message dtype (one ldist, lepoch entry
-        # per group): compiled or loaded now, before the run's clock starts
+        # the broadcasts' kernel is typed by the run's message dtype (message_fields):
+        # compiled or loaded now, before the run's clock starts
         broadcast_rows(self.state, np.zeros(0, dtype=np.int64),
-                       message_dtype(message_fields(groups)))
+                       message_dtype(message_fields(groups, scattered)))
         open_probes(np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.int64),
                     np.zeros((0, MAX_PROBES), dtype=np.int8), np.zeros((0, MAX_PROBES, 2)))
 
