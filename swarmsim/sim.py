@@ -359,9 +359,10 @@ class Simulation:
 
         Everyone decides from the same snapshot (positions, last tick's broadcasts), so the
         chunks change nothing but the memory: the neighbour views and the heard messages (one
-        row per neighbour: 42 bytes for GGC with one group, 162 with 16) exist for one chunk at
-        a time. On the first tick of a 10,000-robot formation every robot hears ~800
-        neighbours: with 16 groups' rows, ~1.3 GB in one piece.
+        row per neighbour: GGC's are 44 bytes for formations, 8 more per group for the scattered
+        start) exist for one chunk at a time. On the first tick of a 10,000-robot formation
+        every robot hears ~800 neighbours: with rows of 162 bytes (16 groups' fields, as GGC's
+        once were), ~1.3 GB in one piece.
         """
         clock = time.perf_counter
         moved = self.positions - self._prev_positions
