@@ -126,8 +126,9 @@ BROADCAST_NAMES = ("id", "status", "moving", *(f[0] for f in ALL_MESSAGE_FIELDS)
 
 def broadcast_rows(state: np.ndarray, rows: np.ndarray, dtype: np.dtype) -> np.ndarray:
     """The broadcasts (in the run's message ``dtype``: :data:`BROADCAST_NAMES`, with the
-    ldist and lepoch entries :func:`message_fields` gives) of the robots at ``rows``, in one compiled pass (the values of
-    numpy's field-by-field gather, to the bit: the same casts to the message's types)."""
+    ldist and lepoch entries :func:`message_fields` gives) of the robots at ``rows``, in one
+    compiled pass (the values of numpy's field-by-field gather, to the bit: the same casts
+    to the message's types)."""
     if dtype.names != BROADCAST_NAMES:
         raise ValueError(f"GGC broadcasts have the fields {BROADCAST_NAMES}, not {dtype.names}")
     out = np.empty(len(rows), dtype=dtype)
