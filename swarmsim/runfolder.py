@@ -42,9 +42,10 @@ class NewFolders:
         self.created: list[Path] = []
         """Folders this object created, in the order created (parents first)."""
 
-    def make(self, folder: str | Path) -> Path:
+    def make(self, folder: str | Path, attempts: int = 3) -> Path:
         """Create ``folder`` and the parents it lacks (OSError as ``Path.mkdir``); remember
-        those created here (not one another process made meanwhile). Returns the folder."""
+        those created here (not one another process made meanwhile). Returns the folder.
+        ``attempts``: tries, when a parent is removed meanwhile (another run's clean-up)."""
         folder = Path(folder)
         for path in reversed((folder, *folder.absolute().parents)):
             if path.is_dir():
@@ -53,6 +54,10 @@ class NewFolders:
                 path.mkdir()
             except FileExistsError:
                 continue  # made by someone else meanwhile (or a file: the next mkdir says so)
+            except FileNotFoundError:
+                if attempts <= 1:
+                    raise
+                return self.make(folder, attempts - 1)
             self.created.append(path)
         return folder
 
