@@ -216,8 +216,9 @@ def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) 
     if preview is not None:
         from swarmsim.render.preview import save_preview
 
-        _make_folder("--preview", preview.parent)
-        print(f"preview: {save_preview(reports[0], preview, width)}")
+        with runfolder.removed_if_left_empty() as made:  # if drawing fails
+            _make_folder("--preview", preview.parent, made)
+            print(f"preview: {save_preview(reports[0], preview, width)}")
     return 0
 
 
@@ -243,10 +244,11 @@ def cmd_make_world(args: argparse.Namespace) -> int:
                      size=args.size, d_cover=args.d_cover, robots=args.robots,
                      groups=args.groups)
     built = build_world(shape, spec)
-    _make_folder("--out", args.out.parent)
     header = (f"Made by `swarmsim make-world` from {how}.\n"
               "Edit freely: `swarmsim worlds THIS.toml` describes it, --preview draws it.")
-    path = write_world(built, args.out, header)
+    with runfolder.removed_if_left_empty() as made:  # if writing fails
+        _make_folder("--out", args.out.parent, made)
+        path = write_world(built, args.out, header)
     d = built.data["defaults"]
     print(f"wrote {path}: {built.world.target_area:,.0f} units^2, {d['robots']} robots, "
           f"{d['groups']} group(s), d_cover {d['d_cover']:g}")
@@ -489,8 +491,10 @@ def _dispatch(args: argparse.Namespace) -> int:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"swarmsim: interrupted; finished runs are saved in {args.out}: run the same "
-              "command again to resume", file=sys.stderr)
+        saved = (f"finished runs are saved in {args.out}" if Path(args.out).is_dir()
+                 else "no run had finished (nothing is left behind)")
+        print(f"swarmsim: interrupted; {saved}: run the same command again to resume",
+              file=sys.stderr)
         return 130
 
 
