@@ -16,8 +16,8 @@ lost and the run goes on. So:
   tick (``Simulation.step``), or the end of :func:`handled`;
 - anywhere else the handler raises KeyboardInterrupt at once, as Python's own does (an
   interrupt while numba loads a kernel still ends the run: see
-  swarmsim.errors.interrupts_unwrapped). A second signal while one is pending also raises at
-  once.
+  swarmsim.errors.interrupts_unwrapped). A second signal inside the shield is noted too
+  (raised there it would only be swallowed, noisily): the run stops at the tick's end.
 
 Outside :func:`handled` (a loop of ``sim.step()`` of your own, a thread other than the main
 one) signals are left to Python's handlers; wrap such a loop in ``handled()`` to get the same
@@ -64,9 +64,9 @@ def raise_pending() -> None:
 
 
 def _on_signal(signum: int, frame: FrameType | None) -> None:
-    """SIGINT / SIGTERM while :func:`handled`: noted inside :data:`shield` (the first time),
-    raised as KeyboardInterrupt anywhere else."""
-    if shield.depth and not shield.pending:
+    """SIGINT / SIGTERM while :func:`handled`: noted inside :data:`shield`, raised as
+    KeyboardInterrupt anywhere else."""
+    if shield.depth:
         shield.pending = signum
         return
     raise KeyboardInterrupt

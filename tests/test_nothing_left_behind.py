@@ -164,6 +164,25 @@ def test_a_signal_inside_a_pymunk_callback_stops_the_run_at_the_end_of_the_tick(
     assert sims[0].tick == at[0] + 1
 
 
+def test_ctrl_c_outside_the_physics_raises_at_once_and_the_handlers_are_restored():
+    """Python API: Ctrl-C anywhere else in the loop (here in on_tick) raises at once, as
+    Python's own handler does; after the run the handlers are the ones before it."""
+    sim = Simulation("tiny", controller=f"{BOTS}:Crowd", seed=1, max_ticks=100_000,
+                     settings={"stop_on_complete": False})
+
+    def ctrl_c_at_tick_5(sim):
+        if sim.tick == 5:
+            os.kill(os.getpid(), signal.SIGINT)
+        assert sim.tick <= 5, "the interrupt was not raised at once"
+
+    before = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+    with pytest.raises(KeyboardInterrupt):
+        sim.run(on_tick=ctrl_c_at_tick_5)
+    assert sim.tick == 5
+    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
 def _then(first, second):
     """A pymunk callback that calls ``first``, then ``second``."""
     def both(arbiter, space, data):
