@@ -10,7 +10,7 @@ and leaves it empty, locked while the run uses it, and holding one run's files.
   the folder while the run writes there; a second run into a locked folder is refused with a
   ConfigError naming the folder and the other run's pid. The lock goes with the process (a
   killed run leaves no stale lock; its file is reused). Where there is no ``fcntl``
-  (Windows) there is no lock.
+  (Windows), or the file system has no ``flock``, there is no lock.
 - :func:`clear_run` removes the files a run writes (``RUN_FILES``, and the hidden temporary
   files of their atomic writes that a killed writer left), and only those: a user's own files
   in the folder are kept.
@@ -151,6 +151,8 @@ def _acquire(path: Path, folder: str | Path, key: str) -> int:
             who = _holder_of(fd)
             os.close(fd)
             raise _in_use(folder, who, key) from None
+        except OSError:  # a file system without flock (some network ones): no lock there
+            break
         if _same_file(fd, path):
             break
         os.close(fd)  # the holder removed the file between our open and lock: take the next
@@ -175,6 +177,8 @@ def _is_locked(fd: int) -> bool:
         fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
     except BlockingIOError:
         return True
+    except OSError:  # no flock on this file system
+        return False
     fcntl.flock(fd, fcntl.LOCK_UN)
     return False
 
