@@ -34,20 +34,26 @@ from types import FrameType
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
+_MAIN_THREAD = threading.main_thread().ident
+"""Signal handlers run in the main thread: only its shielded blocks count."""
+
 
 class _Shield:
     """A re-entrant block in which an interrupt is only noted (module docstring). ``depth``
-    counts the shielded blocks entered; ``pending`` is the signal noted, 0 for none."""
+    counts the shielded blocks the main thread is in; ``pending`` is the signal noted, 0 for
+    none. Other threads (a Dask worker's runs) pass through."""
 
     def __init__(self) -> None:
         self.depth = 0
         self.pending = 0
 
     def __enter__(self) -> None:
-        self.depth += 1
+        if threading.get_ident() == _MAIN_THREAD:
+            self.depth += 1
 
     def __exit__(self, exc_type, exc, tb) -> None:
-        self.depth -= 1
+        if threading.get_ident() == _MAIN_THREAD:
+            self.depth -= 1
 
 
 shield = _Shield()
@@ -57,8 +63,8 @@ step): a signal received inside is raised by the next :func:`raise_pending`."""
 
 def raise_pending() -> None:
     """Raise KeyboardInterrupt if a signal was noted inside :data:`shield` (a safe point:
-    call it where the state is whole, e.g. between two ticks). Costs one attribute read."""
-    if shield.pending:
+    call it where the state is whole, e.g. between two ticks), in the main thread only."""
+    if shield.pending and threading.get_ident() == _MAIN_THREAD:
         shield.pending = 0
         raise KeyboardInterrupt
 
