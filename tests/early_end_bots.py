@@ -66,3 +66,12 @@ class Interrupted(_Base):
         if p.tick >= GO_FROM_TICK:
             raise KeyboardInterrupt
         return super().step(p)
+
+
+class UndeclaredField(_Base):
+    """Broadcasts a field its class does not declare from tick GO_FROM_TICK on."""
+
+    def step(self, p: Perception) -> Action:
+        if p.tick >= GO_FROM_TICK:
+            return Action((0.0, 0.0), {"status": 0, "moving": True, "mood": 3})
+        return super().step(p)

@@ -28,6 +28,7 @@ ENDINGS = {
     "refused --color-by": ["--color-by", "no-such-field"],
     "controller raises": ["--controller", f"{BOTS}:RaisesInStep"],
     "NaN velocity": ["--controller", f"{BOTS}:NanVelocity"],
+    "undeclared broadcast field": ["--controller", f"{BOTS}:UndeclaredField"],
     "interrupt": ["--controller", f"{BOTS}:Interrupted"],
 }
 """Ways a run ends early: the options that make ``swarmsim run tiny`` end so."""
