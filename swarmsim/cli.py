@@ -16,8 +16,10 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
+from swarmsim import runfolder
 from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
+from swarmsim.runfolder import NewFolders
 from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
@@ -214,8 +216,9 @@ def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) 
     if preview is not None:
         from swarmsim.render.preview import save_preview
 
-        _make_folder("--preview", preview.parent)
-        print(f"preview: {save_preview(reports[0], preview, width)}")
+        with runfolder.removed_if_left_empty() as made:  # if drawing fails
+            _make_folder("--preview", preview.parent, made)
+            print(f"preview: {save_preview(reports[0], preview, width)}")
     return 0
 
 
@@ -241,10 +244,11 @@ def cmd_make_world(args: argparse.Namespace) -> int:
                      size=args.size, d_cover=args.d_cover, robots=args.robots,
                      groups=args.groups)
     built = build_world(shape, spec)
-    _make_folder("--out", args.out.parent)
     header = (f"Made by `swarmsim make-world` from {how}.\n"
               "Edit freely: `swarmsim worlds THIS.toml` describes it, --preview draws it.")
-    path = write_world(built, args.out, header)
+    with runfolder.removed_if_left_empty() as made:  # if writing fails
+        _make_folder("--out", args.out.parent, made)
+        path = write_world(built, args.out, header)
     d = built.data["defaults"]
     print(f"wrote {path}: {built.world.target_area:,.0f} units^2, {d['robots']} robots, "
           f"{d['groups']} group(s), d_cover {d['d_cover']:g}")
@@ -324,11 +328,12 @@ def _check_width(width: int) -> None:
         raise ConfigError(str(exc).removeprefix("width "), key="--width") from None
 
 
-def _make_folder(key: str, folder: str | Path) -> None:
+def _make_folder(key: str, folder: str | Path, made: NewFolders | None = None) -> None:
     """Create ``folder`` (and its parents) now, so that a path that cannot be written is one
-    error naming the option before any work, not a traceback after it."""
+    error naming the option before any work, not a traceback after it. With ``made``, the
+    folders created are remembered there (to be removed if the command ends early)."""
     try:
-        Path(folder).mkdir(parents=True, exist_ok=True)
+        (made or NewFolders()).make(folder)
     except OSError as exc:
         raise ConfigError(f"cannot create the folder {str(folder)!r} ({exc.strerror})",
                           key=key) from None
@@ -371,15 +376,17 @@ def _check_output_paths(args: argparse.Namespace) -> None:
         raise ConfigError(f"must be an .mp4 file, got {str(args.video)!r}", key="--video")
     for key, folder in _output_folders(args):
         _check_folder(key, folder)
+    if args.out:
+        runfolder.check_free(args.out)  # quick: another run writing there (locked: cmd_run)
     for key, path in (("--video", args.video), ("--snapshot", args.snapshot)):
         if path and Path(path).is_dir():
             raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
 
 
-def _make_output_folders(args: argparse.Namespace) -> None:
-    """Make the folders run writes to (and find them writable)."""
+def _make_output_folders(args: argparse.Namespace, made: NewFolders) -> None:
+    """Make the folders run writes to (and find them writable), remembered in ``made``."""
     for key, folder in _output_folders(args):
-        _make_folder(key, folder)
+        _make_folder(key, folder, made)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -395,18 +402,20 @@ def cmd_run(args: argparse.Namespace) -> int:
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))
-    _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,
                         highlight_contacts=args.highlight_contacts,
-                        trajectories_every=every)
-    with recorder:
-        result = sim.run(progress=not args.quiet,
-                         on_tick=recorder.on_tick)
+                        trajectories_every=every)  # checks --color-by and the frame's options
+    # only now the folders; a run that ends early in any way removes those it made
+    with runfolder.removed_if_left_empty() as made:
+        _make_output_folders(args, made)
+        with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
+            with recorder:
+                result = sim.run(progress=not args.quiet, on_tick=recorder.on_tick)
+            if args.out:
+                recorder.write_outputs(args.out, result)
     s = result.summary
-    if args.out:
-        recorder.write_outputs(args.out, result)
     done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
     print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
           f"seed={s['seed']}: coverage {100 * s['coverage']:.1f}% ({done}), ticks {s['ticks']}, "
@@ -482,8 +491,10 @@ def _dispatch(args: argparse.Namespace) -> int:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
-        print(f"swarmsim: interrupted; finished runs are saved in {args.out}: run the same "
-              "command again to resume", file=sys.stderr)
+        saved = (f"finished runs are saved in {args.out}" if Path(args.out).is_dir()
+                 else "no run had finished (nothing is left behind)")
+        print(f"swarmsim: interrupted; {saved}: run the same command again to resume",
+              file=sys.stderr)
         return 130
 
 

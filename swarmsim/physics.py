@@ -27,7 +27,7 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
-from swarmsim import chipmunkcalls, contactrows
+from swarmsim import chipmunkcalls, contactrows, interrupts
 from swarmsim.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.world import World
 
@@ -331,12 +331,14 @@ class Physics:
         pb.set_space_bodies(self.space, pb.BodyFields.VELOCITY, buf)
 
     def step(self) -> None:
-        """Advance one tick."""
+        """Advance one tick. An interrupt during pymunk's step is raised by the caller's
+        next ``interrupts.raise_pending()`` (see swarmsim.interrupts)."""
         if self._sleep and self._contacts_at != self._steps:
             self._arbiters()  # sleepers keep the contacts they have now
         dt = 1.0 / self.config.substeps
-        for _ in range(self.config.substeps):
-            self.space.step(dt)
+        with interrupts.shield:  # pymunk's callbacks would swallow a KeyboardInterrupt
+            for _ in range(self.config.substeps):
+                self.space.step(dt)
         self._steps += 1
 
     def contact_state(self) -> ContactState:

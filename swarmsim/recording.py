@@ -11,6 +11,7 @@ from typing import Any, Self
 
 from swarmsim.errors import ConfigError
 from swarmsim.output import write_npz, write_run
+from swarmsim.runfolder import clear_run
 from swarmsim.sim import RunResult, Simulation
 from swarmsim.trajectories import FILE_NAME as TRAJECTORIES_FILE
 from swarmsim.trajectories import Trajectories
@@ -43,6 +44,8 @@ class Recorder:
         self._writer = None
         self._render_kw: dict[str, Any] = {"color_by": color_by, "width": width,
                                            "highlight_contacts": highlight_contacts}
+        if video is not None or snapshot is not None:
+            self.renderer  # noqa: B018  its checks now, before the caller makes any folder
 
     @property
     def renderer(self):
@@ -89,7 +92,19 @@ class Recorder:
 
     def write_outputs(self, out_dir: Path, result: RunResult) -> Path:
         """summary.json, timeseries.csv, robots.csv, coverage.npz, coverage.png and (if
-        sampled) trajectories.npz in ``out_dir`` (docs/outputs.md describes each)."""
+        sampled) trajectories.npz in ``out_dir`` (docs/outputs.md describes each).
+
+        The folder holds one run: the files an earlier run wrote there (swarmsim.runfolder
+        RUN_FILES, e.g. its trajectories.npz) are removed first, and if writing fails or is
+        interrupted the files written so far are removed too. Other files are left alone."""
+        clear_run(out_dir)
+        try:
+            return self._write_outputs(Path(out_dir), result)
+        except BaseException:
+            clear_run(out_dir)
+            raise
+
+    def _write_outputs(self, out_dir: Path, result: RunResult) -> Path:
         out = write_run(out_dir, result.summary, result.timeseries, result.robots)
         write_npz(out / "coverage.npz", self.sim.grid.arrays(self.sim.positions))
         if self.trajectories is not None:

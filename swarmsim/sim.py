@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
+from swarmsim import cellsearch, contactrows, interrupts, spawn, tallies, tickrows, wakes
 from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
@@ -338,6 +338,7 @@ class Simulation:
         t4 = clock()
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
+        interrupts.raise_pending()  # one noted during the physics step: the tick is whole
 
     def _on_target_now(self, before: np.ndarray) -> np.ndarray:
         """(N,) the floor sensors after the physics step (robots were at ``before``)."""
@@ -513,7 +514,7 @@ class Simulation:
         bar = _progress_bar(self.config.max_ticks, progress)
         start, start_cpu = time.perf_counter(), time.process_time()
         try:
-            with _old_objects_frozen():
+            with _old_objects_frozen(), interrupts.handled():  # never a lost Ctrl-C
                 while self.stop_reason is None:
                     self.step()
                     if on_tick is not None:

@@ -317,6 +317,7 @@ def test_sigterm_stops_a_sweep_and_its_worker_processes(tmp_path):
             time.sleep(0.1)
         assert not [w for w in workers if _alive(w)]
         assert not list(tmp_path.glob("o/runs/*/claim.json"))
+        assert not (tmp_path / "o").exists()  # no run had finished: no empty runs/<id>/ left
     finally:
         for pid in [proc.pid, *workers]:
             with contextlib.suppress(OSError):

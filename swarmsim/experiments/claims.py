@@ -75,10 +75,16 @@ def claim(run_dir: Path) -> bool:
     The claim is written whole to a private file, then hard-linked to its name, which fails
     if the name exists: no process ever reads a half-written claim.
     """
-    run_dir.mkdir(parents=True, exist_ok=True)
     path = run_dir / CLAIM_FILE
     mine = run_dir / f".claim.{os.getpid()}.tmp"
-    mine.write_text(json.dumps(_me()))
+    for attempt in range(3):
+        run_dir.mkdir(parents=True, exist_ok=True)
+        try:
+            mine.write_text(json.dumps(_me()))
+            break
+        except FileNotFoundError:  # an interrupted sweep removed the empty folder meanwhile
+            if attempt == 2:
+                raise
     try:
         try:
             _link(mine, path)

@@ -40,6 +40,7 @@ from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
 from swarmsim.output import write_csv, write_json, write_npz
+from swarmsim.runfolder import NewFolders, removed_if_left_empty
 
 DONE, FAILED = "done", "failed"
 
@@ -253,21 +254,27 @@ class Sweep:
             retry_failed: bool = False, progress: bool = True,
             on_result: Callable[[RunSpec, str], None] | None = None) -> SweepReport:
         """Run every pending run once; see :func:`run_sweep`. The executor is opened (a bad
-        worker count or scheduler refused) before anything is written."""
+        worker count or scheduler refused) before anything is written.
+
+        A sweep that ends early (interrupted, a worker died) leaves nothing behind but its
+        finished runs: the folders it made (the output folder, ``runs/``, ``runs/<id>/``) are
+        removed again as far as they are empty once the claims of the runs in flight are
+        dropped; a folder that existed before is kept, as is any that holds a file."""
         check_workers(workers)
         todo = self.pending(retry_failed)
         tally: Counter[str] = Counter()
         pool = open_pool(workers, scheduler, tasks=len(todo)) if todo else nullcontext()
         in_flight: dict[cf.Future, RunSpec] = {}
-        try:
-            with pool as opened:
-                self.out.mkdir(parents=True, exist_ok=True)
-                self.write_table()
-                if todo:
-                    self._execute(opened, todo, in_flight, progress, on_result, tally)
-        finally:  # interrupted: the pool has stopped its workers; only now free their runs
-            for run in in_flight.values():
-                claims.release(self.store.path(run.run_id))
+        with removed_if_left_empty() as made:
+            try:
+                with pool as opened:
+                    made.make(self.out)
+                    if todo:
+                        self._execute(opened, todo, in_flight, progress, on_result, tally, made)
+                    self.write_table()  # after each run too (record): here for a sweep with none
+            finally:  # interrupted: the pool has stopped its workers; only now free their runs
+                for run in in_flight.values():
+                    claims.release(self.store.path(run.run_id))
         return SweepReport(len(self.runs), len(self.runs) - len(todo) + tally["elsewhere"],
                            tally["ran"], self.failed_count(), self.table_path,
                            self.code_versions(), busy=tally["busy"],
@@ -280,11 +287,11 @@ class Sweep:
                    and ((p / "summary.json").is_file() or (p / "error.txt").is_file()))
 
     def _execute(self, pool, todo: list[RunSpec], in_flight: dict[cf.Future, RunSpec],
-                 progress: bool, on_result, tally: Counter[str]) -> None:
+                 progress: bool, on_result, tally: Counter[str], made: NewFolders) -> None:
         """Run ``todo`` on ``pool``, claiming each run just before it is submitted (see
         claims.py) and keeping one run per worker in flight, so that other processes can share
         the rest. ``in_flight`` holds the runs submitted and not finished (the caller frees
-        their claims once the pool has stopped)."""
+        their claims once the pool has stopped); ``made`` remembers the run folders made."""
         from tqdm import tqdm
 
         bar = tqdm(total=len(todo), unit="run", desc="sweep", file=sys.stderr,
@@ -292,24 +299,25 @@ class Sweep:
         queue = iter(todo)
         try:
             window = pool.window(len(todo))
-            self._submit_more(pool, queue, in_flight, window, tally, bar)
+            self._submit_more(pool, queue, in_flight, window, tally, bar, made)
             while in_flight:
                 future = pool.next_completed(in_flight)
                 run = in_flight.pop(future)
                 self._finish(run, _outcome(future), tally, bar, on_result)
-                self._submit_more(pool, queue, in_flight, window, tally, bar)
+                self._submit_more(pool, queue, in_flight, window, tally, bar, made)
         finally:
             bar.close()
 
     def _submit_more(self, pool, queue, in_flight: dict, window: int, tally: Counter[str],
-                     bar) -> None:
+                     bar, made: NewFolders) -> None:
         """Claim and submit runs until ``window`` are in flight; runs another process has
-        claimed, or has finished meanwhile, are passed over."""
+        claimed, or has finished meanwhile, are passed over. The run folders made for the
+        claims are remembered in ``made``."""
         while len(in_flight) < window:
             run = next(queue, None)
             if run is None:
                 return
-            path = self.store.path(run.run_id)
+            path = made.make(self.store.path(run.run_id))
             if not claims.claim(path):
                 tally["busy"] += 1
             elif self.store.status(run.run_id) == DONE:  # another process finished it
