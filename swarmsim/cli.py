@@ -18,6 +18,7 @@ from typing import Any
 
 from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
+from swarmsim.limits import MAX_FPS, MAX_FRAME_SIDE, MAX_ROBOTS, MAX_TICKS, check_count
 from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
@@ -37,12 +38,12 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
     p.add_argument("--controller",
                    help="controller name or module:Class (default: the world's, else ggc)")
-    p.add_argument("--robots", type=int, help="number of robots (default: the world's)")
+    p.add_argument("--robots", type=int, help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
     p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
     p.add_argument("--d-cover", type=float, dest="d_cover",
                    help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
     p.add_argument("--seed", type=int, default=0, help="run seed (default 0)")
-    p.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit (default 100000)")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks", help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="any other parameter; see 'swarmsim params'")
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
@@ -52,14 +53,15 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                         "every K ticks, compressed; kept in memory until the run ends: "
                         "N x 9 bytes per sample, (ticks / K + 2) samples (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
-    p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
+    p.add_argument("--fps", type=int, default=30, help=f"video frames per second (default 30, at most {MAX_FPS})")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
                    help="a video frame every K ticks (default: max_ticks / 600, at least 1 "
                         "and at most 50)")
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="robot colouring in videos: status, or a field the controller offers "
                         "(GGC: gradient (default), group)")
-    p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
+    p.add_argument("--width", type=int, default=800, help="video/snapshot width in px (default 800; even, 64 to "
+                   f"{MAX_FRAME_SIDE:,})")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something (collision-realism videos)")
     p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
@@ -177,7 +179,8 @@ def build_parser() -> argparse.ArgumentParser:
     wp.add_argument("--preview", type=Path, metavar="FILE.png",
                     help="draw the world (one WORLD) with its robots at the start, without "
                     "running it")
-    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800)")
+    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800; even, 64 "
+                    f"to {MAX_FRAME_SIDE:,})")
     _add_make_world_parser(sub)
     sub.add_parser("controllers", help="list registered controllers")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning")
@@ -207,6 +210,8 @@ def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) 
             raise ConfigError(f"must be a .png file, got {str(preview)!r}", key="--preview")
         _check_width(width)
     reports = [describe_world(load_world(name)) for name in names]
+    if preview is not None:
+        _check_width(width, reports[0].world.arena)
     for k, report in enumerate(reports):
         if k:
             print()
@@ -295,8 +300,8 @@ def cmd_params(controller: str) -> int:
 
 
 def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
-    if args.frame_every and args.frame_every < 0:
-        raise ConfigError(f"must be positive, got {args.frame_every!r}", key="--frame-every")
+    if args.frame_every:
+        check_count("--frame-every", args.frame_every, MAX_TICKS, "ticks in one run")
     return args.frame_every or max(1, min(50, max_ticks // 600))
 
 
@@ -313,13 +318,13 @@ def _trajectories_every(args: argparse.Namespace) -> int:
     return every
 
 
-def _check_width(width: int) -> None:
-    """Refuse a frame width the renderer cannot draw, before the run rather than at its first
-    frame."""
-    from swarmsim.render.frame import check_width
+def _check_width(width: int, arena: tuple[float, float, float, float] | None = None) -> None:
+    """Refuse a frame width the renderer cannot draw (and, given the ``arena``, a frame height
+    it would make), before the run rather than at its first frame."""
+    from swarmsim.render.frame import check_width, frame_size
 
     try:
-        check_width(width)
+        check_width(width) if arena is None else frame_size(arena, width)
     except ValueError as exc:
         raise ConfigError(str(exc).removeprefix("width "), key="--width") from None
 
@@ -386,8 +391,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
 
-    if args.fps <= 0:
-        raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
+    check_count("--fps", args.fps, MAX_FPS, "video frames per second")
+    _frame_every(args, MAX_TICKS)
     if args.video or args.snapshot:
         _check_width(args.width)
     every = _trajectories_every(args)
@@ -395,6 +400,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
                      max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    if args.video or args.snapshot:
+        _check_width(args.width, sim.world.arena)
+    if every:
+        from swarmsim.trajectories import check_memory
+
+        check_memory(every, sim.n, sim.config.max_ticks, key="--trajectories")
     _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),

@@ -17,11 +17,13 @@ import dataclasses
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
-from swarmsim.errors import ConfigError
+from swarmsim import limits
+from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.imperfections import NoiseLevels
+from swarmsim.limits import MAX_GRID_SIZE, MAX_ROBOTS, MAX_TICKS, at_most
 from swarmsim.physics import PhysicsConfig
 
 UNBOUNDED_PARAMS = frozenset({"spin_traction"})
@@ -81,21 +83,23 @@ class SimConfig:
             place) once it is this far from where it settled, units.
     """
 
-    robots: int = 100
-    groups: int = 1
+    robots: int = field(default=100, metadata=at_most(MAX_ROBOTS,
+                                                           "robots in one run"))
+    groups: int = field(default=1, metadata=at_most(MAX_ROBOTS))
     seed: int = 0
-    max_ticks: int = 100_000
+    max_ticks: int = field(default=100_000, metadata=at_most(MAX_TICKS, "ticks in one run"))
     start: str = ""
     spawn_spacing: float = 1.0
     formation_spacing: float = 1.0
     v_max: float = 0.1
     coverage_radius: float = 4.0
     eps0: float = 0.01
-    grid_size: int = 100
-    record_every: int = 10
-    plateau_ticks: int = 10000
+    grid_size: int = field(default=100, metadata=at_most(
+        MAX_GRID_SIZE, "the coverage raster has grid_size x grid_size cells"))
+    record_every: int = field(default=10, metadata=at_most(MAX_TICKS))
+    plateau_ticks: int = field(default=10000, metadata=at_most(MAX_TICKS))
     plateau_delta: float = 0.002
-    stall_ticks: int = 1000
+    stall_ticks: int = field(default=1000, metadata=at_most(MAX_TICKS))
     stop_on_complete: bool = True
     probe_range: float = 2.0
     wake_eps: float = 1e-3
@@ -104,7 +108,7 @@ class SimConfig:
     batch_decide: bool = True
     failures: int = 0
     failure_phase: str = "coverage"
-    failure_tick: int = 0
+    failure_tick: int = field(default=0, metadata=at_most(MAX_TICKS))
     speed_noise: float = 0.0
     heading_noise: float = 0.0
     distance_noise: float = 0.0
@@ -123,6 +127,7 @@ class SimConfig:
             value = getattr(self, name)
             if not value > 0:
                 raise ConfigError(f"must be positive, got {value!r}", key=name)
+        limits.check_fields(self)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"must be a non-negative integer, got {self.seed!r}", key="seed")
         for name in ("eps0", "plateau_delta"):
@@ -255,9 +260,9 @@ def resolve_settings(settings: Mapping[str, Any], params_cls: type
                 dest[key] = coerce(value, defaults[key], key)
                 break
         else:
-            known = sorted(set().union(*targets))
-            raise ConfigError(f"unknown parameter (value {value!r}); known parameters: "
-                              f"{', '.join(known)}", key=key)
+            message = unknown_name("parameter", key, set().union(*targets),
+                                   "see 'swarmsim params'")
+            raise ConfigError(f"{message} (value {value!r})", key=key)
     return out
 
 
@@ -266,6 +271,8 @@ def build_configs(settings: Mapping[str, Any], params_cls: type
     """Build validated configs; every error names the key and value."""
     sim_kw, phys_kw, ctrl_kw = resolve_settings(settings, params_cls)
     sim = SimConfig(**sim_kw)
+    limits.check_values(PhysicsConfig, phys_kw)  # before building: a bound sizes something
+    limits.check_values(params_cls, ctrl_kw)
     try:
         phys = PhysicsConfig(**phys_kw)
     except ValueError as exc:
@@ -287,3 +294,15 @@ def _named_key(message: str, settings: Mapping[str, Any]) -> str | None:
     named = [(m.start(), key) for key in settings
              if (m := re.search(rf"\b{re.escape(key)}\b", message))]
     return min(named)[1] if named else None
+
+
+def check_given_once(given: Mapping[str, tuple[str, Any]],
+                     settings_given: Mapping[str, tuple[str, Any]]) -> None:
+    """Refuse a setting given both by an option and among the ``--set`` pairs.
+
+    ``given`` and ``settings_given`` map a setting's key to (how it was written, value), e.g.
+    ``{"robots": ("--robots 5", 5)}`` and ``{"robots": ("--set robots=7", 7)}``; only the
+    keys given in both are compared."""
+    for key in sorted(set(given) & set(settings_given)):
+        raise ConfigError(f"given twice: {given[key][0]} and {settings_given[key][0]}; give "
+                          "it once", key=key)
