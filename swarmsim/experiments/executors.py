@@ -22,6 +22,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_WORKERS_PER_CPU, check_count
 
 
 class InProcessExecutor(cf.Executor):
@@ -133,11 +134,16 @@ def dask_client(scheduler: Any):
                           key="--scheduler") from None
 
 
+def max_workers() -> int:
+    """The most local worker processes a sweep starts: MAX_WORKERS_PER_CPU per CPU."""
+    return MAX_WORKERS_PER_CPU * (os.cpu_count() or 1)
+
+
 def check_workers(workers: int | None) -> None:
-    """Refuse a worker count below 1 (None = one per CPU)."""
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):
-        raise ConfigError(f"must be >= 1, got {workers!r}", key="--workers")
+    """Refuse a worker count below 1 or above max_workers() (None = one per CPU)."""
+    if workers is not None:
+        check_count("--workers", workers, max_workers(),
+                    f"{MAX_WORKERS_PER_CPU} processes per CPU on this machine")
 
 
 @contextmanager

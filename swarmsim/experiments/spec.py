@@ -36,6 +36,7 @@ import functools
 import hashlib
 import itertools
 import json
+import math
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -43,7 +44,8 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.config import PhysicsConfig, SimConfig, coerce, field_defaults
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, unknown_name
+from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
 
 TOP_KEYS = ("name", "description", "world", "controller", "reps", "seeds", "seed_base",
             "params", "grid")
@@ -221,8 +223,9 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
     world loads and that every setting name is known to its controller."""
     unknown = [k for k in data if k not in TOP_KEYS]
     if unknown:
-        raise ConfigError(f"unknown key (value {data[unknown[0]]!r}); allowed keys: "
-                          f"{', '.join(TOP_KEYS)}", source=source, key=unknown[0])
+        message = unknown_name("key", unknown[0], TOP_KEYS)
+        raise ConfigError(f"{message} (value {data[unknown[0]]!r})", source=source,
+                          key=unknown[0])
     name = _string(data, "name", "", source)
     description = _string(data, "description", "", source)
     params = _params(data.get("params", {}), source)
@@ -237,6 +240,7 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
         raise ConfigError(f"set both in [params] ({params[both[0]]!r}) and in [grid] "
                           f"({grid[both[0]]!r})", source=source, key=f"grid.{both[0]}")
     seeds = _seeds(data, source)
+    _check_run_count(grid, seeds, source)
     spec = SweepSpec(source, world, controller, params, grid, seeds, name, description,
                      base_dir)
     if check:
@@ -301,6 +305,15 @@ def _grid(value: Any, source: str) -> dict[str, list[Any]]:
     return out
 
 
+def _check_run_count(grid: Mapping[str, list[Any]], seeds: tuple[int, ...], source: str) -> None:
+    """Refuse a sweep of more than MAX_RUNS runs (grid points x seeds), before listing them."""
+    runs = math.prod(len(v) for v in grid.values()) * len(seeds)
+    if runs > MAX_RUNS:
+        sizes = " x ".join(f"{len(v)} {k}" for k, v in grid.items())
+        raise ConfigError(f"{sizes} x {len(seeds)} seeds make {runs:,} runs, more than "
+                          f"{MAX_RUNS:,} in one sweep", source=source, key="grid")
+
+
 def _int(value: Any, source: str, key: str, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise ConfigError(f"expected an integer >= {minimum}, got {value!r}", source=source,
@@ -318,12 +331,15 @@ def _seeds(data: Mapping[str, Any], source: str) -> tuple[int, ...]:
         if not isinstance(seeds, list) or not seeds:
             raise ConfigError(f"expected a non-empty list of integers, got {seeds!r}",
                               source=source, key="seeds")
+        check_at_most("seeds", len(seeds), MAX_REPS, "seeds per grid point; this many seeds",
+                      source)
         out = tuple(_int(s, source, "seeds", 0) for s in seeds)
         if len(set(out)) != len(out):
             raise ConfigError(f"seeds must be distinct, got {seeds!r}", source=source,
                               key="seeds")
         return out
     reps = _int(data.get("reps", 1), source, "reps", 1)
+    check_at_most("reps", reps, MAX_REPS, "seeds per grid point", source)
     base = _int(data.get("seed_base", 0), source, "seed_base", 0)
     return tuple(range(base, base + reps))
 
