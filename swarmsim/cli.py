@@ -19,7 +19,7 @@ from typing import Any
 from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
 from swarmsim.limits import MAX_FPS, MAX_FRAME_SIDE, MAX_ROBOTS, MAX_TICKS, check_count
-from swarmsim.worldinfo import LATTICE_SPACINGS
+from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
 
 
 def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
@@ -270,9 +270,9 @@ def cmd_list_worlds() -> int:
     print(head + f" {'robots':>7} {'groups':>6}")
     for name in available_worlds():
         w = load_world(name)
-        caps = " ".join(f"{w.lattice_capacity(d):>8}" for d in LATTICE_SPACINGS)
-        print(f"{name:<10} {w.target_area:>9.0f} {caps} {w.defaults.get('robots', '-'):>7} "
-              f"{w.defaults.get('groups', '-'):>6}")
+        caps = " ".join(fit_number(w.lattice_capacity(d), 8) for d in LATTICE_SPACINGS)
+        print(f"{name:<10} {fit_number(w.target_area, 9)} {caps} "
+              f"{w.defaults.get('robots', '-'):>7} {w.defaults.get('groups', '-'):>6}")
     print("cap@d = robots a hexagonal lattice of spacing d holds: area / (0.866 d^2)")
     return 0
 

@@ -87,8 +87,10 @@ def check_at_most(key: str, value: Any, bound: float, what: str = "",
 
 def check_count(key: str, value: Any, bound: float, what: str = "") -> None:
     """Refuse ``value`` unless it is an integer from 1 to ``bound`` (one line naming ``key``)."""
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+    if isinstance(value, bool) or not isinstance(value, int):
         raise ConfigError(f"must be an integer >= 1, got {value!r}", key=key)
+    if value < 1:
+        raise ConfigError(f"must be >= 1, got {value!r}", key=key)
     check_at_most(key, value, bound, what)
 
 

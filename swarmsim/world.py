@@ -20,7 +20,8 @@ Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)
     groups = 3
 
 Any other key is an error. Every error names the file, the key and the value. Every number
-must be finite. The target's free floor (its outline minus its holes minus the obstacles) must
+must be finite, and every coordinate (and the margin) within +-MAX_COORDINATE units. The
+beacon must be inside the arena's walls. The target's free floor (its outline minus its holes minus the obstacles) must
 hold at least one robot's disc (MIN_FREE_FLOOR).
 """
 
@@ -41,6 +42,7 @@ from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, MAX_TICKS, check_at_most
 
 HEX_CELL_FACTOR = math.sqrt(3) / 2  # area per robot on a hexagonal lattice = 0.866 * spacing^2
 DEFAULT_ARENA_MARGIN = 20.0
@@ -48,6 +50,9 @@ TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon
                   "defaults"}
 DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
                 "max_ticks": int, "start": str}
+DEFAULT_BOUNDS = {"robots": (MAX_ROBOTS, "robots in one run"),
+                  "groups": (MAX_ROBOTS, "robots in one run"),
+                  "max_ticks": (MAX_TICKS, "ticks in one run")}
 REPO_WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
 MIN_FREE_FLOOR = math.pi * 0.4**2
 """Least free target floor a world may have, units^2: one robot's disc (default body radius
@@ -125,6 +130,16 @@ def _num(value: Any, source: str, key: str) -> float:
     return float(value)
 
 
+def _coordinate(value: Any, source: str, key: str) -> float:
+    """A finite number within +-MAX_COORDINATE units (a point's x or y)."""
+    x = _num(value, source, key)
+    if abs(x) > MAX_COORDINATE:
+        raise ConfigError(f"must be within +-{MAX_COORDINATE:,.0f} units (a world spans at "
+                          f"most that: 2.5 million robot radii), got {value!r}", source=source,
+                          key=key)
+    return x
+
+
 def _points(value: Any, source: str, key: str) -> list[tuple[float, float]]:
     if not isinstance(value, list) or len(value) < 3:
         raise ConfigError(f"expected a list of at least 3 [x, y] points, got {value!r}",
@@ -133,7 +148,8 @@ def _points(value: Any, source: str, key: str) -> list[tuple[float, float]]:
     for i, pt in enumerate(value):
         if not isinstance(pt, list) or len(pt) != 2:
             raise ConfigError(f"point {i} must be [x, y], got {pt!r}", source=source, key=key)
-        pts.append((_num(pt[0], source, f"{key}[{i}][0]"), _num(pt[1], source, f"{key}[{i}][1]")))
+        pts.append((_coordinate(pt[0], source, f"{key}[{i}][0]"),
+                    _coordinate(pt[1], source, f"{key}[{i}][1]")))
     return pts
 
 
@@ -194,6 +210,8 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
         if want in (int, float) and not (math.isfinite(v) and v > 0):  # also refuses nan
             raise ConfigError(f"must be a positive finite number, got {v!r}", source=source,
                               key=f"defaults.{k}")
+        if k in DEFAULT_BOUNDS:
+            check_at_most(f"defaults.{k}", v, *DEFAULT_BOUNDS[k], source=source)
         if k == "start" and v not in ("random", "formation"):
             raise ConfigError(f"must be 'random' or 'formation', got {v!r}", source=source,
                               key="defaults.start")
@@ -221,14 +239,27 @@ def _beacon(value: Any, source: str) -> tuple[float, float]:
     pos = value["position"]
     if not isinstance(pos, list) or len(pos) != 2:
         raise ConfigError(f"expected [x, y], got {pos!r}", source=source, key="beacon.position")
-    return (_num(pos[0], source, "beacon.position[0]"), _num(pos[1], source, "beacon.position[1]"))
+    return (_coordinate(pos[0], source, "beacon.position[0]"),
+            _coordinate(pos[1], source, "beacon.position[1]"))
+
+
+def _check_beacon_inside(beacon: tuple[float, float], arena: tuple[float, float, float, float],
+                         source: str) -> None:
+    """Refuse a beacon on or beyond the arena's walls: no robot could ever reach it (one off
+    the target but inside the walls is only unusual: ``swarmsim worlds`` warns)."""
+    x0, y0, x1, y1 = arena
+    bx, by = beacon
+    if not (x0 < bx < x1 and y0 < by < y1):
+        raise ConfigError(f"[{bx:g}, {by:g}] is outside the arena walls (x {x0:g}..{x1:g}, "
+                          f"y {y0:g}..{y1:g}): no robot can reach it; put it on the target",
+                          source=source, key="beacon.position")
 
 
 def _arena(value: Any, source: str, geoms: list[Polygon]) -> tuple[float, float, float, float]:
     if not isinstance(value, Mapping) or not set(value) <= {"margin"}:
         raise ConfigError(f"expected a table with only 'margin', got {value!r}", source=source,
                           key="arena")
-    margin = _num(value.get("margin", DEFAULT_ARENA_MARGIN), source, "arena.margin")
+    margin = _coordinate(value.get("margin", DEFAULT_ARENA_MARGIN), source, "arena.margin")
     if margin <= 0:
         raise ConfigError(f"must be positive, got {margin!r}", source=source, key="arena.margin")
     xmin, ymin, xmax, ymax = shapely.union_all(geoms).bounds
@@ -258,6 +289,8 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
     _check_free_floor(target, obstacles, source)
     beacon = _beacon(data["beacon"], source) if "beacon" in data else None
     arena = _arena(data.get("arena", {}), source, [target, *spawns, *obstacles])
+    if beacon is not None:
+        _check_beacon_inside(beacon, arena, source)
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ConfigError(f"expected a string, got {description!r}", source=source,

@@ -30,6 +30,16 @@ MIN_NARROW = 0.05  # narrow slivers smaller than this (units^2) are ignored
 NEAR_SPAWN = 2.0  # warn when a spawn area comes closer than this to the target, units
 
 
+def fit_number(value: float, width: int) -> str:
+    """``value`` right-aligned in ``width`` characters: with thousands separators (rounded to
+    a whole number) when that fits, else in scientific notation (1.23e+12), so that a table
+    of huge worlds keeps its columns."""
+    text = f"{value:,.0f}"
+    if len(text) > width:
+        text = f"{value:.{max(0, width - 6)}e}"
+    return f"{text:>{width}}"
+
+
 def hex_capacity(area: float, spacing: float) -> int:
     """Robots a hexagonal lattice of ``spacing`` (units) places on ``area`` (units^2)."""
     return int(area / (HEX_CELL_FACTOR * spacing**2))
@@ -157,7 +167,7 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     robots = int(w.defaults.get("robots", DEFAULT_ROBOTS))
     need = r.capacity[d_cover]
     if robots < need:
-        out.append(f"{robots} robots are fewer than the {need} a lattice at d_cover "
+        out.append(f"{robots:,} robots are fewer than the {need:,} a lattice at d_cover "
                    f"{d_cover:g} places: coverage cannot complete at that d_cover")
     if robots > r.spawn_capacity:
         out.append(f"{robots} robots do not fit in the spawn areas at spacing "
@@ -211,7 +221,7 @@ def format_report(r: WorldReport) -> list[str]:
                  f"hole(s), {len(w.obstacles)} obstacle(s)")
     ds = list(r.capacity)
     lines.append("  capacity    d_cover " + "".join(f"{d:>8g}" for d in ds))
-    lines.append("              robots  " + "".join(f"{r.capacity[d]:>8,}" for d in ds))
+    lines.append("              robots  " + "".join(" " + fit_number(r.capacity[d], 7) for d in ds))
     lines.append(f"  spawn       {len(w.spawns)} area(s), {r.spawn_area:,.0f} units^2: hold "
                  f"~{r.spawn_capacity:,} robots in formation (spacing {START_SPACING:g}),")
     lines.append(f"              {r.random_capacity:,} at a random start")
