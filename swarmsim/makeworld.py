@@ -11,10 +11,10 @@ capacity at ``d_cover`` (capacity / 0.7, K's ratio).
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import tempfile
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -62,6 +62,11 @@ class WorldSpec:
     groups: int | None = None
 
     def __post_init__(self) -> None:
+        for key, text in (("--name", self.name), ("--text", self.description)):
+            try:
+                toml_string(text)
+            except ValueError as exc:
+                raise ConfigError(str(exc), key=key) from None
         if self.size is not None and not (math.isfinite(self.size) and self.size > 0):
             raise ConfigError(f"must be positive and finite, got {self.size!r}", key="--size")
         if not (math.isfinite(self.d_cover) and self.d_cover > 0):
@@ -265,8 +270,8 @@ def _lift(data: dict, dy: float) -> None:
 def to_toml(data: dict, header: str = "") -> str:
     """The world data as a TOML text (points six to a line)."""
     out = [f"# {line}".rstrip() for line in header.splitlines()] + [""] if header else []
-    out += [f"name = {json.dumps(data['name'])}",
-            f"description = {json.dumps(data['description'])}", "", "[target]"]
+    out += [f"name = {toml_string(data['name'])}",
+            f"description = {toml_string(data['description'])}", "", "[target]"]
     out += _points("outline", data["target"]["outline"])
     if data["target"]["holes"]:
         out.append("holes = [")
@@ -284,6 +289,29 @@ def to_toml(data: dict, header: str = "") -> str:
     return "\n".join(out) + "\n"
 
 
+TOML_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n",
+                "\f": "\\f", "\r": "\\r"}
+
+
+def toml_string(text: str) -> str:
+    """``text`` as a TOML basic string (quoted): quote, backslash and control characters
+    escaped, every other character (any Unicode scalar value, emoji included) as itself, for
+    a UTF-8 file. ValueError for a lone surrogate, which TOML (and UTF-8) cannot hold."""
+    out = []
+    for ch in text:
+        code = ord(ch)
+        if 0xD800 <= code <= 0xDFFF:
+            raise ValueError(f"{text!r} holds a lone surrogate (U+{code:04X}), which a TOML "
+                             "file cannot hold")
+        if ch in TOML_ESCAPES:
+            out.append(TOML_ESCAPES[ch])
+        elif code < 0x20 or code == 0x7F:
+            out.append(f"\\u{code:04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _points(key: str | None, pts: list[list[float]]) -> list[str]:
     cells = [f"[{x:g}, {y:g}]" for x, y in pts]
     rows = [", ".join(cells[i:i + 6]) + "," for i in range(0, len(cells), 6)]
@@ -298,6 +326,7 @@ def write_world(built: BuiltWorld, path: Path, header: str = "") -> Path:
 
     path = Path(path)
     text = to_toml(built.data, header)
+    world_from_dict(tomllib.loads(text), source=f"<{built.data['name']}>")  # before writing
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
