@@ -16,19 +16,30 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from swarmsim.config import SimConfig, parse_value
+from swarmsim.config import SimConfig, check_given_once, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
 from swarmsim.limits import MAX_FPS, MAX_FRAME_SIDE, MAX_ROBOTS, MAX_TICKS, check_count
 from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
 
 
-def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
+def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
+    """The ``--set KEY=VALUE`` pairs as settings. A key given twice, by two pairs or by a pair
+    and one of ``options`` (the values of the options that set a key, e.g. ``robots`` for
+    --robots; None: not given), is refused."""
     out: dict[str, Any] = {}
+    written: dict[str, tuple[str, Any]] = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")
         if not sep or not key.strip():
             raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
-        out[key.strip().replace("-", "_")] = parse_value(value)
+        key = key.strip().replace("-", "_")
+        check_given_once({key: written[key]} if key in written else {},
+                         {key: (f"--set {pair}", value)})
+        written[key] = (f"--set {pair}", value)
+        out[key] = parse_value(value)
+    given = {key: (f"--{key.replace('_', '-')} {value}", value)
+             for key, value in options.items() if value is not None}
+    check_given_once(given, written)
     return out
 
 
@@ -42,7 +53,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
     p.add_argument("--d-cover", type=float, dest="d_cover",
                    help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
-    p.add_argument("--seed", type=int, default=0, help="run seed (default 0)")
+    p.add_argument("--seed", type=int, help="run seed (default 0)")
     p.add_argument("--max-ticks", type=int, dest="max_ticks", help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="any other parameter; see 'swarmsim params'")
@@ -110,6 +121,9 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     _add_executor_args(r)
 
 
+STUDY_GROUPS = 3  # study collisions' groups when neither --groups nor --set groups= is given
+
+
 def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="collision-realism study: ghost vs rigid robots",
                        description="Run the same scenarios with robots that pass through each "
@@ -119,7 +133,7 @@ def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--world", default="K", help="world (default K)")
     p.add_argument("--controller", default="ggc", help="controller (default ggc)")
     p.add_argument("--robots", type=int, help="robot count (default: the world's)")
-    p.add_argument("--groups", type=int, default=3, help="number of groups K (default 3)")
+    p.add_argument("--groups", type=int, help=f"number of groups K (default {STUDY_GROUPS})")
     p.add_argument("--d-cover", type=float, dest="d_cover", help="d_cover (default: 6)")
     p.add_argument("--reps", type=int, default=5, help="seeds per condition (default 5)")
     p.add_argument("--max-ticks", type=int, dest="max_ticks",
@@ -399,7 +413,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     _check_output_paths(args)
     sim = Simulation(args.world, controller=args.controller, robots=args.robots,
                      groups=args.groups, seed=args.seed, d_cover=args.d_cover,
-                     max_ticks=args.max_ticks, settings=_parse_set(args.set))
+                     max_ticks=args.max_ticks,
+                     settings=_parse_set(args.set, robots=args.robots, groups=args.groups,
+                                         seed=args.seed, d_cover=args.d_cover,
+                                         max_ticks=args.max_ticks))
     if args.video or args.snapshot:
         _check_width(args.width, sim.world.arena)
     if every:
@@ -450,7 +467,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     from swarmsim.experiments.executors import check_workers
 
     check_workers(args.workers)
-    setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set),
+    setup = rp.setup_with(rp.PAPER, args.world, args.robots,
+                          _parse_set(args.set, robots=args.robots, max_ticks=args.max_ticks),
                           args.rulesets)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
@@ -472,10 +490,13 @@ def cmd_study(args: argparse.Namespace) -> int:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
     check_workers(args.workers)
     _check_folder("--out", args.out)  # made by the sweep once every run is checked
+    extra = _parse_set(args.set, robots=args.robots, groups=args.groups, d_cover=args.d_cover,
+                       max_ticks=args.max_ticks)
+    groups = args.groups if args.groups is not None else extra.pop("groups", STUDY_GROUPS)
     setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
-                       groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
+                       groups=groups, d_cover=args.d_cover, modes=tuple(args.modes),
                        noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,
-                       extra=_parse_set(args.set))
+                       extra=extra)
     result = study_collisions(setup, args.out, args.reps, args.workers, args.scheduler,
                               args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")

@@ -106,6 +106,11 @@ def check_setup(setup: StudySetup) -> None:
     cls = get_controller(setup.controller)
     if not setup.modes:
         raise ConfigError("give at least one mode", key="--modes")
+    for key in ("mode", *NOISE_KEYS):
+        if key in setup.extra:
+            option = "--modes" if key == "mode" else "--noise"
+            raise ConfigError(f"is what the study varies ({option}); give {option} instead of "
+                              f"--set {key}={setup.extra[key]!r}", key=key)
     for noise in setup.noise:
         if not noise >= 0:
             raise ConfigError(f"must be >= 0, got {noise!r}", key="--noise")
