@@ -15,8 +15,10 @@ collected with :func:`concurrent.futures.wait`), so the sweep runner has one cod
 from __future__ import annotations
 
 import concurrent.futures as cf
+import importlib.util
 import multiprocessing
 import os
+import socket
 from collections.abc import Callable, Collection
 from contextlib import contextmanager
 from typing import Any
@@ -117,8 +119,47 @@ def _mp_context():
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
+CONNECT_TIMEOUT = 5.0
+"""Seconds the probe of a scheduler address waits for a TCP connection (see probe_scheduler)."""
+
+
+def probe_scheduler(address: str, timeout: float = CONNECT_TIMEOUT) -> None:
+    """Refuse a ``tcp://host:port`` scheduler address that cannot be reached, at once: a TCP
+    connection is tried (for at most ``timeout`` seconds) before Dask's Client, which retries
+    for its whole timeout. Other schemes (tls://, ucx://, ...) are left to Dask."""
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    if parts.scheme != "tcp":
+        return
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        raise ConfigError(f"{address!r} has no valid port (expected tcp://host:port)",
+                          key="--scheduler") from None
+    if not host or port is None:
+        raise ConfigError(f"expected tcp://host:port, got {address!r}", key="--scheduler")
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except socket.gaierror:
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: unknown host "
+                          f"{host!r}", key="--scheduler") from None
+    except TimeoutError:
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: no answer within "
+                          f"{timeout:g} s", key="--scheduler") from None
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: {reason.lower()}"
+                          f" (is a scheduler running there? start one with 'dask scheduler')",
+                          key="--scheduler") from None
+
+
 def dask_client(scheduler: Any):
-    """A dask.distributed Client for an address, a Client or a cluster object."""
+    """A dask.distributed Client for an address, a Client or a cluster object; an address
+    that cannot be reached is refused at once (probe_scheduler)."""
+    if isinstance(scheduler, str) and importlib.util.find_spec("distributed") is not None:
+        probe_scheduler(scheduler)
     try:
         from dask.distributed import Client
     except ImportError:
