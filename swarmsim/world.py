@@ -28,7 +28,6 @@ hold at least one robot's disc (MIN_FREE_FLOOR).
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -43,6 +42,7 @@ from shapely.validation import explain_validity
 
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, MAX_TICKS, check_at_most
+from swarmsim.tomlfile import read_toml
 
 HEX_CELL_FACTOR = math.sqrt(3) / 2  # area per robot on a hexagonal lattice = 0.866 * spacing^2
 DEFAULT_ARENA_MARGIN = 20.0
@@ -176,6 +176,8 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
         raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
                           key=f"{key}.outline")
     poly = Polygon(shell, holes)
+    if not poly.is_valid and Polygon(shell).is_valid:
+        _check_holes(Polygon(shell), holes, holes_raw, source, key)
     if not poly.is_valid:
         # A valid outline with bad holes (outside it, crossing it or each other): name the holes.
         part = "holes" if holes and Polygon(shell).is_valid else "outline"
@@ -185,6 +187,45 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
         raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
                           key=f"{key}.outline")
     return shapely.normalize(poly)
+
+
+def _check_holes(shell: Polygon, holes: list[list[tuple[float, float]]], written: list,
+                 source: str, key: str) -> None:
+    """Name the hole that makes a polygon with a valid outline invalid, and how: not simple,
+    outside or across the outline, touching it along an edge or at two points (which cuts the
+    floor in two), or overlapping or touching another hole that way. ``written``: the holes
+    as the file gives them (for the message)."""
+    def fail(i: int, what: str) -> None:
+        raise ConfigError(f"hole {i} {written[i]!r} {what}: a hole must lie inside the outline,"
+                          " apart from it and from the other holes (a notch belongs in the "
+                          "outline)", source=source, key=f"{key}.holes[{i}]")
+
+    rings = [Polygon(h) for h in holes]
+    for i, hole in enumerate(rings):
+        if not hole.is_valid:
+            fail(i, f"is not a simple polygon ({explain_validity(hole)})")
+        if not shell.covers(hole):
+            where = _where_met(hole.exterior, shell.exterior)
+            fail(i, f"crosses the outline at {where}" if where else "lies outside the outline")
+        if not Polygon(shell.exterior, [hole.exterior]).is_valid:
+            fail(i, f"touches the outline at {_where_met(hole.exterior, shell.exterior)}")
+    for i, a in enumerate(rings):
+        for j in range(i + 1, len(rings)):
+            if not Polygon(shell.exterior, [a.exterior, rings[j].exterior]).is_valid:
+                met = _where_met(a.exterior, rings[j].exterior) or f"{_coords(rings[j])[0]}"
+                fail(j, f"overlaps or touches hole {i} at {met}")
+
+
+def _where_met(a: shapely.Geometry, b: shapely.Geometry) -> str:
+    """Where rings ``a`` and ``b`` meet: "(x, y)", "(x, y) and (x, y)" or "(x, y) to (x, y)"
+    (a shared edge), or "" when they do not."""
+    met = a.intersection(b)
+    if met.is_empty:
+        return ""
+    pts = [f"({x:g}, {y:g})" for x, y in shapely.get_coordinates(met)]
+    if any(p.geom_type in ("LineString", "LinearRing") for p in shapely.get_parts(met)):
+        return f"{pts[0]} to {pts[-1]} (a shared edge)"
+    return " and ".join(dict.fromkeys(pts[:2]))
 
 
 def _polygon_list(value: Any, source: str, key: str) -> tuple[Polygon, ...]:
@@ -372,14 +413,5 @@ def available_worlds() -> list[str]:
 def load_world(name_or_path: str | Path) -> World:
     """Load and validate a world by shipped name (``"K"``, ``"house"``) or by file path."""
     path = world_path(name_or_path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
-                          source=str(path)) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the file ({exc.strerror})", source=str(path)) from None
+    data = read_toml(path)
     return world_from_dict(data, source=str(path))

@@ -37,7 +37,6 @@ import hashlib
 import itertools
 import json
 import math
-import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -46,6 +45,7 @@ from typing import Any
 from swarmsim.config import PhysicsConfig, SimConfig, coerce, field_defaults
 from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
+from swarmsim.tomlfile import read_toml
 
 TOP_KEYS = ("name", "description", "world", "controller", "reps", "seeds", "seed_base",
             "params", "grid")
@@ -204,16 +204,7 @@ def load_spec(path: str | Path) -> SweepSpec:
     source = str(path)
     if not path.is_file():
         raise ConfigError(f"spec file not found: {source!r}", key="spec")
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=source) from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
-                          source=source) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the file ({exc.strerror})", source=source) from None
+    data = read_toml(path)
     return spec_from_dict(data, source=source, base_dir=str(path.parent))
 
 
