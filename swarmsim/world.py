@@ -40,7 +40,7 @@ import shapely
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, MAX_TICKS, check_at_most
 from swarmsim.tomlfile import read_toml
 
@@ -160,7 +160,7 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
     unknown = set(table) - allowed
     if unknown:
         bad = min(unknown)
-        raise ConfigError(f"unknown key with value {table[bad]!r}; allowed: {sorted(allowed)}",
+        raise ConfigError(f"{unknown_name('key', bad, allowed)} (value {table[bad]!r})",
                           source=source, key=f"{key}.{bad}")
     if "outline" not in table:
         raise ConfigError("missing 'outline'", source=source, key=key)
@@ -241,8 +241,8 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
     out = {}
     for k, v in value.items():
         if k not in DEFAULT_KEYS:
-            raise ConfigError(f"unknown run default {k!r} (value {v!r}); allowed: "
-                              f"{sorted(DEFAULT_KEYS)}", source=source, key=f"defaults.{k}")
+            raise ConfigError(f"{unknown_name('run default', k, DEFAULT_KEYS)} (value {v!r})",
+                              source=source, key=f"defaults.{k}")
         want = DEFAULT_KEYS[k]
         ok = isinstance(v, want) or (want is float and isinstance(v, int))
         if isinstance(v, bool) or not ok:
@@ -312,8 +312,8 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
     unknown = set(data) - TOP_LEVEL_KEYS
     if unknown:
         key = min(unknown)
-        raise ConfigError(f"unknown key with value {data[key]!r}; allowed top-level keys: "
-                          f"{sorted(TOP_LEVEL_KEYS)}", source=source, key=key)
+        raise ConfigError(f"{unknown_name('top-level key', key, TOP_LEVEL_KEYS)} (value "
+                          f"{data[key]!r})", source=source, key=key)
     name = data.get("name")
     if not isinstance(name, str) or not name:
         raise ConfigError(f"expected a non-empty string, got {name!r}", source=source, key="name")
@@ -386,9 +386,8 @@ def world_path(name_or_path: str | Path) -> Path:
         if not p.is_file():
             raise ConfigError(f"world file not found: {str(p)!r}", key="world")
         return p
-    names = ", ".join(available_worlds()) or "none"
-    raise ConfigError(f"unknown world {str(name_or_path)!r}; shipped worlds: {names}",
-                      key="world")
+    raise ConfigError(f"{unknown_name('world', str(name_or_path), available_worlds())} (a "
+                      "shipped world's name or a .toml file)", key="world")
 
 
 def _world_dirs() -> list[Path]:
