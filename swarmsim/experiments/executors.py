@@ -15,7 +15,6 @@ collected with :func:`concurrent.futures.wait`), so the sweep runner has one cod
 from __future__ import annotations
 
 import concurrent.futures as cf
-import importlib.util
 import multiprocessing
 import os
 import socket
@@ -158,8 +157,6 @@ def probe_scheduler(address: str, timeout: float = CONNECT_TIMEOUT) -> None:
 def dask_client(scheduler: Any):
     """A dask.distributed Client for an address, a Client or a cluster object; an address
     that cannot be reached is refused at once (probe_scheduler)."""
-    if isinstance(scheduler, str) and importlib.util.find_spec("distributed") is not None:
-        probe_scheduler(scheduler)
     try:
         from dask.distributed import Client
     except ImportError:
@@ -168,6 +165,8 @@ def dask_client(scheduler: Any):
                           key="--scheduler") from None
     if isinstance(scheduler, Client):
         return scheduler, False
+    if isinstance(scheduler, str):
+        probe_scheduler(scheduler)
     try:
         return Client(scheduler, timeout="20s"), True
     except (OSError, TimeoutError, ValueError) as exc:
