@@ -196,9 +196,17 @@ def build_parser() -> argparse.ArgumentParser:
     wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800; even, 64 "
                     f"to {MAX_FRAME_SIDE:,})")
     _add_make_world_parser(sub)
-    sub.add_parser("controllers", help="list registered controllers")
-    pp = sub.add_parser("params", help="list every parameter with its default and meaning")
-    pp.add_argument("--controller", default="ggc")
+    sub.add_parser("controllers", help="list registered controllers",
+                   description="List the registered controllers (built in, @register'ed or "
+                   "installed by entry point), each with a line on what it does. Give one "
+                   "to run with --controller NAME, or any class as --controller module:Class.")
+    pp = sub.add_parser("params", help="list every parameter with its default and meaning",
+                        description="List every parameter a run takes, by section (engine, "
+                        "physics, the controller's own), with its default, meaning and upper "
+                        "bound. Set any with --set KEY=VALUE (run, reproduce, study) or in a "
+                        "sweep spec's [params] and [grid].")
+    pp.add_argument("--controller", default="ggc",
+                    help="the controller whose parameters to list (default ggc)")
     return parser
 
 
