@@ -409,9 +409,21 @@ def _make_output_folders(args: argparse.Namespace) -> None:
         _make_folder(key, folder)
 
 
+def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, every: int) -> None:
+    """Refuse what the run's outputs would make too large, before the run is built: frames
+    (the height follows the arena) and trajectory samples kept in memory."""
+    if args.video or args.snapshot:
+        _check_width(args.width, world.arena)
+    if every:
+        from swarmsim.trajectories import check_memory
+
+        check_memory(every, config.robots, config.max_ticks, key="--trajectories")
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
+    from swarmsim.world import load_world
 
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _frame_every(args, MAX_TICKS)
@@ -419,18 +431,14 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_width(args.width)
     every = _trajectories_every(args)
     _check_output_paths(args)
-    sim = Simulation(args.world, controller=args.controller, robots=args.robots,
-                     groups=args.groups, seed=args.seed, d_cover=args.d_cover,
-                     max_ticks=args.max_ticks,
-                     settings=_parse_set(args.set, robots=args.robots, groups=args.groups,
-                                         seed=args.seed, d_cover=args.d_cover,
-                                         max_ticks=args.max_ticks))
-    if args.video or args.snapshot:
-        _check_width(args.width, sim.world.arena)
-    if every:
-        from swarmsim.trajectories import check_memory
-
-        check_memory(every, sim.n, sim.config.max_ticks, key="--trajectories")
+    run = {"controller": args.controller, "robots": args.robots, "groups": args.groups,
+           "seed": args.seed, "d_cover": args.d_cover, "max_ticks": args.max_ticks,
+           "settings": _parse_set(args.set, robots=args.robots, groups=args.groups,
+                                  seed=args.seed, d_cover=args.d_cover,
+                                  max_ticks=args.max_ticks)}
+    world = load_world(args.world)
+    _check_run_sizes(args, world, Simulation.check(world, **run)[0], every)
+    sim = Simulation(world, **run)
     _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),

@@ -40,6 +40,12 @@ def fit_number(value: float, width: int) -> str:
     return f"{text:>{width}}"
 
 
+def readable(value: float) -> str:
+    """``value`` for running text: thousands separators below a billion (13,280), three
+    significant digits in scientific notation from there (2e+12)."""
+    return f"{value:,.0f}" if abs(value) < 1e9 else f"{value:.3g}"
+
+
 def hex_capacity(area: float, spacing: float) -> int:
     """Robots a hexagonal lattice of ``spacing`` (units) places on ``area`` (units^2)."""
     return int(area / (HEX_CELL_FACTOR * spacing**2))
@@ -167,7 +173,7 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     robots = int(w.defaults.get("robots", DEFAULT_ROBOTS))
     need = r.capacity[d_cover]
     if robots < need:
-        out.append(f"{robots:,} robots are fewer than the {need:,} a lattice at d_cover "
+        out.append(f"{robots:,} robots are fewer than the {readable(need)} a lattice at d_cover "
                    f"{d_cover:g} places: coverage cannot complete at that d_cover")
     if robots > r.spawn_capacity:
         out.append(f"{robots} robots do not fit in the spawn areas at spacing "
@@ -213,18 +219,19 @@ def format_report(r: WorldReport) -> list[str]:
     lines = [f"world {w.name} ({w.source})"]
     if w.description:
         lines.append(f"  {w.description}")
-    lines.append(f"  target      {r.free_area:,.0f} units^2 of free floor = outline "
-                 f"{r.outline_area:,.0f} - holes {r.holes_area:,.0f} - obstacles "
-                 f"{r.obstacles_area:,.0f}")
+    lines.append(f"  target      {readable(r.free_area)} units^2 of free floor = outline "
+                 f"{readable(r.outline_area)} - holes {readable(r.holes_area)} - obstacles "
+                 f"{readable(r.obstacles_area)}")
     lines.append(f"              {x1 - x0:g} x {y1 - y0:g} units (x {x0:g}..{x1:g}, "
                  f"y {y0:g}..{y1:g}), {r.free_parts} part(s), {len(w.target.interiors)} "
                  f"hole(s), {len(w.obstacles)} obstacle(s)")
     ds = list(r.capacity)
     lines.append("  capacity    d_cover " + "".join(f"{d:>8g}" for d in ds))
     lines.append("              robots  " + "".join(" " + fit_number(r.capacity[d], 7) for d in ds))
-    lines.append(f"  spawn       {len(w.spawns)} area(s), {r.spawn_area:,.0f} units^2: hold "
-                 f"~{r.spawn_capacity:,} robots in formation (spacing {START_SPACING:g}),")
-    lines.append(f"              {r.random_capacity:,} at a random start")
+    lines.append(f"  spawn       {len(w.spawns)} area(s), {readable(r.spawn_area)} units^2: hold "
+                 f"~{readable(r.spawn_capacity)} robots in formation (spacing "
+                 f"{START_SPACING:g}),")
+    lines.append(f"              {readable(r.random_capacity)} at a random start")
     if w.beacon is None:
         lines.append("  beacon      none")
     elif r.beacon_depth is None:  # no free floor to measure it against

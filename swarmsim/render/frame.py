@@ -62,7 +62,7 @@ def check_width(width: Any) -> None:
     MAX_FRAME_SIDE] (H.264 needs even frame sides)."""
     if (isinstance(width, bool) or not isinstance(width, (int, np.integer))
             or not MIN_WIDTH <= width <= MAX_FRAME_SIDE or width % 2):
-        raise ValueError(f"width must be an even integer from {MIN_WIDTH} to "
+        raise ValueError(f"width must be an even integer >= {MIN_WIDTH} and at most "
                          f"{MAX_FRAME_SIDE:,}, got {width!r}")
 
 
