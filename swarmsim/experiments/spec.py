@@ -43,7 +43,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.config import PhysicsConfig, SimConfig, coerce, field_defaults
-from swarmsim.errors import ConfigError, unknown_name
+from swarmsim.errors import ConfigError, did_you_mean, unknown_name
 from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
 from swarmsim.tomlfile import read_toml
 
@@ -354,9 +354,9 @@ def check_settings(spec: SweepSpec) -> None:
         named += [(f"grid.{k}", k, vs) for k, vs in spec.grid.items() if k not in RUN_KEYS]
         for where, k, values in named:
             if k not in known:
-                raise ConfigError(f"unknown setting for controller {c!r} (value {values[0]!r});"
-                                  " see 'swarmsim params --controller " + str(c) + "'",
-                                  source=spec.source, key=where)
+                hint = did_you_mean(k, known) or f"; see 'swarmsim params --controller {c}'"
+                raise ConfigError(f"unknown setting for controller {c!r} (value {values[0]!r})"
+                                  f"{hint}", source=spec.source, key=where)
             for v in values:
                 _reraise(lambda v=v, k=k, d=known[k]: coerce(v, d, k), spec.source, where)
     check_runs(spec.runs(), spec.source)
