@@ -17,6 +17,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_GRID_SIZE
 from swarmsim.world import HEX_CELL_FACTOR, World
 
 LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
@@ -24,6 +25,7 @@ DEFAULT_D_COVER = 6.0
 ROBOT_RADIUS = 0.4  # PhysicsConfig's default body radius
 START_SPACING = 1.0  # SimConfig's formation_spacing and spawn_spacing (d_safe)
 COVERAGE_RADIUS = 4.0  # SimConfig's coverage_radius r
+GRID_SIZE = 100  # SimConfig's grid_size
 DEFAULT_ROBOTS = 100  # SimConfig's robots, when a world names none
 NARROW_WARN = 1.0  # warn when at least this much free floor (units^2) is narrower than a robot
 MIN_NARROW = 0.05  # narrow slivers smaller than this (units^2) are ignored
@@ -149,6 +151,7 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     if r.free_area < disc:
         out.append(f"tiny free floor: {r.free_area:.1f} units^2, less than one robot's "
                    f"coverage disc (pi r^2 = {disc:.1f} with r = {COVERAGE_RADIUS:g})")
+    out.extend(_coarse_cells(w))
     if r.free_parts > 1:
         out.append(f"the free target floor is in {r.free_parts} separate parts: robots must "
                    "cross off-target floor between them")
@@ -181,6 +184,23 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
                    "formations spill beside them")
     out.extend(_start_check(w, robots))
     return out
+
+
+def _coarse_cells(world: World) -> list[str]:
+    """A warning when the default coverage raster's cells (the target's bounding box over
+    GRID_SIZE x GRID_SIZE) are wider than the coverage radius: a cell then counts as covered
+    when a robot is near its centre only, so coverage is measured coarsely."""
+    x0, y0, x1, y1 = world.target.bounds
+    cell = max(x1 - x0, y1 - y0) / GRID_SIZE
+    if cell <= COVERAGE_RADIUS:
+        return []
+    need = math.ceil(max(x1 - x0, y1 - y0) / COVERAGE_RADIUS)
+    fix = (f"set grid_size={need}" if need <= MAX_GRID_SIZE else
+           f"no grid_size up to {MAX_GRID_SIZE:,} makes cells that small: the target is very "
+           "large for robots of this size")
+    return [(f"coverage cells are {readable(cell)} units wide at grid_size {GRID_SIZE} (the "
+            f"target is {readable(x1 - x0)} x {readable(y1 - y0)} units), wider than the "
+            f"coverage radius {COVERAGE_RADIUS:g}: coverage is measured coarsely; {fix}")]
 
 
 def _where(world: World, xy: tuple[float, float]) -> str:

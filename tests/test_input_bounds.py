@@ -205,3 +205,16 @@ def test_the_frame_bound_is_the_renderers():
     check_width(MAX_FRAME_SIDE)
     with pytest.raises(ValueError):
         check_width(MAX_FRAME_SIDE + 2)
+
+
+@pytest.mark.parametrize("side, warned", [(40, False), (400, False), (401, True), (1e5, True),
+                                          (1e6, True)])
+def test_coverage_cells_wider_than_the_coverage_radius_are_a_warning(side, warned):
+    """The default raster is 100 x 100 cells over the target's box; cells wider than the
+    coverage radius (4 units) measure coverage coarsely."""
+    w = world_from_dict(world(target={"outline": [[0, 0], [side, 0], [side, 20], [0, 20]]},
+                              beacon={"position": [10, 10]}))
+    found = [x for x in describe_world(w).warnings if "coverage cells are" in x]
+    assert bool(found) == warned, found
+    if warned and side <= 8000:
+        assert f"set grid_size={math.ceil(side / 4)}" in found[0]
