@@ -218,3 +218,11 @@ def test_coverage_cells_wider_than_the_coverage_radius_are_a_warning(side, warne
     assert bool(found) == warned, found
     if warned and side <= 8000:
         assert f"set grid_size={math.ceil(side / 4)}" in found[0]
+
+
+@pytest.mark.parametrize("controller", ["cvt", "meanshift"])
+@pytest.mark.parametrize("map_cell", [0.001, 0.05])
+def test_a_floor_lattice_too_fine_is_refused(controller, map_cell, nothing_built):
+    """CVT and mean shift keep a lattice of floor points per robot: ~(2 r / map_cell)^2."""
+    with pytest.raises(ConfigError, match=r"key 'map_cell': .*must be at least 0.1"):
+        Simulation.check("corridor", controller=controller, settings={"map_cell": map_cell})
