@@ -14,18 +14,22 @@ import sys
 import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from swarmsim.config import SimConfig, check_given_once, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
 from swarmsim.limits import MAX_FPS, MAX_FRAME_SIDE, MAX_ROBOTS, MAX_TICKS, check_count
 from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
+
+if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run import them
+    from swarmsim.config import SimConfig
 
 
 def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
     """The ``--set KEY=VALUE`` pairs as settings. A key given twice, by two pairs or by a pair
     and one of ``options`` (the values of the options that set a key, e.g. ``robots`` for
     --robots; None: not given), is refused."""
+    from swarmsim.config import check_given_once, parse_value
+
     out: dict[str, Any] = {}
     written: dict[str, tuple[str, Any]] = {}
     for pair in pairs:
@@ -310,6 +314,7 @@ def cmd_controllers() -> int:
 
 
 def cmd_params(controller: str) -> int:
+    from swarmsim.config import SimConfig
     from swarmsim.controller import get_controller
     from swarmsim.paramhelp import format_params, help_width
     from swarmsim.physics import PhysicsConfig
