@@ -187,6 +187,15 @@ def test_a_setting_given_twice_is_refused(argv, key, tmp_path, capsys):
     assert not out.exists()
 
 
+@pytest.mark.parametrize("key, top, grid", [("world", "tiny", ["corridor"]),
+                                            ("controller", "dispersion", ["cvt"])])
+def test_a_spec_key_set_at_the_top_and_in_the_grid_is_refused(key, top, grid):
+    data = {"world": "tiny", "controller": "dispersion", "params": {"max_ticks": 5}}
+    data.update({key: top, "grid": {key: grid}})
+    with pytest.raises(ConfigError, match=rf"key 'grid.{key}': set both as the top-level"):
+        spec_from_dict(data)
+
+
 def test_a_setting_given_twice_in_the_python_api():
     with pytest.raises(ConfigError, match=r"key 'robots': given twice: robots=5 and settings "
                                           r"robots=7"):

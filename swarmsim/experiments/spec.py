@@ -226,6 +226,10 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
                           "them as grid.world)", source=source, key="world")
     world = _string(data, "world", str(grid.get("world", [""])[0]), source)
     controller = _string(data, "controller", "ggc", source)
+    for key in ("world", "controller"):
+        if key in data and key in grid:
+            raise ConfigError(f"set both as the top-level '{key}' ({data[key]!r}) and in [grid] "
+                              f"({grid[key]!r}); give it once", source=source, key=f"grid.{key}")
     both = [k for k in grid if k in params]
     if both:
         raise ConfigError(f"set both in [params] ({params[both[0]]!r}) and in [grid] "
