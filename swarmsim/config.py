@@ -23,7 +23,7 @@ from typing import Any
 from swarmsim import limits
 from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.imperfections import NoiseLevels
-from swarmsim.limits import MAX_GRID_SIZE, MAX_ROBOTS, MAX_TICKS, at_most
+from swarmsim.limits import MAX_GRID_SIZE, MAX_RECORD_ROWS, MAX_ROBOTS, MAX_TICKS, at_most
 from swarmsim.physics import PhysicsConfig
 
 UNBOUNDED_PARAMS = frozenset({"spin_traction"})
@@ -49,7 +49,8 @@ class SimConfig:
         coverage_radius: coverage radius r of one robot, units (paper: 4).
         eps0: completion threshold: done when 1 - P <= eps0 (paper's epsilon_0).
         grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
-        record_every: a time-series row every this many ticks.
+        record_every: a time-series row every this many ticks (kept in memory until the run
+            ends: at most 1,000,000 rows, max_ticks / record_every).
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
             many ticks (long enough for a slow last stretch: see docs/measurements.md).
         plateau_delta: see plateau_ticks (fraction of the target).
@@ -133,6 +134,13 @@ class SimConfig:
         for name in ("eps0", "plateau_delta"):
             if not 0 <= getattr(self, name) < 1:
                 raise ConfigError(f"must be in [0, 1), got {getattr(self, name)!r}", key=name)
+        rows = self.max_ticks // self.record_every
+        if rows > MAX_RECORD_ROWS:
+            least = -(-self.max_ticks // MAX_RECORD_ROWS)
+            raise ConfigError(f"{self.record_every} makes {rows:,} time-series rows in memory "
+                              f"over max_ticks = {self.max_ticks:,}, more than "
+                              f"{MAX_RECORD_ROWS:,}: set record_every to {least:,} or more",
+                              key="record_every")
         if self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots "
                               f"(robots = {self.robots})", key="groups")

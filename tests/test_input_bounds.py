@@ -68,6 +68,7 @@ def tall_world(tmp_path: Path) -> Path:
     (["run", "K", "--set", "iterations=1000000"], "iterations"),
     (["run", "K", "--set", "record_every=100000000"], "record_every"),
     (["run", "K", "--set", "stall_ticks=1e12"], "stall_ticks"),
+    (["run", "K", "--max-ticks", "10000000", "--set", "record_every=2"], "record_every"),
     (["run", "K", "--width", "100000", "--snapshot", "OUT/x.png"], "--width"),
     (["run", "TALL", "--width", "7680", "--snapshot", "OUT/x.png"], "--width"),
     (["run", "K", "--fps", "100000", "--video", "OUT/x.mp4"], "--fps"),
