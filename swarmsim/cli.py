@@ -25,26 +25,10 @@ if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run
 
 
 def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
-    """The ``--set KEY=VALUE`` pairs as settings. A key given twice, by two pairs or by a pair
-    and one of ``options`` (the values of the options that set a key, e.g. ``robots`` for
-    --robots; None: not given), is refused."""
-    from swarmsim.config import check_given_once, parse_value
+    """The ``--set KEY=VALUE`` pairs as settings; see swarmsim.config.settings_from_pairs."""
+    from swarmsim.config import settings_from_pairs
 
-    out: dict[str, Any] = {}
-    written: dict[str, tuple[str, Any]] = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or not key.strip():
-            raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
-        key = key.strip().replace("-", "_")
-        check_given_once({key: written[key]} if key in written else {},
-                         {key: (f"--set {pair}", value)})
-        written[key] = (f"--set {pair}", value)
-        out[key] = parse_value(value)
-    given = {key: (f"--{key.replace('_', '-')} {value}", value)
-             for key, value in options.items() if value is not None}
-    check_given_once(given, written)
-    return out
+    return settings_from_pairs(pairs, options)
 
 
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
@@ -53,12 +37,14 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
     p.add_argument("--controller",
                    help="controller name or module:Class (default: the world's, else ggc)")
-    p.add_argument("--robots", type=int, help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
+    p.add_argument("--robots", type=int,
+                   help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
     p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
     p.add_argument("--d-cover", type=float, dest="d_cover",
                    help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
     p.add_argument("--seed", type=int, help="run seed (default 0)")
-    p.add_argument("--max-ticks", type=int, dest="max_ticks", help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks",
+                   help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="any other parameter; see 'swarmsim params'")
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
@@ -68,15 +54,16 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                         "every K ticks, compressed; kept in memory until the run ends: "
                         "N x 9 bytes per sample, (ticks / K + 2) samples (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
-    p.add_argument("--fps", type=int, default=30, help=f"video frames per second (default 30, at most {MAX_FPS})")
+    p.add_argument("--fps", type=int, default=30,
+                   help=f"video frames per second (default 30, at most {MAX_FPS})")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
                    help="a video frame every K ticks (default: max_ticks / 600, at least 1 "
                         "and at most 50)")
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="robot colouring in videos: status, or a field the controller offers "
                         "(GGC: gradient (default), group)")
-    p.add_argument("--width", type=int, default=800, help="video/snapshot width in px (default 800; even, 64 to "
-                   f"{MAX_FRAME_SIDE:,})")
+    p.add_argument("--width", type=int, default=800,
+                   help=f"video/snapshot width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something (collision-realism videos)")
     p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
@@ -197,8 +184,8 @@ def build_parser() -> argparse.ArgumentParser:
     wp.add_argument("--preview", type=Path, metavar="FILE.png",
                     help="draw the world (one WORLD) with its robots at the start, without "
                     "running it")
-    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800; even, 64 "
-                    f"to {MAX_FRAME_SIDE:,})")
+    wp.add_argument("--width", type=int, default=800,
+                    help=f"preview width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
     _add_make_world_parser(sub)
     sub.add_parser("controllers", help="list registered controllers",
                    description="List the registered controllers (built in, @register'ed or "

@@ -16,7 +16,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -185,6 +185,28 @@ class SimConfig:
         """The run's imperfections (all zero by default)."""
         return NoiseLevels(self.speed_noise, self.heading_noise, self.distance_noise,
                            self.bearing_noise, self.message_loss)
+
+
+def settings_from_pairs(pairs: Sequence[str], options: Mapping[str, Any]) -> dict[str, Any]:
+    """``KEY=VALUE`` pairs (``--set``) as settings (``-`` in a key read as ``_``, values by
+    parse_value). A key given twice, by two pairs or by a pair and one of ``options`` (the
+    command-line options that set a key, by key, e.g. ``{"robots": 5}`` for ``--robots 5``;
+    None: not given), is a ConfigError naming both."""
+    out: dict[str, Any] = {}
+    written: dict[str, tuple[str, Any]] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
+        key = key.strip().replace("-", "_")
+        check_given_once({key: written[key]} if key in written else {},
+                         {key: (f"--set {pair}", value)})
+        written[key] = (f"--set {pair}", value)
+        out[key] = parse_value(value)
+    given = {key: (f"--{key.replace('_', '-')} {value}", value)
+             for key, value in options.items() if value is not None}
+    check_given_once(given, written)
+    return out
 
 
 def parse_value(text: str) -> Any:

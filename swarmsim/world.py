@@ -21,8 +21,8 @@ Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)
 
 Any other key is an error. Every error names the file, the key and the value. Every number
 must be finite, and every coordinate (and the margin) within +-MAX_COORDINATE units. The
-beacon must be inside the arena's walls. The target's free floor (its outline minus its holes minus the obstacles) must
-hold at least one robot's disc (MIN_FREE_FLOOR).
+beacon must be inside the arena's walls. The target's free floor (its outline minus its holes
+minus the obstacles) must hold at least one robot's disc (MIN_FREE_FLOOR).
 """
 
 from __future__ import annotations

@@ -186,7 +186,8 @@ def test_a_beacon_off_the_target_inside_the_walls_is_a_warning():
 def test_numbers_fit_their_column(value, width):
     text = fit_number(value, width)
     assert len(text) == width, text
-    assert math.isclose(float(text.replace(",", "")), value, rel_tol=0.05, abs_tol=0.5)  # 2 digits at width 7
+    # two significant digits at width 7
+    assert math.isclose(float(text.replace(",", "")), value, rel_tol=0.05, abs_tol=0.5)
 
 
 def test_the_capacity_of_a_huge_world_stays_in_columns():
