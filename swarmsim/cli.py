@@ -17,7 +17,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from swarmsim.errors import ConfigError, interrupts_unwrapped
-from swarmsim.limits import MAX_FPS, MAX_FRAME_SIDE, MAX_ROBOTS, MAX_TICKS, check_count
+from swarmsim.limits import (
+    MAX_COORDINATE,
+    MAX_FPS,
+    MAX_FRAME_SIDE,
+    MAX_REPS,
+    MAX_ROBOTS,
+    MAX_TICKS,
+    MAX_WORKERS_PER_CPU,
+    check_count,
+)
 from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
 
 if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run import them
@@ -72,7 +81,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
 
 def _add_executor_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers", type=int, help="local worker processes (default: all CPUs; "
-                   "1 = in this process)")
+                   f"1 = in this process; at most {MAX_WORKERS_PER_CPU} per CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on a Dask cluster, e.g. tcp://host:8786 (pip install 'swarmsim[dask]')")
     p.add_argument("--retry-failed", action="store_true", dest="retry_failed",
@@ -96,7 +105,8 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run (or resume) the runs of the paper's figures and write "
                        "tables, plots and REPORT.md.")
     r.add_argument("fig", help="fig17 .. fig24, or all")
-    r.add_argument("--reps", type=int, default=3, help="seeds per condition (default 3)")
+    r.add_argument("--reps", type=int, default=3,
+                   help=f"seeds per condition (default 3, at most {MAX_REPS:,})")
     r.add_argument("--out", type=Path, default=Path("results/reproduce"),
                    help="output folder (default results/reproduce)")
     r.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit of every run")
@@ -126,7 +136,8 @@ def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--robots", type=int, help="robot count (default: the world's)")
     p.add_argument("--groups", type=int, help=f"number of groups K (default {STUDY_GROUPS})")
     p.add_argument("--d-cover", type=float, dest="d_cover", help="d_cover (default: 6)")
-    p.add_argument("--reps", type=int, default=5, help="seeds per condition (default 5)")
+    p.add_argument("--reps", type=int, default=5,
+                   help=f"seeds per condition (default 5, at most {MAX_REPS:,})")
     p.add_argument("--max-ticks", type=int, dest="max_ticks",
                    help="tick limit of every run (default 100000)")
     p.add_argument("--modes", nargs="+", default=["ghost", "rigid"], choices=("ghost", "rigid"),
@@ -154,13 +165,15 @@ def _add_make_world_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, required=True, metavar="FILE.toml",
                    help="the world file to write")
     p.add_argument("--size", type=float, help="the target's height, units (default: the "
-                   "height at which its area is the K world's, 13,280 units^2)")
+                   "height at which its area is the K world's, 13,280 units^2); refused when "
+                   f"the target would take more than {MAX_ROBOTS:,} robots or span more than "
+                   f"+-{MAX_COORDINATE:,.0f} units")
     p.add_argument("--font", help="font family or .ttf file for --text (default DejaVu Sans "
                    "Bold)")
     p.add_argument("--invert", action="store_true",
                    help="trace the image's light shapes instead of its dark ones")
     p.add_argument("--robots", type=int, help="robot count (default: the lattice capacity at "
-                   "--d-cover / 0.7, as the shipped worlds)")
+                   f"--d-cover / 0.7, as the shipped worlds; at most {MAX_ROBOTS:,})")
     p.add_argument("--groups", type=int, help="groups (default: one per 200 robots, 1..10)")
     p.add_argument("--d-cover", type=float, default=6.0, dest="d_cover",
                    help="d_cover the robot count is sized for (default 6)")
