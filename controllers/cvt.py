@@ -54,6 +54,12 @@ _g = np.arange(-DISC_STEPS, DISC_STEPS + 1) / DISC_STEPS
 DISC = np.array([(x, y) for x in _g for y in _g if x * x + y * y <= 1.0 + 1e-9])
 
 
+MIN_MAP_CELL = 0.1
+"""Smallest lattice spacing of a LocalMap, units: a robot keeps ~(2 radius / cell + 2 MARGIN)^2
+points and probes those within its radius (11,000 at radius 6); a spacing of 0.001 asked for
+a hundred million per robot."""
+
+
 class LocalMap:
     """A robot's memory of the floor on a square lattice, in its own odometry frame.
 
@@ -188,7 +194,7 @@ class CVTParams:
         d_safe: neighbours closer than this repel (paper Table 2: 1).
         cell_radius: a robot's Voronoi cell is limited to this radius; it senses the floor and
             its neighbours that far (at most the class's min_probe_range, 6).
-        map_cell: spacing of the lattice of floor points a robot senses.
+        map_cell: spacing of the lattice of floor points a robot senses (at least 0.1).
         v: top speed (paper: 0.1).
         gain: speed per unit of distance to the centroid (1 = pure Lloyd, capped at v).
         repulsion_gain: d_safe repulsion, speed per unit of missing distance.
@@ -217,8 +223,9 @@ class CVTParams:
         if self.cell_radius > MIN_PROBE_RANGE:
             raise ValueError(f"cell_radius ({self.cell_radius}) must not exceed the probe range "
                              f"the controller requests ({MIN_PROBE_RANGE})")
-        if self.map_cell > self.cell_radius / 2:
-            raise ValueError(f"map_cell ({self.map_cell}) must be at most cell_radius / 2")
+        if not MIN_MAP_CELL <= self.map_cell <= self.cell_radius / 2:
+            raise ValueError(f"map_cell ({self.map_cell}) must be at least {MIN_MAP_CELL} (the "
+                             "floor points a robot senses) and at most cell_radius / 2")
         if self.tolerance >= 1:
             raise ValueError(f"tolerance must be < 1, got {self.tolerance!r}")
 

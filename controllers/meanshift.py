@@ -41,7 +41,7 @@ import numpy as np
 
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
 
-from .cvt import LocalMap, clamp, sq_norms
+from .cvt import MIN_MAP_CELL, LocalMap, clamp, sq_norms
 from .mapkernel import warm_up as _warm_up_map
 from .shiftkernel import explore, interact
 from .shiftkernel import warm_up as _warm_up_kernels
@@ -63,7 +63,7 @@ class MeanShiftParams:
             2.5 / 1.5 r_avoid = 10; at most the class's min_probe_range, 10).
         r_occupied: a sensed target point within this distance of a neighbour is occupied
             (paper: max(r_avoid / 2, 2 r_body) = 3).
-        map_cell: spacing of the lattice of floor points a robot senses.
+        map_cell: spacing of the lattice of floor points a robot senses (at least 0.1).
         v: top speed (paper Table 2: 0.1).
         kappa_enter: entering speed toward the nearest target point (paper 10 -> 0.2).
         kappa_fill: gain toward the kernel mean of all target points (paper 5 -> 0.025).
@@ -101,8 +101,9 @@ class MeanShiftParams:
         if self.r_sense > MIN_PROBE_RANGE:
             raise ValueError(f"r_sense ({self.r_sense}) must not exceed the probe range the "
                              f"controller requests ({MIN_PROBE_RANGE})")
-        if self.map_cell > self.r_sense / 4:
-            raise ValueError(f"map_cell ({self.map_cell}) must be at most r_sense / 4")
+        if not MIN_MAP_CELL <= self.map_cell <= self.r_sense / 4:
+            raise ValueError(f"map_cell ({self.map_cell}) must be at least {MIN_MAP_CELL} (the "
+                             "floor points a robot senses) and at most r_sense / 4")
 
 
 @register

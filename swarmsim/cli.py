@@ -14,23 +14,32 @@ import sys
 import tempfile
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from swarmsim import runfolder
-from swarmsim.config import SimConfig, parse_value
 from swarmsim.errors import ConfigError, interrupts_unwrapped
+from swarmsim.limits import (
+    MAX_COORDINATE,
+    MAX_FPS,
+    MAX_FRAME_SIDE,
+    MAX_REPS,
+    MAX_ROBOTS,
+    MAX_TICKS,
+    MAX_WORKERS_PER_CPU,
+    check_count,
+)
 from swarmsim.runfolder import NewFolders
-from swarmsim.worldinfo import LATTICE_SPACINGS
+from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
+
+if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run import them
+    from swarmsim.config import SimConfig
 
 
-def _parse_set(pairs: Sequence[str]) -> dict[str, Any]:
-    out: dict[str, Any] = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or not key.strip():
-            raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
-        out[key.strip().replace("-", "_")] = parse_value(value)
-    return out
+def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
+    """The ``--set KEY=VALUE`` pairs as settings; see swarmsim.config.settings_from_pairs."""
+    from swarmsim.config import settings_from_pairs
+
+    return settings_from_pairs(pairs, options)
 
 
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
@@ -39,12 +48,14 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
     p.add_argument("--controller",
                    help="controller name or module:Class (default: the world's, else ggc)")
-    p.add_argument("--robots", type=int, help="number of robots (default: the world's)")
+    p.add_argument("--robots", type=int,
+                   help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
     p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
     p.add_argument("--d-cover", type=float, dest="d_cover",
                    help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
-    p.add_argument("--seed", type=int, default=0, help="run seed (default 0)")
-    p.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit (default 100000)")
+    p.add_argument("--seed", type=int, help="run seed (default 0)")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks",
+                   help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="any other parameter; see 'swarmsim params'")
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
@@ -54,14 +65,16 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                         "every K ticks, compressed; kept in memory until the run ends: "
                         "N x 9 bytes per sample, (ticks / K + 2) samples (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
-    p.add_argument("--fps", type=int, default=30, help="video frames per second (default 30)")
+    p.add_argument("--fps", type=int, default=30,
+                   help=f"video frames per second (default 30, at most {MAX_FPS})")
     p.add_argument("--frame-every", type=int, default=0, dest="frame_every", metavar="K",
                    help="a video frame every K ticks (default: max_ticks / 600, at least 1 "
                         "and at most 50)")
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="robot colouring in videos: status, or a field the controller offers "
                         "(GGC: gradient (default), group)")
-    p.add_argument("--width", type=int, default=800, help="video/snapshot width in px")
+    p.add_argument("--width", type=int, default=800,
+                   help=f"video/snapshot width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something (collision-realism videos)")
     p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
@@ -70,7 +83,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
 
 def _add_executor_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--workers", type=int, help="local worker processes (default: all CPUs; "
-                   "1 = in this process)")
+                   f"1 = in this process; at most {MAX_WORKERS_PER_CPU} per CPU)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run on a Dask cluster, e.g. tcp://host:8786 (pip install 'swarmsim[dask]')")
     p.add_argument("--retry-failed", action="store_true", dest="retry_failed",
@@ -94,7 +107,8 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
                        description="Run (or resume) the runs of the paper's figures and write "
                        "tables, plots and REPORT.md.")
     r.add_argument("fig", help="fig17 .. fig24, or all")
-    r.add_argument("--reps", type=int, default=3, help="seeds per condition (default 3)")
+    r.add_argument("--reps", type=int, default=3,
+                   help=f"seeds per condition (default 3, at most {MAX_REPS:,})")
     r.add_argument("--out", type=Path, default=Path("results/reproduce"),
                    help="output folder (default results/reproduce)")
     r.add_argument("--max-ticks", type=int, dest="max_ticks", help="tick limit of every run")
@@ -110,6 +124,9 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     _add_executor_args(r)
 
 
+STUDY_GROUPS = 3  # study collisions' groups when neither --groups nor --set groups= is given
+
+
 def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("study", help="collision-realism study: ghost vs rigid robots",
                        description="Run the same scenarios with robots that pass through each "
@@ -119,9 +136,10 @@ def _add_study_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--world", default="K", help="world (default K)")
     p.add_argument("--controller", default="ggc", help="controller (default ggc)")
     p.add_argument("--robots", type=int, help="robot count (default: the world's)")
-    p.add_argument("--groups", type=int, default=3, help="number of groups K (default 3)")
+    p.add_argument("--groups", type=int, help=f"number of groups K (default {STUDY_GROUPS})")
     p.add_argument("--d-cover", type=float, dest="d_cover", help="d_cover (default: 6)")
-    p.add_argument("--reps", type=int, default=5, help="seeds per condition (default 5)")
+    p.add_argument("--reps", type=int, default=5,
+                   help=f"seeds per condition (default 5, at most {MAX_REPS:,})")
     p.add_argument("--max-ticks", type=int, dest="max_ticks",
                    help="tick limit of every run (default 100000)")
     p.add_argument("--modes", nargs="+", default=["ghost", "rigid"], choices=("ghost", "rigid"),
@@ -149,13 +167,15 @@ def _add_make_world_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, required=True, metavar="FILE.toml",
                    help="the world file to write")
     p.add_argument("--size", type=float, help="the target's height, units (default: the "
-                   "height at which its area is the K world's, 13,280 units^2)")
+                   "height at which its area is the K world's, 13,280 units^2); refused when "
+                   f"the target would take more than {MAX_ROBOTS:,} robots or span more than "
+                   f"+-{MAX_COORDINATE:,.0f} units")
     p.add_argument("--font", help="font family or .ttf file for --text (default DejaVu Sans "
                    "Bold)")
     p.add_argument("--invert", action="store_true",
                    help="trace the image's light shapes instead of its dark ones")
     p.add_argument("--robots", type=int, help="robot count (default: the lattice capacity at "
-                   "--d-cover / 0.7, as the shipped worlds)")
+                   f"--d-cover / 0.7, as the shipped worlds; at most {MAX_ROBOTS:,})")
     p.add_argument("--groups", type=int, help="groups (default: one per 200 robots, 1..10)")
     p.add_argument("--d-cover", type=float, default=6.0, dest="d_cover",
                    help="d_cover the robot count is sized for (default 6)")
@@ -179,11 +199,20 @@ def build_parser() -> argparse.ArgumentParser:
     wp.add_argument("--preview", type=Path, metavar="FILE.png",
                     help="draw the world (one WORLD) with its robots at the start, without "
                     "running it")
-    wp.add_argument("--width", type=int, default=800, help="preview width in px (default 800)")
+    wp.add_argument("--width", type=int, default=800,
+                    help=f"preview width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
     _add_make_world_parser(sub)
-    sub.add_parser("controllers", help="list registered controllers")
-    pp = sub.add_parser("params", help="list every parameter with its default and meaning")
-    pp.add_argument("--controller", default="ggc")
+    sub.add_parser("controllers", help="list registered controllers",
+                   description="List the registered controllers (built in, @register'ed or "
+                   "installed by entry point), each with a line on what it does. Give one "
+                   "to run with --controller NAME, or any class as --controller module:Class.")
+    pp = sub.add_parser("params", help="list every parameter with its default and meaning",
+                        description="List every parameter a run takes, by section (engine, "
+                        "physics, the controller's own), with its default, meaning and upper "
+                        "bound. Set any with --set KEY=VALUE (run, reproduce, study) or in a "
+                        "sweep spec's [params] and [grid].")
+    pp.add_argument("--controller", default="ggc",
+                    help="the controller whose parameters to list (default ggc)")
     return parser
 
 
@@ -209,6 +238,8 @@ def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) 
             raise ConfigError(f"must be a .png file, got {str(preview)!r}", key="--preview")
         _check_width(width)
     reports = [describe_world(load_world(name)) for name in names]
+    if preview is not None:
+        _check_width(width, reports[0].world.arena)
     for k, report in enumerate(reports):
         if k:
             print()
@@ -269,9 +300,9 @@ def cmd_list_worlds() -> int:
     print(head + f" {'robots':>7} {'groups':>6}")
     for name in available_worlds():
         w = load_world(name)
-        caps = " ".join(f"{w.lattice_capacity(d):>8}" for d in LATTICE_SPACINGS)
-        print(f"{name:<10} {w.target_area:>9.0f} {caps} {w.defaults.get('robots', '-'):>7} "
-              f"{w.defaults.get('groups', '-'):>6}")
+        caps = " ".join(fit_number(w.lattice_capacity(d), 8) for d in LATTICE_SPACINGS)
+        print(f"{name:<10} {fit_number(w.target_area, 9)} {caps} "
+              f"{w.defaults.get('robots', '-'):>7} {w.defaults.get('groups', '-'):>6}")
     print("cap@d = robots a hexagonal lattice of spacing d holds: area / (0.866 d^2)")
     return 0
 
@@ -287,6 +318,7 @@ def cmd_controllers() -> int:
 
 
 def cmd_params(controller: str) -> int:
+    from swarmsim.config import SimConfig
     from swarmsim.controller import get_controller
     from swarmsim.paramhelp import format_params, help_width
     from swarmsim.physics import PhysicsConfig
@@ -299,8 +331,8 @@ def cmd_params(controller: str) -> int:
 
 
 def _frame_every(args: argparse.Namespace, max_ticks: int) -> int:
-    if args.frame_every and args.frame_every < 0:
-        raise ConfigError(f"must be positive, got {args.frame_every!r}", key="--frame-every")
+    if args.frame_every:
+        check_count("--frame-every", args.frame_every, MAX_TICKS, "ticks in one run")
     return args.frame_every or max(1, min(50, max_ticks // 600))
 
 
@@ -317,13 +349,13 @@ def _trajectories_every(args: argparse.Namespace) -> int:
     return every
 
 
-def _check_width(width: int) -> None:
-    """Refuse a frame width the renderer cannot draw, before the run rather than at its first
-    frame."""
-    from swarmsim.render.frame import check_width
+def _check_width(width: int, arena: tuple[float, float, float, float] | None = None) -> None:
+    """Refuse a frame width the renderer cannot draw (and, given the ``arena``, a frame height
+    it would make), before the run rather than at its first frame."""
+    from swarmsim.render.frame import check_width, frame_size
 
     try:
-        check_width(width)
+        check_width(width) if arena is None else frame_size(arena, width)
     except ValueError as exc:
         raise ConfigError(str(exc).removeprefix("width "), key="--width") from None
 
@@ -389,19 +421,36 @@ def _make_output_folders(args: argparse.Namespace, made: NewFolders) -> None:
         _make_folder(key, folder, made)
 
 
+def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, every: int) -> None:
+    """Refuse what the run's outputs would make too large, before the run is built: frames
+    (the height follows the arena) and trajectory samples kept in memory."""
+    if args.video or args.snapshot:
+        _check_width(args.width, world.arena)
+    if every:
+        from swarmsim.trajectories import check_memory
+
+        check_memory(every, config.robots, config.max_ticks, key="--trajectories")
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
+    from swarmsim.world import load_world
 
-    if args.fps <= 0:
-        raise ConfigError(f"must be positive, got {args.fps!r}", key="--fps")
+    check_count("--fps", args.fps, MAX_FPS, "video frames per second")
+    _frame_every(args, MAX_TICKS)
     if args.video or args.snapshot:
         _check_width(args.width)
     every = _trajectories_every(args)
     _check_output_paths(args)
-    sim = Simulation(args.world, controller=args.controller, robots=args.robots,
-                     groups=args.groups, seed=args.seed, d_cover=args.d_cover,
-                     max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    run = {"controller": args.controller, "robots": args.robots, "groups": args.groups,
+           "seed": args.seed, "d_cover": args.d_cover, "max_ticks": args.max_ticks,
+           "settings": _parse_set(args.set, robots=args.robots, groups=args.groups,
+                                  seed=args.seed, d_cover=args.d_cover,
+                                  max_ticks=args.max_ticks)}
+    world = load_world(args.world)
+    _check_run_sizes(args, world, Simulation.check(world, **run)[0], every)
+    sim = Simulation(world, **run)
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,
@@ -448,7 +497,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     from swarmsim.experiments.executors import check_workers
 
     check_workers(args.workers)
-    setup = rp.setup_with(rp.PAPER, args.world, args.robots, _parse_set(args.set),
+    setup = rp.setup_with(rp.PAPER, args.world, args.robots,
+                          _parse_set(args.set, robots=args.robots, max_ticks=args.max_ticks),
                           args.rulesets)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
@@ -470,10 +520,13 @@ def cmd_study(args: argparse.Namespace) -> int:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
     check_workers(args.workers)
     _check_folder("--out", args.out)  # made by the sweep once every run is checked
+    extra = _parse_set(args.set, robots=args.robots, groups=args.groups, d_cover=args.d_cover,
+                       max_ticks=args.max_ticks)
+    groups = args.groups if args.groups is not None else extra.pop("groups", STUDY_GROUPS)
     setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
-                       groups=args.groups, d_cover=args.d_cover, modes=tuple(args.modes),
+                       groups=groups, d_cover=args.d_cover, modes=tuple(args.modes),
                        noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,
-                       extra=_parse_set(args.set))
+                       extra=extra)
     result = study_collisions(setup, args.out, args.reps, args.workers, args.scheduler,
                               args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")

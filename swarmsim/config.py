@@ -16,12 +16,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Mapping
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
-from swarmsim.errors import ConfigError
+from swarmsim import limits
+from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.imperfections import NoiseLevels
+from swarmsim.limits import MAX_GRID_SIZE, MAX_RECORD_ROWS, MAX_ROBOTS, MAX_TICKS, at_most
 from swarmsim.physics import PhysicsConfig
 
 UNBOUNDED_PARAMS = frozenset({"spin_traction"})
@@ -47,7 +49,8 @@ class SimConfig:
         coverage_radius: coverage radius r of one robot, units (paper: 4).
         eps0: completion threshold: done when 1 - P <= eps0 (paper's epsilon_0).
         grid_size: the coverage raster is grid_size x grid_size pixels (paper: 100).
-        record_every: a time-series row every this many ticks.
+        record_every: a time-series row every this many ticks (kept in memory until the run
+            ends: at most 1,000,000 rows, max_ticks / record_every).
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
             many ticks (long enough for a slow last stretch: see docs/measurements.md).
         plateau_delta: see plateau_ticks (fraction of the target).
@@ -81,21 +84,23 @@ class SimConfig:
             place) once it is this far from where it settled, units.
     """
 
-    robots: int = 100
-    groups: int = 1
+    robots: int = field(default=100, metadata=at_most(MAX_ROBOTS,
+                                                           "robots in one run"))
+    groups: int = field(default=1, metadata=at_most(MAX_ROBOTS))
     seed: int = 0
-    max_ticks: int = 100_000
+    max_ticks: int = field(default=100_000, metadata=at_most(MAX_TICKS, "ticks in one run"))
     start: str = ""
     spawn_spacing: float = 1.0
     formation_spacing: float = 1.0
     v_max: float = 0.1
     coverage_radius: float = 4.0
     eps0: float = 0.01
-    grid_size: int = 100
-    record_every: int = 10
-    plateau_ticks: int = 10000
+    grid_size: int = field(default=100, metadata=at_most(
+        MAX_GRID_SIZE, "the coverage raster has grid_size x grid_size cells"))
+    record_every: int = field(default=10, metadata=at_most(MAX_TICKS))
+    plateau_ticks: int = field(default=10000, metadata=at_most(MAX_TICKS))
     plateau_delta: float = 0.002
-    stall_ticks: int = 1000
+    stall_ticks: int = field(default=1000, metadata=at_most(MAX_TICKS))
     stop_on_complete: bool = True
     probe_range: float = 2.0
     wake_eps: float = 1e-3
@@ -104,7 +109,7 @@ class SimConfig:
     batch_decide: bool = True
     failures: int = 0
     failure_phase: str = "coverage"
-    failure_tick: int = 0
+    failure_tick: int = field(default=0, metadata=at_most(MAX_TICKS))
     speed_noise: float = 0.0
     heading_noise: float = 0.0
     distance_noise: float = 0.0
@@ -123,11 +128,19 @@ class SimConfig:
             value = getattr(self, name)
             if not value > 0:
                 raise ConfigError(f"must be positive, got {value!r}", key=name)
+        limits.check_fields(self)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"must be a non-negative integer, got {self.seed!r}", key="seed")
         for name in ("eps0", "plateau_delta"):
             if not 0 <= getattr(self, name) < 1:
                 raise ConfigError(f"must be in [0, 1), got {getattr(self, name)!r}", key=name)
+        rows = self.max_ticks // self.record_every
+        if rows > MAX_RECORD_ROWS:
+            least = -(-self.max_ticks // MAX_RECORD_ROWS)
+            raise ConfigError(f"{self.record_every} makes {rows:,} time-series rows in memory "
+                              f"over max_ticks = {self.max_ticks:,}, more than "
+                              f"{MAX_RECORD_ROWS:,}: set record_every to {least:,} or more",
+                              key="record_every")
         if self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots "
                               f"(robots = {self.robots})", key="groups")
@@ -172,6 +185,28 @@ class SimConfig:
         """The run's imperfections (all zero by default)."""
         return NoiseLevels(self.speed_noise, self.heading_noise, self.distance_noise,
                            self.bearing_noise, self.message_loss)
+
+
+def settings_from_pairs(pairs: Sequence[str], options: Mapping[str, Any]) -> dict[str, Any]:
+    """``KEY=VALUE`` pairs (``--set``) as settings (``-`` in a key read as ``_``, values by
+    parse_value). A key given twice, by two pairs or by a pair and one of ``options`` (the
+    command-line options that set a key, by key, e.g. ``{"robots": 5}`` for ``--robots 5``;
+    None: not given), is a ConfigError naming both."""
+    out: dict[str, Any] = {}
+    written: dict[str, tuple[str, Any]] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise ConfigError(f"expected KEY=VALUE, got {pair!r}", key="--set")
+        key = key.strip().replace("-", "_")
+        check_given_once({key: written[key]} if key in written else {},
+                         {key: (f"--set {pair}", value)})
+        written[key] = (f"--set {pair}", value)
+        out[key] = parse_value(value)
+    given = {key: (f"--{key.replace('_', '-')} {value}", value)
+             for key, value in options.items() if value is not None}
+    check_given_once(given, written)
+    return out
 
 
 def parse_value(text: str) -> Any:
@@ -255,9 +290,9 @@ def resolve_settings(settings: Mapping[str, Any], params_cls: type
                 dest[key] = coerce(value, defaults[key], key)
                 break
         else:
-            known = sorted(set().union(*targets))
-            raise ConfigError(f"unknown parameter (value {value!r}); known parameters: "
-                              f"{', '.join(known)}", key=key)
+            message = unknown_name("parameter", key, set().union(*targets),
+                                   "see 'swarmsim params'")
+            raise ConfigError(f"{message} (value {value!r})", key=key)
     return out
 
 
@@ -266,6 +301,8 @@ def build_configs(settings: Mapping[str, Any], params_cls: type
     """Build validated configs; every error names the key and value."""
     sim_kw, phys_kw, ctrl_kw = resolve_settings(settings, params_cls)
     sim = SimConfig(**sim_kw)
+    limits.check_values(PhysicsConfig, phys_kw)  # before building: a bound sizes something
+    limits.check_values(params_cls, ctrl_kw)
     try:
         phys = PhysicsConfig(**phys_kw)
     except ValueError as exc:
@@ -287,3 +324,15 @@ def _named_key(message: str, settings: Mapping[str, Any]) -> str | None:
     named = [(m.start(), key) for key in settings
              if (m := re.search(rf"\b{re.escape(key)}\b", message))]
     return min(named)[1] if named else None
+
+
+def check_given_once(given: Mapping[str, tuple[str, Any]],
+                     settings_given: Mapping[str, tuple[str, Any]]) -> None:
+    """Refuse a setting given both by an option and among the ``--set`` pairs.
+
+    ``given`` and ``settings_given`` map a setting's key to (how it was written, value), e.g.
+    ``{"robots": ("--robots 5", 5)}`` and ``{"robots": ("--set robots=7", 7)}``; only the
+    keys given in both are compared."""
+    for key in sorted(set(given) & set(settings_given)):
+        raise ConfigError(f"given twice: {given[key][0]} and {settings_given[key][0]}; give "
+                          "it once", key=key)

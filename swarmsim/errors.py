@@ -8,7 +8,11 @@ offending value, so that the command line can print one clear line instead of a 
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+import difflib
+from collections.abc import Iterable, Iterator
+
+MAX_LISTED = 12
+"""An unknown name's message lists the known names when there are at most this many."""
 
 
 class ConfigError(ValueError):
@@ -51,3 +55,27 @@ def interrupts_unwrapped() -> Iterator[None]:
         if interrupt_within(exc):
             raise KeyboardInterrupt from exc
         raise
+
+
+def did_you_mean(name: str, known: Iterable[str], n: int = 3) -> str:
+    """``"; did you mean 'a', 'b' or 'c'?"`` with the (up to ``n``) known names closest to
+    ``name`` (difflib), or ``""`` when none is close."""
+    close = difflib.get_close_matches(str(name), sorted(set(known)), n=n, cutoff=0.6)
+    if not close:
+        return ""
+    quoted = [repr(c) for c in close]
+    listed = quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]
+    return f"; did you mean {listed}?"
+
+
+def unknown_name(what: str, name: str, known: Iterable[str], listing: str = "") -> str:
+    """The message for an unknown name: ``unknown parameter 'robot'; did you mean 'robots'?``
+    (the three closest known names). With none close: the known names when they are few (at
+    most MAX_LISTED), else ``listing`` (where to find them, e.g. "see 'swarmsim params'")."""
+    known = sorted(set(known))
+    hint = did_you_mean(name, known)
+    if hint:
+        return f"unknown {what} {name!r}{hint}"
+    if len(known) <= MAX_LISTED or not listing:
+        return f"unknown {what} {name!r}; known: {', '.join(known) or 'none'}"
+    return f"unknown {what} {name!r}; {listing}"

@@ -11,10 +11,10 @@ capacity at ``d_cover`` (capacity / 0.7, K's ratio).
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import tempfile
+import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,6 +26,7 @@ from shapely.geometry.base import BaseGeometry
 from shapely.ops import polylabel
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, check_count
 from swarmsim.world import World, world_from_dict
 from swarmsim.worldinfo import describe_world, hex_capacity, layout_rng
 
@@ -61,14 +62,19 @@ class WorldSpec:
     groups: int | None = None
 
     def __post_init__(self) -> None:
+        for key, text in (("--name", self.name), ("--text", self.description)):
+            try:
+                toml_string(text)
+            except ValueError as exc:
+                raise ConfigError(str(exc), key=key) from None
         if self.size is not None and not (math.isfinite(self.size) and self.size > 0):
             raise ConfigError(f"must be positive and finite, got {self.size!r}", key="--size")
         if not (math.isfinite(self.d_cover) and self.d_cover > 0):
             raise ConfigError(f"must be positive and finite, got {self.d_cover!r}",
                               key="--d-cover")
         for key, value in (("--robots", self.robots), ("--groups", self.groups)):
-            if value is not None and value < 1:
-                raise ConfigError(f"must be >= 1, got {value!r}", key=key)
+            if value is not None:
+                check_count(key, value, MAX_ROBOTS, "robots in one run")
         if self.robots and self.groups and self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots (robots = "
                               f"{self.robots})", key="--groups")
@@ -89,6 +95,7 @@ def build_world(shape: BaseGeometry, spec: WorldSpec) -> BuiltWorld:
     notes: list[str] = []
     x0, y0, _x1, y1 = shape.bounds
     height = spec.size or (y1 - y0) * math.sqrt(K_AREA / shape.area)
+    check_size(shape, height, spec)
     scale = height / (y1 - y0)
     target = shapely.affinity.scale(shape, scale, scale, origin=(x0, y0))
     target = shapely.affinity.translate(target, -x0, -y0)
@@ -108,6 +115,36 @@ def build_world(shape: BaseGeometry, spec: WorldSpec) -> BuiltWorld:
     notes.append(f"{robots} robots in {groups} group(s) for d_cover {spec.d_cover:g} (the lattice "
                  f"holds {hex_capacity(free, spec.d_cover)}); target {height:.0f} units high")
     return BuiltWorld(data=data, world=world, notes=tuple(notes))
+
+
+def check_size(shape: BaseGeometry, height: float, spec: WorldSpec) -> None:
+    """Refuse a target ``height`` units high that no run could take, from the shape's bounds
+    and area alone (nothing laid out, so any size is refused at once): its extent (with the
+    spawn band and the arena's margin, within +-MAX_COORDINATE) and, without ``spec.robots``,
+    the robot count it would get (lattice capacity at d_cover / CAPACITY_SHARE, which grows
+    with height^2) above MAX_ROBOTS."""
+    x0, y0, x1, y1 = shape.bounds
+    scale = height / (y1 - y0)
+    extent = max(x1 - x0, y1 - y0) * scale
+    most_extent = MAX_COORDINATE / 2  # room for the spawn band, the bridges and the margin
+    if extent > most_extent:
+        most = height * most_extent / extent
+        raise ConfigError(f"{spec.size if spec.size else height:g} makes the target "
+                          f"{(x1 - x0) * scale:.3g} x {(y1 - y0) * scale:.3g} units, beyond the "
+                          f"+-{MAX_COORDINATE:,.0f} units a world may span: give --size "
+                          f"{most:,.0f} or less", key="--size")
+    if spec.robots is not None:
+        return
+    area = float(shape.area) * scale * scale
+    robots = hex_capacity(area, spec.d_cover) / CAPACITY_SHARE
+    if robots > MAX_ROBOTS:
+        most = height * math.sqrt(MAX_ROBOTS / robots) * 0.99  # area estimated before joining
+        given = f"{spec.size:g}" if spec.size else f"the default height {height:.0f}"
+        raise ConfigError(f"{given} makes a target of {area:,.0f} units^2 that would take "
+                          f"{robots:,.0f} robots at d_cover {spec.d_cover:g} (lattice capacity /"
+                          f" {CAPACITY_SHARE}), more than the {MAX_ROBOTS:,} a run takes: give "
+                          f"--size {math.floor(most):,} or less, a larger --d-cover, or "
+                          "--robots", key="--size")
 
 
 def _joined(target: BaseGeometry, width: float) -> tuple[Polygon, int]:
@@ -233,8 +270,8 @@ def _lift(data: dict, dy: float) -> None:
 def to_toml(data: dict, header: str = "") -> str:
     """The world data as a TOML text (points six to a line)."""
     out = [f"# {line}".rstrip() for line in header.splitlines()] + [""] if header else []
-    out += [f"name = {json.dumps(data['name'])}",
-            f"description = {json.dumps(data['description'])}", "", "[target]"]
+    out += [f"name = {toml_string(data['name'])}",
+            f"description = {toml_string(data['description'])}", "", "[target]"]
     out += _points("outline", data["target"]["outline"])
     if data["target"]["holes"]:
         out.append("holes = [")
@@ -252,6 +289,29 @@ def to_toml(data: dict, header: str = "") -> str:
     return "\n".join(out) + "\n"
 
 
+TOML_ESCAPES = {'"': '\\"', "\\": "\\\\", "\b": "\\b", "\t": "\\t", "\n": "\\n",
+                "\f": "\\f", "\r": "\\r"}
+
+
+def toml_string(text: str) -> str:
+    """``text`` as a TOML basic string (quoted): quote, backslash and control characters
+    escaped, every other character (any Unicode scalar value, emoji included) as itself, for
+    a UTF-8 file. ValueError for a lone surrogate, which TOML (and UTF-8) cannot hold."""
+    out = []
+    for ch in text:
+        code = ord(ch)
+        if 0xD800 <= code <= 0xDFFF:
+            raise ValueError(f"{text!r} holds a lone surrogate (U+{code:04X}), which a TOML "
+                             "file cannot hold")
+        if ch in TOML_ESCAPES:
+            out.append(TOML_ESCAPES[ch])
+        elif code < 0x20 or code == 0x7F:
+            out.append(f"\\u{code:04X}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _points(key: str | None, pts: list[list[float]]) -> list[str]:
     cells = [f"[{x:g}, {y:g}]" for x, y in pts]
     rows = [", ".join(cells[i:i + 6]) + "," for i in range(0, len(cells), 6)]
@@ -266,6 +326,7 @@ def write_world(built: BuiltWorld, path: Path, header: str = "") -> Path:
 
     path = Path(path)
     text = to_toml(built.data, header)
+    world_from_dict(tomllib.loads(text), source=f"<{built.data['name']}>")  # before writing
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:

@@ -71,7 +71,7 @@ def format_params(sections: Iterable[tuple[str, type]], width: int) -> list[str]
         for f in dataclasses.fields(klass):
             default = f.default if f.default is not dataclasses.MISSING else "(required)"
             head = f"  {f.name:<{NAME_COLUMN}} = {default!r:<{DEFAULT_COLUMN}} "
-            paragraphs = docs.get(f.name, []) or [""]
+            paragraphs = _with_bound(docs.get(f.name, []), f) or [""]
             if len(head) > desc_col:  # a long name or default (or narrow): description below
                 lines.append(head.rstrip())
                 head = ""
@@ -82,3 +82,16 @@ def format_params(sections: Iterable[tuple[str, type]], width: int) -> list[str]
                                         break_long_words=True, break_on_hyphens=False)
                 lines.extend(wrapped or [first.rstrip()])
     return lines
+
+
+def _with_bound(paragraphs: list[str], f: dataclasses.Field) -> list[str]:
+    """The field's paragraphs, the last one ending with its upper bound if it declares one
+    (swarmsim.limits.at_most)."""
+    from swarmsim.limits import BOUND, format_bound
+
+    if BOUND not in f.metadata:
+        return paragraphs
+    note = f"At most {format_bound(f.metadata[BOUND])}."
+    if not paragraphs:
+        return [note]
+    return [*paragraphs[:-1], f"{paragraphs[-1]} {note}"]

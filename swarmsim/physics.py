@@ -29,6 +29,7 @@ import pymunk.batch as pb
 
 from swarmsim import chipmunkcalls, contactrows, interrupts
 from swarmsim.bodysleep import BodyRows, IdTable, Parking
+from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields
 from swarmsim.world import World
 
 ROBOT_TYPE = 1
@@ -70,8 +71,8 @@ class PhysicsConfig:
     traction: float = 0.1
     spin_traction: float = 0.5
     friction: float = 0.3
-    substeps: int = 6
-    iterations: int = 5
+    substeps: int = field(default=6, metadata=at_most(MAX_SUBSTEPS))
+    iterations: int = field(default=5, metadata=at_most(MAX_ITERATIONS))
     collision_slop: float = 0.002
     mode: Literal["rigid", "ghost"] = "rigid"
     physics_sleep: bool = True
@@ -88,6 +89,7 @@ class PhysicsConfig:
             raise ValueError("substeps and iterations must be >= 1")
         if self.mode not in ("rigid", "ghost"):
             raise ValueError(f"mode must be 'rigid' or 'ghost', got {self.mode!r}")
+        check_fields(self)
 
 
 @dataclass

@@ -9,7 +9,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Self
 
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, did_you_mean
 from swarmsim.output import write_npz, write_run
 from swarmsim.runfolder import clear_run
 from swarmsim.sim import RunResult, Simulation
@@ -31,8 +31,9 @@ class Recorder:
                  trajectories_every: int = 0):
         offered = ("status", *sim.info.colourings)
         if color_by is not None and color_by not in offered:
+            hint = did_you_mean(color_by, offered)
             raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
-                              f"{', '.join(offered)}; got {color_by!r}", key="--color-by")
+                              f"{', '.join(offered)}; got {color_by!r}{hint}", key="--color-by")
         self.sim = sim
         self.trajectories = (Trajectories(sim, trajectories_every) if trajectories_every
                              else None)

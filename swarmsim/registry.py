@@ -16,7 +16,7 @@ import sys
 from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, unknown_name
 
 ENTRY_POINT_GROUP = "swarmsim.controllers"
 _REGISTRY: dict[str, type] = {}
@@ -48,9 +48,8 @@ def get_controller(name: str | type) -> type:
         return _REGISTRY[name]
     point = _entry_points().get(name)
     if point is None:
-        raise ConfigError(f"unknown controller {name!r}; available: "
-                          f"{', '.join(available_controllers())} (or module:Class)",
-                          key="controller")
+        raise ConfigError(f"{unknown_name('controller', name, available_controllers())} "
+                          "(or give module:Class)", key="controller")
     cls = point.load()
     _check_controller_class(cls, name)
     _REGISTRY.setdefault(name, cls)

@@ -58,6 +58,7 @@ def text_shape(text: str, font: str | None = None) -> BaseGeometry:
     from matplotlib.textpath import TextPath
 
     prop = _font(font)
+    _check_glyphs(text, prop)
     shapes = []
     x = 0.0
     for ch in text:
@@ -75,6 +76,21 @@ def text_shape(text: str, font: str | None = None) -> BaseGeometry:
     if shape.is_empty:
         raise ConfigError(f"the text {text!r} has no shapes in this font", key="--text")
     return shape
+
+
+def _check_glyphs(text: str, prop) -> None:
+    """Refuse characters of ``text`` that the font has no glyph for (it would draw its
+    missing-glyph box), naming them and the font file."""
+    from matplotlib import font_manager
+
+    path = font_manager.findfont(prop)
+    face = font_manager.get_font(path)
+    missing = [ch for ch in dict.fromkeys(text)
+               if not ch.isspace() and face.get_char_index(ord(ch)) == 0]
+    if missing:
+        names = ", ".join(f"{ch!r} (U+{ord(ch):04X})" for ch in missing)
+        raise ConfigError(f"the font {Path(path).name} ({face.family_name}) has no glyph for "
+                          f"{names}; choose another --font or other text", key="--text")
 
 
 def _glyph(rings: list[np.ndarray]) -> BaseGeometry:

@@ -19,7 +19,7 @@ import numpy as np
 
 from swarmsim import cellsearch, contactrows, interrupts, spawn, tallies, tickrows, wakes
 from swarmsim.carrays import as_records
-from swarmsim.config import SimConfig, build_configs
+from swarmsim.config import SimConfig, build_configs, check_given_once
 from swarmsim.controller import (
     Action,
     ChunkActions,
@@ -91,15 +91,16 @@ class Simulation:
             a controller that forms groups (one that declares ``max_groups``: GGC) or a
             formation start (one formation per group) uses groups; any other run has one
             group (its summary says groups 1) and asking it for more is an error.
-        seed: the one seed that decides the run.
+        seed: the one seed that decides the run (default 0).
         d_cover: the controller's coverage distance, units (paper Table 2: 6).
         max_ticks: hard tick limit.
         settings: any other parameter by name (engine, physics or controller), e.g.
-            ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error.
+            ``{"eps0": 0.02, "radius": 0.5}``; unknown names are an error, and so is a name
+            also given as an argument above (``robots=5`` and ``{"robots": 7}``).
     """
 
     def __init__(self, world: World | str, controller: str | type | None = None,
-                 robots: int | None = None, groups: int | None = None, seed: int = 0,
+                 robots: int | None = None, groups: int | None = None, seed: int | None = None,
                  d_cover: float | None = None, max_ticks: int | None = None,
                  settings: Mapping[str, Any] | None = None):
         self._configure(world, controller, robots, groups, seed, d_cover, max_ticks, settings)
@@ -107,7 +108,7 @@ class Simulation:
 
     @classmethod
     def check(cls, world: World | str, controller: str | type | None = None,
-              robots: int | None = None, groups: int | None = None, seed: int = 0,
+              robots: int | None = None, groups: int | None = None, seed: int | None = None,
               d_cover: float | None = None, max_ticks: int | None = None,
               settings: Mapping[str, Any] | None = None) -> tuple[SimConfig, Any]:
         """Check a run's world, controller and settings as the constructor does, without
@@ -120,7 +121,7 @@ class Simulation:
         return sim.config, sim.params
 
     def _configure(self, world: World | str, controller: str | type | None, robots: int | None,
-                   groups: int | None, seed: int, d_cover: float | None,
+                   groups: int | None, seed: int | None, d_cover: float | None,
                    max_ticks: int | None, settings: Mapping[str, Any] | None) -> None:
         """Load the world and the controller class and build the validated configs."""
         self.world = world if isinstance(world, World) else load_world(world)
@@ -188,9 +189,11 @@ class Simulation:
             merged["d_cover"] = defaults["d_cover"]
         explicit = {"robots": robots, "groups": groups, "seed": seed, "d_cover": d_cover,
                     "max_ticks": max_ticks}
-        for key, value in explicit.items():
-            if value is not None:
-                merged[key] = value
+        given = {key: (f"{key}={value!r}", value) for key, value in explicit.items()
+                 if value is not None}
+        check_given_once(given, {key: (f"settings {key}={value!r}", value)
+                                 for key, value in settings.items()})
+        merged.update({key: value for key, (_, value) in given.items()})
         merged.update(settings)
         if "d_cover" in merged and not _has_field(self.controller_cls.Params, "d_cover"):
             raise ConfigError(f"controller {self.controller_name!r} has no d_cover parameter "

@@ -27,9 +27,11 @@ from typing import Any
 import numpy as np
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_TICKS, MAX_TRAJECTORY_BYTES, check_at_most
 from swarmsim.output import write_npz
 
 FILE_NAME = "trajectories.npz"
+BYTES_PER_ROBOT = 9  # a sample's bytes per robot: float32 x, y and an int8 status
 
 
 def check_every(value: Any, key: str = "trajectories_every") -> int:
@@ -44,7 +46,28 @@ def check_every(value: Any, key: str = "trajectories_every") -> int:
                               key=key) from None
     if not isinstance(value, (int, np.integer)) or value <= 0:
         raise ConfigError(f"must be a positive integer (ticks), got {value!r}", key=key)
+    check_at_most(key, value, MAX_TICKS, "ticks in one run")
     return int(value)
+
+
+def memory_bytes(every: int, robots: int, max_ticks: int) -> int:
+    """Bytes the samples of a run of ``robots`` robots and at most ``max_ticks`` ticks, sampled
+    every ``every`` ticks, hold in memory: N x BYTES_PER_ROBOT a sample, (ticks / every + 2)
+    samples."""
+    return robots * BYTES_PER_ROBOT * (max_ticks // every + 2)
+
+
+def check_memory(every: int, robots: int, max_ticks: int,
+                 key: str = "trajectories_every") -> None:
+    """Refuse a sampling interval whose samples would exceed MAX_TRAJECTORY_BYTES in memory."""
+    need = memory_bytes(every, robots, max_ticks)
+    if need > MAX_TRAJECTORY_BYTES:
+        least = robots * BYTES_PER_ROBOT * max_ticks // (MAX_TRAJECTORY_BYTES
+                                                          - 2 * robots * BYTES_PER_ROBOT) + 1
+        raise ConfigError(f"{every} ticks would keep {need / 2**30:,.1f} GiB of samples in "
+                          f"memory ({robots:,} robots, up to {max_ticks:,} ticks), more than "
+                          f"{MAX_TRAJECTORY_BYTES / 2**30:g} GiB: sample every {least:,} ticks "
+                          "or more", key=key)
 
 
 class Trajectories:
@@ -57,6 +80,7 @@ class Trajectories:
     def __init__(self, sim: Any, every: int):
         self.sim = sim
         self.every = check_every(every)
+        check_memory(self.every, sim.n, sim.config.max_ticks)
         names = sim.messages.dtype.names or ()
         self._with_status = "status" in names
         self._ticks: list[int] = []

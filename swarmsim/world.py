@@ -20,14 +20,14 @@ Schema (lengths in the paper's units; robots are discs of radius 0.4 by default)
     groups = 3
 
 Any other key is an error. Every error names the file, the key and the value. Every number
-must be finite. The target's free floor (its outline minus its holes minus the obstacles) must
-hold at least one robot's disc (MIN_FREE_FLOOR).
+must be finite, and every coordinate (and the margin) within +-MAX_COORDINATE units. The
+beacon must be inside the arena's walls. The target's free floor (its outline minus its holes
+minus the obstacles) must hold at least one robot's disc (MIN_FREE_FLOOR).
 """
 
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -40,7 +40,9 @@ import shapely
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, unknown_name
+from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, MAX_TICKS, check_at_most
+from swarmsim.tomlfile import read_toml
 
 HEX_CELL_FACTOR = math.sqrt(3) / 2  # area per robot on a hexagonal lattice = 0.866 * spacing^2
 DEFAULT_ARENA_MARGIN = 20.0
@@ -48,6 +50,9 @@ TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon
                   "defaults"}
 DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
                 "max_ticks": int, "start": str}
+DEFAULT_BOUNDS = {"robots": (MAX_ROBOTS, "robots in one run"),
+                  "groups": (MAX_ROBOTS, "robots in one run"),
+                  "max_ticks": (MAX_TICKS, "ticks in one run")}
 REPO_WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
 MIN_FREE_FLOOR = math.pi * 0.4**2
 """Least free target floor a world may have, units^2: one robot's disc (default body radius
@@ -125,6 +130,16 @@ def _num(value: Any, source: str, key: str) -> float:
     return float(value)
 
 
+def _coordinate(value: Any, source: str, key: str) -> float:
+    """A finite number within +-MAX_COORDINATE units (a point's x or y)."""
+    x = _num(value, source, key)
+    if abs(x) > MAX_COORDINATE:
+        raise ConfigError(f"must be within +-{MAX_COORDINATE:,.0f} units (a world spans at "
+                          f"most that: 2.5 million robot radii), got {value!r}", source=source,
+                          key=key)
+    return x
+
+
 def _points(value: Any, source: str, key: str) -> list[tuple[float, float]]:
     if not isinstance(value, list) or len(value) < 3:
         raise ConfigError(f"expected a list of at least 3 [x, y] points, got {value!r}",
@@ -133,7 +148,8 @@ def _points(value: Any, source: str, key: str) -> list[tuple[float, float]]:
     for i, pt in enumerate(value):
         if not isinstance(pt, list) or len(pt) != 2:
             raise ConfigError(f"point {i} must be [x, y], got {pt!r}", source=source, key=key)
-        pts.append((_num(pt[0], source, f"{key}[{i}][0]"), _num(pt[1], source, f"{key}[{i}][1]")))
+        pts.append((_coordinate(pt[0], source, f"{key}[{i}][0]"),
+                    _coordinate(pt[1], source, f"{key}[{i}][1]")))
     return pts
 
 
@@ -144,7 +160,7 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
     unknown = set(table) - allowed
     if unknown:
         bad = min(unknown)
-        raise ConfigError(f"unknown key with value {table[bad]!r}; allowed: {sorted(allowed)}",
+        raise ConfigError(f"{unknown_name('key', bad, allowed)} (value {table[bad]!r})",
                           source=source, key=f"{key}.{bad}")
     if "outline" not in table:
         raise ConfigError("missing 'outline'", source=source, key=key)
@@ -160,6 +176,8 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
         raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
                           key=f"{key}.outline")
     poly = Polygon(shell, holes)
+    if not poly.is_valid and Polygon(shell).is_valid:
+        _check_holes(Polygon(shell), holes, holes_raw, source, key)
     if not poly.is_valid:
         # A valid outline with bad holes (outside it, crossing it or each other): name the holes.
         part = "holes" if holes and Polygon(shell).is_valid else "outline"
@@ -169,6 +187,45 @@ def _polygon(table: Any, source: str, key: str, allow_holes: bool = False) -> Po
         raise ConfigError(f"polygon has zero area: {table['outline']!r}", source=source,
                           key=f"{key}.outline")
     return shapely.normalize(poly)
+
+
+def _check_holes(shell: Polygon, holes: list[list[tuple[float, float]]], written: list,
+                 source: str, key: str) -> None:
+    """Name the hole that makes a polygon with a valid outline invalid, and how: not simple,
+    outside or across the outline, touching it along an edge or at two points (which cuts the
+    floor in two), or overlapping or touching another hole that way. ``written``: the holes
+    as the file gives them (for the message)."""
+    def fail(i: int, what: str) -> None:
+        raise ConfigError(f"hole {i} {written[i]!r} {what}: a hole must lie inside the outline,"
+                          " apart from it and from the other holes (a notch belongs in the "
+                          "outline)", source=source, key=f"{key}.holes[{i}]")
+
+    rings = [Polygon(h) for h in holes]
+    for i, hole in enumerate(rings):
+        if not hole.is_valid:
+            fail(i, f"is not a simple polygon ({explain_validity(hole)})")
+        if not shell.covers(hole):
+            where = _where_met(hole.exterior, shell.exterior)
+            fail(i, f"crosses the outline at {where}" if where else "lies outside the outline")
+        if not Polygon(shell.exterior, [hole.exterior]).is_valid:
+            fail(i, f"touches the outline at {_where_met(hole.exterior, shell.exterior)}")
+    for i, a in enumerate(rings):
+        for j in range(i + 1, len(rings)):
+            if not Polygon(shell.exterior, [a.exterior, rings[j].exterior]).is_valid:
+                met = _where_met(a.exterior, rings[j].exterior) or f"{_coords(rings[j])[0]}"
+                fail(j, f"overlaps or touches hole {i} at {met}")
+
+
+def _where_met(a: shapely.Geometry, b: shapely.Geometry) -> str:
+    """Where rings ``a`` and ``b`` meet: "(x, y)", "(x, y) and (x, y)" or "(x, y) to (x, y)"
+    (a shared edge), or "" when they do not."""
+    met = a.intersection(b)
+    if met.is_empty:
+        return ""
+    pts = [f"({x:g}, {y:g})" for x, y in shapely.get_coordinates(met)]
+    if any(p.geom_type in ("LineString", "LinearRing") for p in shapely.get_parts(met)):
+        return f"{pts[0]} to {pts[-1]} (a shared edge)"
+    return " and ".join(dict.fromkeys(pts[:2]))
 
 
 def _polygon_list(value: Any, source: str, key: str) -> tuple[Polygon, ...]:
@@ -184,8 +241,8 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
     out = {}
     for k, v in value.items():
         if k not in DEFAULT_KEYS:
-            raise ConfigError(f"unknown run default {k!r} (value {v!r}); allowed: "
-                              f"{sorted(DEFAULT_KEYS)}", source=source, key=f"defaults.{k}")
+            raise ConfigError(f"{unknown_name('run default', k, DEFAULT_KEYS)} (value {v!r})",
+                              source=source, key=f"defaults.{k}")
         want = DEFAULT_KEYS[k]
         ok = isinstance(v, want) or (want is float and isinstance(v, int))
         if isinstance(v, bool) or not ok:
@@ -194,6 +251,8 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
         if want in (int, float) and not (math.isfinite(v) and v > 0):  # also refuses nan
             raise ConfigError(f"must be a positive finite number, got {v!r}", source=source,
                               key=f"defaults.{k}")
+        if k in DEFAULT_BOUNDS:
+            check_at_most(f"defaults.{k}", v, *DEFAULT_BOUNDS[k], source=source)
         if k == "start" and v not in ("random", "formation"):
             raise ConfigError(f"must be 'random' or 'formation', got {v!r}", source=source,
                               key="defaults.start")
@@ -221,14 +280,27 @@ def _beacon(value: Any, source: str) -> tuple[float, float]:
     pos = value["position"]
     if not isinstance(pos, list) or len(pos) != 2:
         raise ConfigError(f"expected [x, y], got {pos!r}", source=source, key="beacon.position")
-    return (_num(pos[0], source, "beacon.position[0]"), _num(pos[1], source, "beacon.position[1]"))
+    return (_coordinate(pos[0], source, "beacon.position[0]"),
+            _coordinate(pos[1], source, "beacon.position[1]"))
+
+
+def _check_beacon_inside(beacon: tuple[float, float], arena: tuple[float, float, float, float],
+                         source: str) -> None:
+    """Refuse a beacon on or beyond the arena's walls: no robot could ever reach it (one off
+    the target but inside the walls is only unusual: ``swarmsim worlds`` warns)."""
+    x0, y0, x1, y1 = arena
+    bx, by = beacon
+    if not (x0 < bx < x1 and y0 < by < y1):
+        raise ConfigError(f"[{bx:g}, {by:g}] is outside the arena walls (x {x0:g}..{x1:g}, "
+                          f"y {y0:g}..{y1:g}): no robot can reach it; put it on the target",
+                          source=source, key="beacon.position")
 
 
 def _arena(value: Any, source: str, geoms: list[Polygon]) -> tuple[float, float, float, float]:
     if not isinstance(value, Mapping) or not set(value) <= {"margin"}:
         raise ConfigError(f"expected a table with only 'margin', got {value!r}", source=source,
                           key="arena")
-    margin = _num(value.get("margin", DEFAULT_ARENA_MARGIN), source, "arena.margin")
+    margin = _coordinate(value.get("margin", DEFAULT_ARENA_MARGIN), source, "arena.margin")
     if margin <= 0:
         raise ConfigError(f"must be positive, got {margin!r}", source=source, key="arena.margin")
     xmin, ymin, xmax, ymax = shapely.union_all(geoms).bounds
@@ -240,8 +312,8 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
     unknown = set(data) - TOP_LEVEL_KEYS
     if unknown:
         key = min(unknown)
-        raise ConfigError(f"unknown key with value {data[key]!r}; allowed top-level keys: "
-                          f"{sorted(TOP_LEVEL_KEYS)}", source=source, key=key)
+        raise ConfigError(f"{unknown_name('top-level key', key, TOP_LEVEL_KEYS)} (value "
+                          f"{data[key]!r})", source=source, key=key)
     name = data.get("name")
     if not isinstance(name, str) or not name:
         raise ConfigError(f"expected a non-empty string, got {name!r}", source=source, key="name")
@@ -258,6 +330,8 @@ def world_from_dict(data: Mapping[str, Any], source: str = "<dict>") -> World:
     _check_free_floor(target, obstacles, source)
     beacon = _beacon(data["beacon"], source) if "beacon" in data else None
     arena = _arena(data.get("arena", {}), source, [target, *spawns, *obstacles])
+    if beacon is not None:
+        _check_beacon_inside(beacon, arena, source)
     description = data.get("description", "")
     if not isinstance(description, str):
         raise ConfigError(f"expected a string, got {description!r}", source=source,
@@ -312,9 +386,8 @@ def world_path(name_or_path: str | Path) -> Path:
         if not p.is_file():
             raise ConfigError(f"world file not found: {str(p)!r}", key="world")
         return p
-    names = ", ".join(available_worlds()) or "none"
-    raise ConfigError(f"unknown world {str(name_or_path)!r}; shipped worlds: {names}",
-                      key="world")
+    raise ConfigError(f"{unknown_name('world', str(name_or_path), available_worlds())} (a "
+                      "shipped world's name or a .toml file)", key="world")
 
 
 def _world_dirs() -> list[Path]:
@@ -339,14 +412,5 @@ def available_worlds() -> list[str]:
 def load_world(name_or_path: str | Path) -> World:
     """Load and validate a world by shipped name (``"K"``, ``"house"``) or by file path."""
     path = world_path(name_or_path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
-                          source=str(path)) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the file ({exc.strerror})", source=str(path)) from None
+    data = read_toml(path)
     return world_from_dict(data, source=str(path))

@@ -17,6 +17,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_GRID_SIZE
 from swarmsim.world import HEX_CELL_FACTOR, World
 
 LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
@@ -24,10 +25,27 @@ DEFAULT_D_COVER = 6.0
 ROBOT_RADIUS = 0.4  # PhysicsConfig's default body radius
 START_SPACING = 1.0  # SimConfig's formation_spacing and spawn_spacing (d_safe)
 COVERAGE_RADIUS = 4.0  # SimConfig's coverage_radius r
+GRID_SIZE = 100  # SimConfig's grid_size
 DEFAULT_ROBOTS = 100  # SimConfig's robots, when a world names none
 NARROW_WARN = 1.0  # warn when at least this much free floor (units^2) is narrower than a robot
 MIN_NARROW = 0.05  # narrow slivers smaller than this (units^2) are ignored
 NEAR_SPAWN = 2.0  # warn when a spawn area comes closer than this to the target, units
+
+
+def fit_number(value: float, width: int) -> str:
+    """``value`` right-aligned in ``width`` characters: with thousands separators (rounded to
+    a whole number) when that fits, else in scientific notation (1.23e+12), so that a table
+    of huge worlds keeps its columns."""
+    text = f"{value:,.0f}"
+    if len(text) > width:
+        text = f"{value:.{max(0, width - 6)}e}"
+    return f"{text:>{width}}"
+
+
+def readable(value: float) -> str:
+    """``value`` for running text: thousands separators below a billion (13,280), three
+    significant digits in scientific notation from there (2e+12)."""
+    return f"{value:,.0f}" if abs(value) < 1e9 else f"{value:.3g}"
 
 
 def hex_capacity(area: float, spacing: float) -> int:
@@ -133,6 +151,7 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     if r.free_area < disc:
         out.append(f"tiny free floor: {r.free_area:.1f} units^2, less than one robot's "
                    f"coverage disc (pi r^2 = {disc:.1f} with r = {COVERAGE_RADIUS:g})")
+    out.extend(_coarse_cells(w))
     if r.free_parts > 1:
         out.append(f"the free target floor is in {r.free_parts} separate parts: robots must "
                    "cross off-target floor between them")
@@ -157,7 +176,7 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     robots = int(w.defaults.get("robots", DEFAULT_ROBOTS))
     need = r.capacity[d_cover]
     if robots < need:
-        out.append(f"{robots} robots are fewer than the {need} a lattice at d_cover "
+        out.append(f"{robots:,} robots are fewer than the {readable(need)} a lattice at d_cover "
                    f"{d_cover:g} places: coverage cannot complete at that d_cover")
     if robots > r.spawn_capacity:
         out.append(f"{robots} robots do not fit in the spawn areas at spacing "
@@ -165,6 +184,23 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
                    "formations spill beside them")
     out.extend(_start_check(w, robots))
     return out
+
+
+def _coarse_cells(world: World) -> list[str]:
+    """A warning when the default coverage raster's cells (the target's bounding box over
+    GRID_SIZE x GRID_SIZE) are wider than the coverage radius: a cell then counts as covered
+    when a robot is near its centre only, so coverage is measured coarsely."""
+    x0, y0, x1, y1 = world.target.bounds
+    cell = max(x1 - x0, y1 - y0) / GRID_SIZE
+    if cell <= COVERAGE_RADIUS:
+        return []
+    need = math.ceil(max(x1 - x0, y1 - y0) / COVERAGE_RADIUS)
+    fix = (f"set grid_size={need}" if need <= MAX_GRID_SIZE else
+           f"no grid_size up to {MAX_GRID_SIZE:,} makes cells that small: the target is very "
+           "large for robots of this size")
+    return [(f"coverage cells are {readable(cell)} units wide at grid_size {GRID_SIZE} (the "
+            f"target is {readable(x1 - x0)} x {readable(y1 - y0)} units), wider than the "
+            f"coverage radius {COVERAGE_RADIUS:g}: coverage is measured coarsely; {fix}")]
 
 
 def _where(world: World, xy: tuple[float, float]) -> str:
@@ -203,18 +239,19 @@ def format_report(r: WorldReport) -> list[str]:
     lines = [f"world {w.name} ({w.source})"]
     if w.description:
         lines.append(f"  {w.description}")
-    lines.append(f"  target      {r.free_area:,.0f} units^2 of free floor = outline "
-                 f"{r.outline_area:,.0f} - holes {r.holes_area:,.0f} - obstacles "
-                 f"{r.obstacles_area:,.0f}")
+    lines.append(f"  target      {readable(r.free_area)} units^2 of free floor = outline "
+                 f"{readable(r.outline_area)} - holes {readable(r.holes_area)} - obstacles "
+                 f"{readable(r.obstacles_area)}")
     lines.append(f"              {x1 - x0:g} x {y1 - y0:g} units (x {x0:g}..{x1:g}, "
                  f"y {y0:g}..{y1:g}), {r.free_parts} part(s), {len(w.target.interiors)} "
                  f"hole(s), {len(w.obstacles)} obstacle(s)")
     ds = list(r.capacity)
     lines.append("  capacity    d_cover " + "".join(f"{d:>8g}" for d in ds))
-    lines.append("              robots  " + "".join(f"{r.capacity[d]:>8,}" for d in ds))
-    lines.append(f"  spawn       {len(w.spawns)} area(s), {r.spawn_area:,.0f} units^2: hold "
-                 f"~{r.spawn_capacity:,} robots in formation (spacing {START_SPACING:g}),")
-    lines.append(f"              {r.random_capacity:,} at a random start")
+    lines.append("              robots  " + "".join(" " + fit_number(r.capacity[d], 7) for d in ds))
+    lines.append(f"  spawn       {len(w.spawns)} area(s), {readable(r.spawn_area)} units^2: hold "
+                 f"~{readable(r.spawn_capacity)} robots in formation (spacing "
+                 f"{START_SPACING:g}),")
+    lines.append(f"              {readable(r.random_capacity)} at a random start")
     if w.beacon is None:
         lines.append("  beacon      none")
     elif r.beacon_depth is None:  # no free floor to measure it against

@@ -291,12 +291,12 @@ def test_a_formation_that_does_not_fit_is_an_error_not_robots_behind_walls():
 
 
 def test_a_huge_robot_count_is_refused_clearly_and_cheaply():
-    """100,000 robots on K: more than the floor off the target can hold at spacing 1, so
-    refused from the areas alone (Simulation.check builds no layout). Checking that
-    formations keep apart once measured every pair of them (33 GB)."""
-    with pytest.raises(ConfigError, match=r"key 'robots'.*100000 robots cannot start in "
+    """50,000 robots (MAX_ROBOTS) on K: more than the floor off the target can hold at
+    spacing 1, so refused from the areas alone (Simulation.check builds no layout). Checking
+    that formations keep apart once measured every pair of them (33 GB at 100,000)."""
+    with pytest.raises(ConfigError, match=r"key 'robots'.*50000 robots cannot start in "
                                           r"formation"):
-        Simulation.check("K", robots=100_000)
+        Simulation.check("K", robots=50_000)
 
 
 def test_formations_that_overlap_are_refused_naming_the_groups():

@@ -113,8 +113,8 @@ def test_hole_outside_the_outline_names_the_holes(tmp_path):
                                              "[30, 44], [0, 44]]\n"
                                              "holes = [[[40, 50], [41, 50], [41, 51]]]\n"))
     msg = load_error(path)
-    assert_names(msg, str(path), "target.holes", "[[[40, 50], [41, 50], [41, 51]]]",
-                 "Hole lies outside shell")
+    assert_names(msg, str(path), "target.holes[0]", "[[40, 50], [41, 50], [41, 51]]",
+                 "lies outside the outline")
 
 
 def test_zero_area_outline(tmp_path):

@@ -57,7 +57,13 @@ from .swarm import GGCSwarm, same_run_ruleset
 
 @register
 class GGC:
-    """Gradient-and-grouping coverage (paper Sections 3-4): declarations only."""
+    """Gradient-and-grouping coverage (the paper's): a gradient, groups, edge-following fill.
+
+    Robots leave their formations for the beacon, spread a hop-count gradient over the
+    target, and fill it group by group along its edges, d_cover apart (paper Sections 3-4).
+    This class declares the controller (parameters, statuses, broadcasts); the robots are
+    one :class:`GGCSwarm`, their rules in rules/.
+    """
 
     name = "ggc"
     Params = GGCParams

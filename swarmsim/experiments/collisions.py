@@ -26,6 +26,7 @@ from swarmsim.errors import ConfigError
 from swarmsim.experiments.runner import DONE, Sweep
 from swarmsim.experiments.spec import RunSpec, drop_unused_groups
 from swarmsim.experiments.table import Band, mean_band, series, stats
+from swarmsim.limits import MAX_REPS, check_count
 from swarmsim.output import atomic_write_bytes, atomic_write_text, write_csv
 
 MILESTONES = (0.5, 0.6, 0.7, 0.8, 0.9)
@@ -83,8 +84,7 @@ class StudyCondition:
 
 def conditions(setup: StudySetup, reps: int) -> list[StudyCondition]:
     """Every (noise level, mode) pair with its runs (seeds 0..reps-1)."""
-    if reps < 1:
-        raise ConfigError(f"must be >= 1, got {reps!r}", key="--reps")
+    check_count("--reps", reps, MAX_REPS, "seeds per condition")
     out = []
     for noise in setup.noise:
         for mode in setup.modes:
@@ -106,6 +106,11 @@ def check_setup(setup: StudySetup) -> None:
     cls = get_controller(setup.controller)
     if not setup.modes:
         raise ConfigError("give at least one mode", key="--modes")
+    for key in ("mode", *NOISE_KEYS):
+        if key in setup.extra:
+            option = "--modes" if key == "mode" else "--noise"
+            raise ConfigError(f"is what the study varies ({option}); give {option} instead of "
+                              f"--set {key}={setup.extra[key]!r}", key=key)
     for noise in setup.noise:
         if not noise >= 0:
             raise ConfigError(f"must be >= 0, got {noise!r}", key="--noise")

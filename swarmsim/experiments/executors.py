@@ -17,11 +17,13 @@ from __future__ import annotations
 import concurrent.futures as cf
 import multiprocessing
 import os
+import socket
 from collections.abc import Callable, Collection
 from contextlib import contextmanager
 from typing import Any
 
 from swarmsim.errors import ConfigError
+from swarmsim.limits import MAX_WORKERS_PER_CPU, check_count
 
 
 class InProcessExecutor(cf.Executor):
@@ -116,8 +118,45 @@ def _mp_context():
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
+CONNECT_TIMEOUT = 5.0
+"""Seconds the probe of a scheduler address waits for a TCP connection (see probe_scheduler)."""
+
+
+def probe_scheduler(address: str, timeout: float = CONNECT_TIMEOUT) -> None:
+    """Refuse a ``tcp://host:port`` scheduler address that cannot be reached, at once: a TCP
+    connection is tried (for at most ``timeout`` seconds) before Dask's Client, which retries
+    for its whole timeout. Other schemes (tls://, ucx://, ...) are left to Dask."""
+    from urllib.parse import urlsplit
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
+    if parts.scheme != "tcp":
+        return
+    try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        raise ConfigError(f"{address!r} has no valid port (expected tcp://host:port)",
+                          key="--scheduler") from None
+    if not host or port is None:
+        raise ConfigError(f"expected tcp://host:port, got {address!r}", key="--scheduler")
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except socket.gaierror:
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: unknown host "
+                          f"{host!r}", key="--scheduler") from None
+    except TimeoutError:
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: no answer within "
+                          f"{timeout:g} s", key="--scheduler") from None
+    except OSError as exc:
+        reason = exc.strerror or type(exc).__name__
+        raise ConfigError(f"cannot connect to the Dask scheduler {address!r}: {reason.lower()}"
+                          f" (is a scheduler running there? start one with 'dask scheduler')",
+                          key="--scheduler") from None
+
+
 def dask_client(scheduler: Any):
-    """A dask.distributed Client for an address, a Client or a cluster object."""
+    """A dask.distributed Client for an address, a Client or a cluster object; an address
+    that cannot be reached is refused at once (probe_scheduler)."""
     try:
         from dask.distributed import Client
     except ImportError:
@@ -126,6 +165,8 @@ def dask_client(scheduler: Any):
                           key="--scheduler") from None
     if isinstance(scheduler, Client):
         return scheduler, False
+    if isinstance(scheduler, str):
+        probe_scheduler(scheduler)
     try:
         return Client(scheduler, timeout="20s"), True
     except (OSError, TimeoutError, ValueError) as exc:
@@ -133,11 +174,16 @@ def dask_client(scheduler: Any):
                           key="--scheduler") from None
 
 
+def max_workers() -> int:
+    """The most local worker processes a sweep starts: MAX_WORKERS_PER_CPU per CPU."""
+    return MAX_WORKERS_PER_CPU * (os.cpu_count() or 1)
+
+
 def check_workers(workers: int | None) -> None:
-    """Refuse a worker count below 1 (None = one per CPU)."""
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
-                                or workers < 1):
-        raise ConfigError(f"must be >= 1, got {workers!r}", key="--workers")
+    """Refuse a worker count below 1 or above max_workers() (None = one per CPU)."""
+    if workers is not None:
+        check_count("--workers", workers, max_workers(),
+                    f"{MAX_WORKERS_PER_CPU} processes per CPU on this machine")
 
 
 @contextmanager

@@ -75,6 +75,7 @@ from swarmsim.experiments.verdicts import (
     claims_fig24,
     dcover_distance_claims,
 )
+from swarmsim.limits import MAX_REPS, MAX_TICKS, check_count
 
 
 # ----------------------------------------------------------------------------- runs
@@ -138,10 +139,9 @@ class ReproduceResult:
 def plan(which: str | Sequence[str], setup: PaperSetup = PAPER, reps: int = 3,
          max_ticks: int | None = None) -> dict[str, list[RunSpec]]:
     """The runs of each requested figure (the registry expanded)."""
-    if reps < 1:
-        raise ConfigError(f"must be >= 1, got {reps!r}", key="--reps")
-    if max_ticks is not None and max_ticks < 1:
-        raise ConfigError(f"must be >= 1, got {max_ticks!r}", key="--max-ticks")
+    check_count("--reps", reps, MAX_REPS, "seeds per condition")
+    if max_ticks is not None:
+        check_count("--max-ticks", max_ticks, MAX_TICKS, "ticks in one run")
     columns = setup.columns()
     runs = {k: unique_runs(r for col in columns for r in figure_runs(k, col, reps, max_ticks))
             for k in figure_keys(which)}

@@ -36,14 +36,16 @@ import functools
 import hashlib
 import itertools
 import json
-import tomllib
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from swarmsim.config import PhysicsConfig, SimConfig, coerce, field_defaults
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, did_you_mean, unknown_name
+from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
+from swarmsim.tomlfile import read_toml
 
 TOP_KEYS = ("name", "description", "world", "controller", "reps", "seeds", "seed_base",
             "params", "grid")
@@ -202,16 +204,7 @@ def load_spec(path: str | Path) -> SweepSpec:
     source = str(path)
     if not path.is_file():
         raise ConfigError(f"spec file not found: {source!r}", key="spec")
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"not valid TOML: {exc}", source=source) from None
-    except UnicodeDecodeError as exc:
-        raise ConfigError(f"not a UTF-8 text file (byte {exc.start}): TOML files are UTF-8",
-                          source=source) from None
-    except OSError as exc:
-        raise ConfigError(f"cannot read the file ({exc.strerror})", source=source) from None
+    data = read_toml(path)
     return spec_from_dict(data, source=source, base_dir=str(path.parent))
 
 
@@ -221,8 +214,9 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
     world loads and that every setting name is known to its controller."""
     unknown = [k for k in data if k not in TOP_KEYS]
     if unknown:
-        raise ConfigError(f"unknown key (value {data[unknown[0]]!r}); allowed keys: "
-                          f"{', '.join(TOP_KEYS)}", source=source, key=unknown[0])
+        message = unknown_name("key", unknown[0], TOP_KEYS)
+        raise ConfigError(f"{message} (value {data[unknown[0]]!r})", source=source,
+                          key=unknown[0])
     name = _string(data, "name", "", source)
     description = _string(data, "description", "", source)
     params = _params(data.get("params", {}), source)
@@ -232,11 +226,16 @@ def spec_from_dict(data: Mapping[str, Any], source: str = "<spec>", base_dir: st
                           "them as grid.world)", source=source, key="world")
     world = _string(data, "world", str(grid.get("world", [""])[0]), source)
     controller = _string(data, "controller", "ggc", source)
+    for key in ("world", "controller"):
+        if key in data and key in grid:
+            raise ConfigError(f"set both as the top-level '{key}' ({data[key]!r}) and in [grid] "
+                              f"({grid[key]!r}); give it once", source=source, key=f"grid.{key}")
     both = [k for k in grid if k in params]
     if both:
         raise ConfigError(f"set both in [params] ({params[both[0]]!r}) and in [grid] "
                           f"({grid[both[0]]!r})", source=source, key=f"grid.{both[0]}")
     seeds = _seeds(data, source)
+    _check_run_count(grid, seeds, source)
     spec = SweepSpec(source, world, controller, params, grid, seeds, name, description,
                      base_dir)
     if check:
@@ -301,6 +300,15 @@ def _grid(value: Any, source: str) -> dict[str, list[Any]]:
     return out
 
 
+def _check_run_count(grid: Mapping[str, list[Any]], seeds: tuple[int, ...], source: str) -> None:
+    """Refuse a sweep of more than MAX_RUNS runs (grid points x seeds), before listing them."""
+    runs = math.prod(len(v) for v in grid.values()) * len(seeds)
+    if runs > MAX_RUNS:
+        sizes = " x ".join(f"{len(v)} {k}" for k, v in grid.items())
+        raise ConfigError(f"{sizes} x {len(seeds)} seeds make {runs:,} runs, more than "
+                          f"{MAX_RUNS:,} in one sweep", source=source, key="grid")
+
+
 def _int(value: Any, source: str, key: str, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise ConfigError(f"expected an integer >= {minimum}, got {value!r}", source=source,
@@ -318,12 +326,15 @@ def _seeds(data: Mapping[str, Any], source: str) -> tuple[int, ...]:
         if not isinstance(seeds, list) or not seeds:
             raise ConfigError(f"expected a non-empty list of integers, got {seeds!r}",
                               source=source, key="seeds")
+        check_at_most("seeds", len(seeds), MAX_REPS, "seeds per grid point; this many seeds",
+                      source)
         out = tuple(_int(s, source, "seeds", 0) for s in seeds)
         if len(set(out)) != len(out):
             raise ConfigError(f"seeds must be distinct, got {seeds!r}", source=source,
                               key="seeds")
         return out
     reps = _int(data.get("reps", 1), source, "reps", 1)
+    check_at_most("reps", reps, MAX_REPS, "seeds per grid point", source)
     base = _int(data.get("seed_base", 0), source, "seed_base", 0)
     return tuple(range(base, base + reps))
 
@@ -347,9 +358,9 @@ def check_settings(spec: SweepSpec) -> None:
         named += [(f"grid.{k}", k, vs) for k, vs in spec.grid.items() if k not in RUN_KEYS]
         for where, k, values in named:
             if k not in known:
-                raise ConfigError(f"unknown setting for controller {c!r} (value {values[0]!r});"
-                                  " see 'swarmsim params --controller " + str(c) + "'",
-                                  source=spec.source, key=where)
+                hint = did_you_mean(k, known) or f"; see 'swarmsim params --controller {c}'"
+                raise ConfigError(f"unknown setting for controller {c!r} (value {values[0]!r})"
+                                  f"{hint}", source=spec.source, key=where)
             for v in values:
                 _reraise(lambda v=v, k=k, d=known[k]: coerce(v, d, k), spec.source, where)
     check_runs(spec.runs(), spec.source)

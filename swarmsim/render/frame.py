@@ -23,6 +23,7 @@ import pygame
 import pygame.font
 import shapely
 
+from swarmsim.limits import MAX_FRAME_SIDE
 from swarmsim.metrics import CoverageGrid
 from swarmsim.render import roles
 from swarmsim.render.legend import legend_panel
@@ -57,11 +58,32 @@ MIN_WIDTH = 64
 
 
 def check_width(width: Any) -> None:
-    """Raise ValueError unless ``width`` (pixels) is an even integer >= MIN_WIDTH (H.264 needs
-    even frame sides)."""
+    """Raise ValueError unless ``width`` (pixels) is an even integer in [MIN_WIDTH,
+    MAX_FRAME_SIDE] (H.264 needs even frame sides)."""
     if (isinstance(width, bool) or not isinstance(width, (int, np.integer))
-            or width < MIN_WIDTH or width % 2):
-        raise ValueError(f"width must be an even integer >= {MIN_WIDTH}, got {width!r}")
+            or not MIN_WIDTH <= width <= MAX_FRAME_SIDE or width % 2):
+        raise ValueError(f"width must be an even integer >= {MIN_WIDTH} and at most "
+                         f"{MAX_FRAME_SIDE:,}, got {width!r}")
+
+
+def frame_size(arena: tuple[float, float, float, float], width: int) -> tuple[int, int]:
+    """(width, height) in pixels of frames of ``arena`` (xmin, ymin, xmax, ymax) ``width``
+    pixels wide: the height follows the arena's aspect ratio, rounded to a multiple of 16
+    when ``width`` is one, else to an even number. ValueError if the width is refused
+    (check_width), the arena has no area, or the height exceeds MAX_FRAME_SIDE."""
+    check_width(width)
+    xmin, ymin, xmax, ymax = (float(v) for v in arena)
+    ww, wh = xmax - xmin, ymax - ymin
+    if not (ww > 0 and wh > 0):
+        raise ValueError(f"world arena has no area: {arena!r}")
+    width = int(width)
+    height = _even(width * wh / ww, 16 if width % 16 == 0 else 2)
+    if height > MAX_FRAME_SIDE:
+        most = int(MAX_FRAME_SIDE * ww / wh) // 2 * 2
+        raise ValueError(f"width {width} makes frames {height:,} px high for this arena "
+                         f"({ww:g} x {wh:g} units), more than {MAX_FRAME_SIDE:,}: give a width "
+                         f"of at most {most}")
+    return width, height
 
 
 def _even(x: float, multiple: int) -> int:
@@ -127,10 +149,7 @@ class Renderer:
 
         xmin, ymin, xmax, ymax = (float(v) for v in world.arena)
         ww, wh = xmax - xmin, ymax - ymin
-        if not (ww > 0 and wh > 0):
-            raise ValueError(f"world arena has no area: {world.arena!r}")
-        width = int(width)
-        height = _even(width * wh / ww, 16 if width % 16 == 0 else 2)
+        width, height = frame_size(world.arena, width)
         self.width, self.height = width, height
         self.wall_px = max(2, width // 400)
         pad = self.wall_px + 1
