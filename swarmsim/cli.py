@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.config import SimConfig, parse_value
-from swarmsim.errors import ConfigError, interrupts_unwrapped
+from swarmsim.errors import ConfigError, ControllerError, interrupts_unwrapped
 from swarmsim.worldinfo import LATTICE_SPACINGS
 
 
@@ -521,6 +521,9 @@ def _main(args: argparse.Namespace) -> int:
             return _command(args)
     except ConfigError as exc:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
+        return 2
+    except ControllerError as exc:  # the line, then the controller's own traceback if it raised
+        print(f"swarmsim: error: {exc}\n{exc.user_traceback()}".rstrip(), file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("swarmsim: interrupted", file=sys.stderr)
