@@ -461,7 +461,7 @@ class Simulation:
         try:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
-            raise self._blamed(exc, self._decider, tick)
+            raise self._blamed(exc, self._decider, tick, awake)  # a BadAction of put: its row
         try:
             self._apply(awake, actions, new_messages, velocities)
         except BadAction as bad:

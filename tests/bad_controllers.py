@@ -38,7 +38,7 @@ class Walker:
     name = "walker"
     Params = WalkerParams
     STATUSES = ("Walking", "Resting")
-    MESSAGE_FIELDS = [("x", "f4"), ("hops", "i2")]
+    MESSAGE_FIELDS = (("x", "f4"), ("hops", "i2"))
 
     @classmethod
     def sensing_range(cls, params: WalkerParams) -> float:
@@ -287,6 +287,8 @@ class WalkerSwarm:
                 velocities = velocities[:, :1]
             elif self.breaks == "raise":
                 raise ZeroDivisionError("batch division")
+        if self.breaks == "spoof":  # every robot, every tick, claims to be robot 0
+            broadcast["id"] = 0
         return ChunkActions.columns(velocities, listen, broadcast, sleep, wake_range,
                                     np.ones(r, dtype=bool), np.full(r, -1, dtype=np.int64))
 
@@ -321,6 +323,7 @@ Batch_listen = batch_walker("listen")
 Batch_wake_range = batch_walker("wake_range")
 Batch_shape = batch_walker("shape")
 Batch_raise = batch_walker("raise")
+Batch_spoof = batch_walker("spoof")
 
 
 class CreateSwarmReturnsNone(Walker):
