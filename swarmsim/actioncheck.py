@@ -271,17 +271,21 @@ def check_columns(actions: ChunkActions, robots: int, dtype: np.dtype) -> None:
 def _dense_fits(a: ChunkActions, robots: int, dtype: np.dtype) -> bool:
     """Whether the dense form's columns have their shapes and dtypes (check_columns, fast)."""
     try:
-        one = (robots,)
-        return (a.velocities.shape == (robots, 2) and a.listen.shape == one
-                and a.broadcast.shape == one and a.sleep.shape == one
-                and a.wake_range.shape == one and a.wake_on_motion.shape == one
-                and a.wake_tick.shape == one and a.velocities.dtype.kind in "iuf"
-                and a.listen.dtype.kind in "iuf" and a.wake_range.dtype.kind in "iuf"
-                and a.sleep.dtype.kind == "b" and a.wake_on_motion.dtype.kind == "b"
-                and a.wake_tick.dtype.kind in "iu" and a.broadcast.dtype.names == dtype.names
-                and isinstance(a.velocities, np.ndarray))
-    except AttributeError:  # not arrays: check_columns names the column
+        v, one = a.velocities, (robots,)
+        kinds = (v.dtype.kind + a.listen.dtype.kind + a.wake_range.dtype.kind
+                 + a.sleep.dtype.kind + a.wake_on_motion.dtype.kind + a.wake_tick.dtype.kind)
+        return (v.shape == (robots, 2) and kinds in _DENSE_KINDS
+                and one == a.listen.shape == a.broadcast.shape == a.sleep.shape
+                == a.wake_range.shape == a.wake_on_motion.shape == a.wake_tick.shape
+                and a.broadcast.dtype.names == dtype.names and isinstance(v, np.ndarray))
+    except (AttributeError, TypeError):  # not arrays: check_columns names the column
         return False
+
+
+_DENSE_KINDS = frozenset(v + listen + wake + "bb" + tick for v in "iuf" for listen in "iuf"
+                         for wake in "iuf" for tick in "iu")
+"""The dtype kinds of the dense columns velocities, listen, wake_range, sleep, wake_on_motion
+and wake_tick that check_columns accepts (_DENSE), as one string."""
 
 
 def _column_form(column: Any, name: str, shape: tuple[int, ...], kinds: str) -> None:

@@ -1,0 +1,78 @@
+"""What the engine's checks of a controller's actions cost, as a share of a run, in one run.
+
+Times every call of the checks (swarmsim.actioncheck: the forms of a batch controller's
+ChunkActions, a list of Actions turned into columns, broadcasts converted; the ids written
+and status codes checked by swarmsim.tickrows.sign_rows) during a run, and prints their
+seconds against the run's. The values checked inside the compiled passes that write the
+actions (finite velocities, ranges not negative) cost a compare per robot and are not
+counted. The timer's own cost (the wrapper, two perf_counter calls) is measured on a function
+that does nothing, called as often, and taken off.
+
+    python bench/bench_action_checks.py                       # K seed 0 (GGC), to the end
+    python bench/bench_action_checks.py --controller dispersion --ticks 3000
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections import Counter
+from collections.abc import Callable
+from typing import Any
+
+from swarmsim import actioncheck, sim, tickrows
+from swarmsim.sim import Simulation
+
+SPENT: Counter[str] = Counter()
+CALLS: Counter[str] = Counter()
+
+
+def timed(name: str, fn: Callable[..., Any]) -> Callable[..., Any]:
+    """``fn``, adding its seconds to SPENT[name]."""
+    clock = time.perf_counter
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        began = clock()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            SPENT[name] += clock() - began
+            CALLS[name] += 1
+
+    return wrapper
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--world", default="K")
+    ap.add_argument("--controller", default=None, help="default: the world's")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--ticks", type=int, default=None, help="stop here (default: the end)")
+    args = ap.parse_args()
+    sim.check_columns = timed("check_columns", actioncheck.check_columns)
+    sim.columns_of = timed("columns_of", actioncheck.columns_of)
+    tickrows.sign_rows = timed("sign_rows", tickrows.sign_rows)
+    actioncheck.Broadcasts.array = timed("Broadcasts.array", actioncheck.Broadcasts.array)
+    run = Simulation(args.world, controller=args.controller, seed=args.seed,
+                     max_ticks=args.ticks)
+    began = time.perf_counter()
+    run.run()
+    total = time.perf_counter() - began
+    null = timed("timer", lambda *args: None)
+    for _ in range(CALLS["check_columns"] + CALLS["sign_rows"]):
+        null(run, run)
+    checks = SPENT["check_columns"] + SPENT["sign_rows"] - SPENT["timer"]
+    print(f"{args.world} {run.controller_name} seed {args.seed}: {run.tick} ticks, "
+          f"{total:.2f} s; decide phase {run.phase_seconds['decide']:.2f} s")
+    for name in ("check_columns", "columns_of", "Broadcasts.array", "sign_rows", "timer"):
+        if CALLS[name]:
+            print(f"  {name:17} {CALLS[name]:7} calls {SPENT[name]:8.4f} s "
+                  f"({1e6 * SPENT[name] / CALLS[name]:6.2f} us a call)")
+    print(f"  checks only (check_columns + sign_rows - timer): {checks:.4f} s = "
+          f"{100 * checks / total:.3f} % of the run")
+    print("  (columns_of and Broadcasts.array also convert, as the engine did before: their "
+          "time is not all checks)")
+
+
+if __name__ == "__main__":
+    main()
