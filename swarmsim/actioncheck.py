@@ -15,6 +15,7 @@ only to name the robot once a column is found wrong.
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 import reprlib
@@ -103,10 +104,11 @@ def columns_of(actions: Sequence[Any], robots: int) -> ChunkActions:
         k = next(k for k, s in enumerate(sleeps) if type(s) not in BOOLS)
         raise BadAction(k, f"sleep={show(sleeps[k])}; expected True or False")
     sleepers = {k: actions[k] for k, s in enumerate(sleeps) if s}
-    for k, action in sleepers.items():
-        problem = sleep_problem(action)
-        if problem:
-            raise BadAction(k, problem)
+    if sleepers and not _sleepers_fit(list(sleepers.values())):
+        for k, action in sleepers.items():
+            problem = sleep_problem(action)
+            if problem:
+                raise BadAction(k, problem)
     messages = {k: a.message for k, a in enumerate(actions) if a.message is not None}
     return ChunkActions(velocities, listen, messages, sleepers)
 
@@ -140,6 +142,28 @@ def sleep_problem(action: Action) -> str | None:
     if tick is not None and not (_is_integer(tick) and tick >= 0):
         return f"wake_tick={show(tick)}; expected a tick: an integer >= 0 (None: no timeout)"
     return None
+
+
+def _sleepers_fit(sleepers: list[Action]) -> bool:
+    """Whether no sleeper's promises have a problem (sleep_problem), a column at a time."""
+    ranges = [a.wake_range for a in sleepers]
+    if ranges.count(None) != len(ranges):
+        if not all(t is type(None) or _real_type(t) for t in set(map(type, ranges))):
+            return False
+        try:
+            given = np.array([np.nan if r is None else r for r in ranges], dtype=float)
+        except OverflowError:
+            return False
+        if np.count_nonzero(np.isnan(given)) != ranges.count(None) or (given < 0).any():
+            return False
+    if not set(map(type, (a.wake_on_motion for a in sleepers))) <= BOOLS:
+        return False
+    ticks = [a.wake_tick for a in sleepers if a.wake_tick is not None]
+    return not ticks or (set(map(type, ticks)) <= _TICK_TYPES and min(ticks) >= 0)
+
+
+_TICK_TYPES = frozenset({int, np.int64, np.int32})
+"""The types of a wake_tick checked a column at a time (others, one by one)."""
 
 
 def move_problem(velocity: np.ndarray, listen: float) -> str:
@@ -197,7 +221,15 @@ def _distances(values: list, name: str) -> np.ndarray:
     nones = values.count(None)
     if nones == len(values):
         return np.full(len(values), np.nan)
-    if all(t is type(None) or _real_type(t) for t in set(map(type, values))):
+    if not nones:  # numbers only (numpy finds their type: text and bools are not numbers)
+        try:
+            out = np.array(values)
+        except (ValueError, TypeError, OverflowError):
+            out = None
+        if (out is not None and out.dtype.kind in "iuf" and out.shape == (len(values),)
+                and not np.isnan(out).any()):
+            return out.astype(float, copy=False)
+    elif all(t is type(None) or _real_type(t) for t in set(map(type, values))):
         try:
             out = np.array([np.nan if x is None else x for x in values], dtype=float)
         except OverflowError:
@@ -326,10 +358,11 @@ class Broadcasts:
         it). Raises BadAction naming the index into ``rows`` of the first that does not fit."""
         if not rows:
             return np.zeros(0, dtype=self.dtype)
-        if not (set(map(type, rows)) == {tuple} and set(map(len, rows)) == {self.width}):
-            rows = [self._positional(k, row) for k, row in enumerate(rows)]
+        columns = self._columns(rows) if set(map(type, rows)) == {tuple} else None
+        if columns is None:  # not all plain tuples of the run's width
+            columns = self._columns([self._positional(k, row) for k, row in enumerate(rows)])
         out = np.zeros(len(rows), dtype=self.dtype)
-        for name, column in zip(self.dtype.names, zip(*rows, strict=True), strict=True):
+        for name, column in zip(self.dtype.names, columns, strict=True):
             if name == "id":
                 continue
             values = _field_values(self.dtype[name], column)
@@ -337,6 +370,14 @@ class Broadcasts:
                 values = self._diagnosed(name, column)
             out[name] = values
         return out
+
+    def _columns(self, rows: Sequence[tuple]) -> list[tuple] | None:
+        """The columns of tuples all of the run's width, else None."""
+        try:
+            columns = list(zip(*rows, strict=True))
+        except ValueError:  # tuples of different lengths
+            return None
+        return columns if len(columns) == self.width else None
 
     def status_problem(self, status: Any) -> str:
         """The problem of a broadcast whose status code is ``status``."""
@@ -379,9 +420,23 @@ class Broadcasts:
         return np.concatenate([_field_values(field, [value]) for value in column])
 
 
+_PLAIN = {"b": frozenset({bool}), "i": frozenset({int, bool}), "u": frozenset({int, bool}),
+          "f": frozenset({float, int, bool, np.float64, np.float32})}
+"""Per kind of field, the types of values that numpy converts to it exactly or refuses
+(OverflowError), but for a float too large for a narrower float field (checked)."""
+
+
 def _field_values(field: np.dtype, column: Sequence[Any]) -> np.ndarray | None:
     """A field's values as a numpy array of shape (len(column), *field.shape), or None
     when one does not fit the field as given (see Broadcasts)."""
+    plain = None if field.shape else _PLAIN.get(field.kind)
+    if plain is not None and set(map(type, column)) <= plain:  # the usual case, fast
+        try:
+            values = np.fromiter(column, dtype=field, count=len(column))
+        except OverflowError:
+            return None
+        if field.kind != "f" or np.isfinite(values).all():
+            return values
     try:
         values = np.asarray(column)
     except (ValueError, TypeError, OverflowError):
@@ -405,23 +460,31 @@ def _fits(base: np.dtype, values: np.ndarray) -> bool:
                 return False
         elif have not in "iu":
             return False
-        info = np.iinfo(base)
-        return values.size == 0 or bool(values.min() >= info.min and values.max() <= info.max)
+        low, high = _int_range(base)
+        return values.size == 0 or bool(values.min() >= low and values.max() <= high)
     if want == "f":
-        if have in "biu":
+        if have in "biu" or (have == "f" and values.dtype.itemsize <= base.itemsize):
             return True
         if have != "f":
             return False
-        if values.dtype.itemsize <= base.itemsize:
-            return True
-        with np.errstate(over="ignore"):
-            narrowed = values.astype(base)
-        return bool((np.isfinite(narrowed) | ~np.isfinite(values)).all())
+        try:  # a finite value too large for the field would become inf
+            with np.errstate(over="raise"):
+                values.astype(base)
+        except FloatingPointError:
+            return False
+        return True
     try:
         values.astype(base, casting="same_kind")
     except (TypeError, ValueError):
         return False
     return True
+
+
+@functools.cache
+def _int_range(base: np.dtype) -> tuple[int, int]:
+    """The least and the greatest value of an integer dtype."""
+    info = np.iinfo(base)
+    return int(info.min), int(info.max)
 
 
 def _expected(field: np.dtype) -> str:
