@@ -432,7 +432,11 @@ def _field_values(field: np.dtype, column: Sequence[Any]) -> np.ndarray | None:
     plain = None if field.shape else _PLAIN.get(field.kind)
     if plain is not None and set(map(type, column)) <= plain:  # the usual case, fast
         try:
-            values = np.fromiter(column, dtype=field, count=len(column))
+            if field.kind == "f":
+                with np.errstate(over="ignore"):  # a float too large: inf, refused below
+                    values = np.fromiter(column, dtype=field, count=len(column))
+            else:
+                values = np.fromiter(column, dtype=field, count=len(column))
         except OverflowError:
             return None
         if field.kind != "f" or np.isfinite(values).all():
