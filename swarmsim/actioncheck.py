@@ -2,29 +2,35 @@
 
 Everything a controller returns is checked where the engine receives it, before the run uses
 it (the contract: docs/input-checks.md, "A controller's mistakes"). A problem raises
-:class:`BadAction` naming the row of the chunk; :func:`blame` turns it, or an exception the
-controller raised, into a :class:`~swarmsim.errors.ControllerError` naming the controller,
-the robot and the tick.
+:class:`~swarmsim.actionvalues.BadAction` naming the row of the chunk; :func:`blame` turns it,
+or an exception the controller raised, into a :class:`~swarmsim.errors.ControllerError`
+naming the controller, the robot and the tick. One Action's values are checked by
+swarmsim.actionvalues (which the controller API's ChunkActions uses too).
 
 What it costs: a batch controller's dense columns (GGC's) are checked by their shapes and
 dtypes (a few attribute reads a chunk), their values inside the compiled passes that write
 them (swarmsim.tickrows: finite velocities, listening and wake ranges not negative, status
-codes in range); a list of Actions with one vectorised pass per column, and robot by robot
-only to name the robot once a column is found wrong.
+codes in range, each sender's own id); a list of Actions and their broadcasts a column at a
+time, robot by robot only to name the robot once a column is found wrong.
 """
 
 from __future__ import annotations
 
 import functools
-import math
-import numbers
-import reprlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from swarmsim.actionvalues import (
+    BadAction,
+    action_columns,
+    action_problem,
+    is_integer,
+    message_type_problem,
+    show,
+)
 from swarmsim.controller import Action, ChunkActions
 from swarmsim.errors import ControllerError, raised
 
@@ -33,36 +39,10 @@ LEGACY_FIELDS = ("gradient", "group", "leader")
 still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps working, and
 they are dropped."""
 
-BOOLS = frozenset({bool, np.bool_})
-"""The types a flag (``sleep``, ``wake_on_motion``) may have."""
-
-_short = reprlib.Repr()
-_short.maxstring = _short.maxother = 40
-_short.maxlevel, _short.maxtuple, _short.maxlist, _short.maxdict = 2, 6, 6, 4
-
-
-class BadAction(Exception):
-    """What a controller returned breaks the controller API.
-
-    Attributes:
-        row: the row of the chunk (robot ``robots[row]``), or None when no one robot's.
-        problem: what it returned and what was expected, to follow "step() returned", e.g.
-            "a velocity of shape (3,); expected (vx, vy)".
-    """
-
-    def __init__(self, row: int | None, problem: str):
-        self.row, self.problem = row, problem
-        super().__init__(problem)
-
-
-def show(value: Any) -> str:
-    """A short one-line repr of ``value`` (with its type where the repr hides it)."""
-    text = " ".join(_short.repr(value).split())
-    if isinstance(value, (str, bytes, tuple, list, dict, np.ndarray)) or value is None:
-        return text
-    if isinstance(value, (bool, int, float)):
-        return text
-    return f"{text} (a {type(value).__name__})"
+def columns_of(actions: Sequence[Any], robots: int) -> ChunkActions:
+    """The checked columns (sparse form) of a chunk's ``robots`` Actions
+    (swarmsim.actionvalues.action_columns). Raises BadAction."""
+    return ChunkActions(*action_columns(actions, robots, Action))
 
 
 def blame(exc: Exception, controller: str, call: str, tick: int | None,
@@ -86,187 +66,6 @@ def blame(exc: Exception, controller: str, call: str, tick: int | None,
 
 
 # ----------------------------------------------------------------------------- Actions
-def columns_of(actions: Sequence[Any], robots: int) -> ChunkActions:
-    """The checked columns (sparse form) of a chunk's ``robots`` Actions. Velocities are
-    checked here for their shape and type; that they are finite, and that ``listen`` is not
-    negative, by the compiled pass that writes them (:func:`move_problem`); broadcasts by
-    :class:`Broadcasts`. Raises BadAction."""
-    if len(actions) != robots:
-        raise BadAction(None, f"{len(actions)} actions for a chunk of {robots} robots")
-    if robots and set(map(type, actions)) != {Action}:
-        for k, action in enumerate(actions):
-            if not isinstance(action, Action):
-                raise BadAction(k, f"{show(action)}; expected an Action")
-    velocities = _velocities([a.velocity for a in actions])
-    listen = _distances([a.listen for a in actions], "listen")
-    sleeps = [a.sleep for a in actions]
-    if robots and not set(map(type, sleeps)) <= BOOLS:
-        k = next(k for k, s in enumerate(sleeps) if type(s) not in BOOLS)
-        raise BadAction(k, f"sleep={show(sleeps[k])}; expected True or False")
-    sleepers = {k: actions[k] for k, s in enumerate(sleeps) if s}
-    if sleepers and not _sleepers_fit(list(sleepers.values())):
-        for k, action in sleepers.items():
-            problem = sleep_problem(action)
-            if problem:
-                raise BadAction(k, problem)
-    messages = {k: a.message for k, a in enumerate(actions) if a.message is not None}
-    return ChunkActions(velocities, listen, messages, sleepers)
-
-
-def action_problem(action: Any) -> str | None:
-    """What is wrong with one robot's Action (None: nothing); its broadcast's values are
-    checked when it is written (:class:`Broadcasts`)."""
-    if not isinstance(action, Action):
-        return f"{show(action)}; expected an Action"
-    velocity = _velocity_problem(action.velocity)
-    if velocity:
-        return velocity
-    if not _is_distance(action.listen):
-        return listen_problem(action.listen)
-    if type(action.sleep) not in BOOLS:
-        return f"sleep={show(action.sleep)}; expected True or False"
-    if action.message is not None and not isinstance(action.message, (tuple, Mapping,
-                                                                         np.void)):
-        return _message_type_problem(action.message)
-    return sleep_problem(action) if action.sleep else None
-
-
-def sleep_problem(action: Action) -> str | None:
-    """What is wrong with a sleeping robot's promises (None: nothing)."""
-    if not _is_distance(action.wake_range):
-        return (f"wake_range={show(action.wake_range)}; expected a distance >= 0, units "
-                "(None: the sensing range)")
-    if type(action.wake_on_motion) not in BOOLS:
-        return f"wake_on_motion={show(action.wake_on_motion)}; expected True or False"
-    tick = action.wake_tick
-    if tick is not None and not (_is_integer(tick) and tick >= 0):
-        return f"wake_tick={show(tick)}; expected a tick: an integer >= 0 (None: no timeout)"
-    return None
-
-
-def _sleepers_fit(sleepers: list[Action]) -> bool:
-    """Whether no sleeper's promises have a problem (sleep_problem), a column at a time."""
-    ranges = [a.wake_range for a in sleepers]
-    if ranges.count(None) != len(ranges):
-        if not all(t is type(None) or _real_type(t) for t in set(map(type, ranges))):
-            return False
-        try:
-            given = np.array([np.nan if r is None else r for r in ranges], dtype=float)
-        except OverflowError:
-            return False
-        if np.count_nonzero(np.isnan(given)) != ranges.count(None) or (given < 0).any():
-            return False
-    if not set(map(type, (a.wake_on_motion for a in sleepers))) <= BOOLS:
-        return False
-    ticks = [a.wake_tick for a in sleepers if a.wake_tick is not None]
-    return not ticks or (set(map(type, ticks)) <= _TICK_TYPES and min(ticks) >= 0)
-
-
-_TICK_TYPES = frozenset({int, np.int64, np.int32})
-"""The types of a wake_tick checked a column at a time (others, one by one)."""
-
-
-def move_problem(velocity: np.ndarray, listen: float) -> str:
-    """Why the compiled pass refused a robot's move: (2,) velocity, units per tick, not
-    finite, or a negative ``listen`` (units)."""
-    if not np.isfinite(velocity).all():
-        return (f"the velocity ({float(velocity[0])!r}, {float(velocity[1])!r}); expected finite numbers "
-                "(vx, vy), units per tick")
-    return listen_problem(float(listen))
-
-
-def listen_problem(value: Any) -> str:
-    return f"listen={show(value)}; expected a distance >= 0, units (None: the sensing range)"
-
-
-def wake_range_problem(value: float) -> str:
-    return f"wake_range={float(value)!r}; expected a distance >= 0, units (NaN: the sensing range)"
-
-
-def _velocities(values: list) -> np.ndarray:
-    """(R, 2) float velocities from R Actions' (BadAction naming the first that is not two
-    numbers; finiteness is checked where they are written)."""
-    try:
-        v = np.array(values)
-    except (ValueError, TypeError, OverflowError):
-        v = None
-    if v is not None and v.shape == (len(values), 2) and v.dtype.kind in "iuf":
-        return v.astype(float, copy=False)
-    for k, value in enumerate(values):
-        problem = _velocity_problem(value)
-        if problem:
-            raise BadAction(k, problem)
-    return np.array(values, dtype=float).reshape(-1, 2)  # pragma: no cover - each row fits
-
-
-def _velocity_problem(value: Any) -> str | None:
-    """What is wrong with one robot's velocity (None: nothing)."""
-    try:
-        v = np.asarray(value)
-    except (ValueError, TypeError, OverflowError):
-        v = None
-    if v is None or v.dtype.kind not in "iuf":
-        return f"the velocity {show(value)}; expected two numbers (vx, vy), units per tick"
-    if v.shape != (2,):
-        return f"a velocity of shape {v.shape}; expected (vx, vy), units per tick"
-    if not np.isfinite(v).all():
-        return f"the velocity {show(value)}; expected finite numbers (vx, vy), units per tick"
-    return None
-
-
-def _distances(values: list, name: str) -> np.ndarray:
-    """(R,) float distances, NaN for None, from R Actions' ``name`` (BadAction naming the first
-    that is neither None nor a number, or is NaN; a negative one is refused where it is
-    written)."""
-    nones = values.count(None)
-    if nones == len(values):
-        return np.full(len(values), np.nan)
-    if not nones:  # numbers only (numpy finds their type: text and bools are not numbers)
-        try:
-            out = np.array(values)
-        except (ValueError, TypeError, OverflowError):
-            out = None
-        if (out is not None and out.dtype.kind in "iuf" and out.shape == (len(values),)
-                and not np.isnan(out).any()):
-            return out.astype(float, copy=False)
-    elif all(t is type(None) or _real_type(t) for t in set(map(type, values))):
-        try:
-            out = np.array([np.nan if x is None else x for x in values], dtype=float)
-        except OverflowError:
-            out = None
-        if out is not None and np.count_nonzero(np.isnan(out)) == nones:
-            return out
-    k = next(k for k, x in enumerate(values) if not _is_distance(x, negative=True))
-    raise BadAction(k, listen_problem(values[k]) if name == "listen" else
-                    f"{name}={show(values[k])}; expected a distance >= 0, units")
-
-
-def _real_type(t: type) -> bool:
-    return issubclass(t, numbers.Real) and not issubclass(t, (bool, np.bool_))
-
-
-def _is_distance(value: Any, negative: bool = False) -> bool:
-    """None, or a real number that is not NaN and (unless ``negative``) not negative."""
-    if value is None:
-        return True
-    if not _real_type(type(value)):
-        return False
-    try:
-        number = float(value)
-    except (OverflowError, ValueError):
-        return False
-    return not math.isnan(number) and (negative or number >= 0)
-
-
-def _is_integer(value: Any) -> bool:
-    return isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
-
-
-def _message_type_problem(message: Any) -> str:
-    return (f"the broadcast {show(message)}; expected a tuple in the order of the run's "
-            "message fields or a dict by field name (None: repeat the last)")
-
-
 # ----------------------------------------------------------------------------- ChunkActions
 _DENSE = (("sleep", "b"), ("wake_range", "iuf"), ("wake_on_motion", "b"), ("wake_tick", "iu"))
 """The dense form's sleep columns, and the dtype kinds each may have."""
@@ -290,12 +89,13 @@ def check_columns(actions: ChunkActions, robots: int, dtype: np.dtype) -> None:
         return
     for name in ("messages", "sleepers"):
         rows = getattr(actions, name)
-        if rows and not all(_is_integer(k) and 0 <= k < robots for k in rows):
-            bad = next(k for k in rows if not (_is_integer(k) and 0 <= k < robots))
+        if rows and not all(is_integer(k) and 0 <= k < robots for k in rows):
+            bad = next(k for k in rows if not (is_integer(k) and 0 <= k < robots))
             raise BadAction(None, f"{name} for the row {show(bad)} of a chunk of {robots} "
                                   "robots (rows 0 to R - 1)")
     for k, action in actions.sleepers.items():
-        problem = action_problem(action)
+        problem = (action_problem(action) if isinstance(action, Action) else
+                   f"{show(action)}; expected an Action")
         if problem:
             raise BadAction(k, problem)
 
@@ -406,7 +206,7 @@ class Broadcasts:
                          for name in names)
         if isinstance(row, np.void) and row.dtype.names == names:
             return tuple(row[name] for name in names)
-        raise BadAction(k, _message_type_problem(row))
+        raise BadAction(k, message_type_problem(row))
 
     def _diagnosed(self, name: str, column: Sequence[Any]) -> np.ndarray:
         """The values of field ``name`` checked one by one: BadAction for the first that does
@@ -505,5 +305,4 @@ def _expected(field: np.dtype) -> str:
     return f"{field.shape} values, each {kind}" if field.shape else kind
 
 
-__all__ = ["BOOLS", "LEGACY_FIELDS", "BadAction", "Broadcasts", "action_problem", "blame",
-           "check_columns", "columns_of", "move_problem", "show", "sleep_problem"]
+__all__ = ["LEGACY_FIELDS", "Broadcasts", "blame", "check_columns", "columns_of"]

@@ -1,7 +1,9 @@
 """Command line: ``swarmsim run | sweep | reproduce | study | worlds | make-world | controllers |
 params``.
 
-Every input error prints one line naming the file, key and value, and exits with status 2.
+Every input error prints one line naming the file, key and value, and exits with status 2; a
+controller's mistake, one line naming the controller, the robot and the tick (then, if the
+controller raised, its own traceback), also status 2.
 """
 
 from __future__ import annotations

@@ -35,6 +35,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
 from swarmsim.registry import available_controllers, get_controller, register
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
@@ -286,10 +287,9 @@ class ChunkActions:
 
     def put(self, k: int, action: Action) -> None:
         """Row k from a whole Action (sparse form); an Action the engine would refuse raises
-        swarmsim.actioncheck.BadAction (the run names the robot)."""
-        from swarmsim.actioncheck import BadAction, action_problem
-
-        problem = action_problem(action)
+        swarmsim.actionvalues.BadAction (the run names the robot)."""
+        problem = (action_problem(action) if isinstance(action, Action) else
+                   f"{show(action)}; expected an Action")
         if problem:
             raise BadAction(k, problem)
         self.velocities[k] = action.velocity
@@ -302,12 +302,10 @@ class ChunkActions:
 
     @classmethod
     def of(cls, actions: list[Action]) -> ChunkActions:
-        """The columns of a list of Actions (BadAction, swarmsim.actioncheck, naming the first
+        """The columns of a list of Actions (BadAction, swarmsim.actionvalues, naming the first
         the engine would refuse; finiteness and broadcasts are checked when they are written).
         """
-        from swarmsim.actioncheck import columns_of
-
-        return columns_of(actions, len(actions))
+        return cls(*action_columns(actions, len(actions), Action))
 
 
 # Fast makers for the two objects made once per awake robot per tick. Calling a frozen

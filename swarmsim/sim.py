@@ -18,16 +18,8 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
-from swarmsim.actioncheck import (
-    BadAction,
-    Broadcasts,
-    blame,
-    check_columns,
-    columns_of,
-    move_problem,
-    show,
-    wake_range_problem,
-)
+from swarmsim.actioncheck import Broadcasts, blame, check_columns, columns_of
+from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (

@@ -4,7 +4,8 @@
 import numpy as np
 import pytest
 
-from swarmsim.actioncheck import BadAction, Broadcasts
+from swarmsim.actioncheck import Broadcasts
+from swarmsim.actionvalues import BadAction
 
 DTYPE = np.dtype([("id", "<i4"), ("status", "i1"), ("moving", "?"), ("vx", "<f4"),
                   ("ldist", "<f4", (3,)), ("lepoch", "<i4", (3,))])
