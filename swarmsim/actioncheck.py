@@ -67,26 +67,27 @@ def blame(exc: Exception, controller: str, call: str, tick: int | None,
 
 # ----------------------------------------------------------------------------- Actions
 # ----------------------------------------------------------------------------- ChunkActions
-_DENSE = (("sleep", "b"), ("wake_range", "iuf"), ("wake_on_motion", "b"), ("wake_tick", "iu"))
-"""The dense form's sleep columns, and the dtype kinds each may have."""
+_DENSE = ("sleep", "wake_range", "wake_on_motion", "wake_tick")
+"""The dense form's sleep columns: numbers, as numpy converts them to bool, float, bool and
+int64."""
 
 
 def check_columns(actions: ChunkActions, robots: int, dtype: np.dtype) -> None:
     """Check the form of a chunk's ChunkActions (``robots`` rows; broadcasts in the run's
-    message ``dtype``): every column an array of one row per robot, of a fitting dtype.
-    Their values are checked where they are written. Raises BadAction."""
-    if actions.broadcast is not None and _dense_fits(actions, robots, dtype):
-        return  # the usual case, in a few attribute reads
-    _column_form(actions.velocities, "velocities", (robots, 2), "iuf")
-    _column_form(actions.listen, "listen", (robots,), "iuf")
-    if actions.broadcast is not None:
-        _column_form(actions.broadcast, "broadcast", (robots,), "V")
-        if actions.broadcast.dtype.names != dtype.names:
-            raise BadAction(None, f"broadcast rows with the fields {actions.broadcast.dtype.names}"
-                                  f"; expected the run's message fields {dtype.names}")
-        for name, kinds in _DENSE:
-            _column_form(getattr(actions, name), name, (robots,), kinds)
+    message ``dtype``) before any of it is written. The dense form: its broadcast rows here
+    (a few attribute reads); its other columns, one row per robot, where the compiled passes
+    write them (swarmsim.tickrows: -2), numbers as numpy converts them (else it raises), and
+    :func:`column_problems` names the column. The sparse form: every column, and the rows its
+    messages and sleepers name. Raises BadAction."""
+    b = actions.broadcast
+    if b is not None:
+        if not (isinstance(b, np.ndarray) and b.shape == (robots,)
+                and b.dtype.names == dtype.names):
+            _column_form(b, "broadcast", (robots,), "V")
+            raise BadAction(None, f"broadcast rows with the fields {b.dtype.names}; expected "
+                                  f"the run's message fields {dtype.names}")
         return
+    column_problems(actions, robots)
     for name in ("messages", "sleepers"):
         rows = getattr(actions, name)
         if rows and not all(is_integer(k) and 0 <= k < robots for k in rows):
@@ -100,24 +101,14 @@ def check_columns(actions: ChunkActions, robots: int, dtype: np.dtype) -> None:
             raise BadAction(k, problem)
 
 
-def _dense_fits(a: ChunkActions, robots: int, dtype: np.dtype) -> bool:
-    """Whether the dense form's columns have their shapes and dtypes (check_columns, fast)."""
-    try:
-        v, one = a.velocities, (robots,)
-        kinds = (v.dtype.kind + a.listen.dtype.kind + a.wake_range.dtype.kind
-                 + a.sleep.dtype.kind + a.wake_on_motion.dtype.kind + a.wake_tick.dtype.kind)
-        return (v.shape == (robots, 2) and kinds in _DENSE_KINDS
-                and one == a.listen.shape == a.broadcast.shape == a.sleep.shape
-                == a.wake_range.shape == a.wake_on_motion.shape == a.wake_tick.shape
-                and a.broadcast.dtype.names == dtype.names and isinstance(v, np.ndarray))
-    except (AttributeError, TypeError):  # not arrays: check_columns names the column
-        return False
-
-
-_DENSE_KINDS = frozenset(v + listen + wake + "bb" + tick for v in "iuf" for listen in "iuf"
-                         for wake in "iuf" for tick in "iu")
-"""The dtype kinds of the dense columns velocities, listen, wake_range, sleep, wake_on_motion
-and wake_tick that check_columns accepts (_DENSE), as one string."""
+def column_problems(actions: ChunkActions, robots: int) -> None:
+    """BadAction naming the first column of ``actions`` that is not a numpy array of one row
+    per robot (``robots`` rows) of a fitting dtype kind; nothing if none."""
+    _column_form(actions.velocities, "velocities", (robots, 2), "biuf")
+    _column_form(actions.listen, "listen", (robots,), "biuf")
+    if actions.broadcast is not None:
+        for name in _DENSE:
+            _column_form(getattr(actions, name), name, (robots,), "biuf")
 
 
 def _column_form(column: Any, name: str, shape: tuple[int, ...], kinds: str) -> None:
@@ -305,4 +296,5 @@ def _expected(field: np.dtype) -> str:
     return f"{field.shape} values, each {kind}" if field.shape else kind
 
 
-__all__ = ["LEGACY_FIELDS", "Broadcasts", "blame", "check_columns", "columns_of"]
+__all__ = ["LEGACY_FIELDS", "Broadcasts", "blame", "check_columns", "column_problems",
+           "columns_of"]

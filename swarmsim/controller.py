@@ -238,8 +238,8 @@ class ChunkActions:
     robot's sleep request.
 
     What the engine accepts (anything else stops the run with a ControllerError): every column
-    a numpy array with one row per robot of the chunk (R rows) and of the dtype kind below;
-    velocities finite; listen and wake_range NaN or >= 0; broadcast rows with the run's
+    a numpy array of numbers (converted as numpy converts them to the dtypes below) with one
+    row per robot of the chunk (R rows); velocities finite; listen and wake_range NaN or >= 0; broadcast rows with the run's
     message fields (``batch.neighbours.messages.dtype``), whose ``status`` is an index into
     STATUSES (``id`` is replaced by each sender's own id); ``messages`` and ``sleepers`` keyed
     by rows 0..R-1, their values as :class:`Action` says. :meth:`put` checks the Action it is

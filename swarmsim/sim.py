@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
-from swarmsim.actioncheck import Broadcasts, blame, check_columns, columns_of
+from swarmsim.actioncheck import Broadcasts, blame, check_columns, column_problems, columns_of
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs
@@ -488,8 +488,13 @@ class Simulation:
                                   "Actions")
         vel = actions.velocities
         reach = self.sensing_range
-        bad = tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
-        if bad >= 0:
+        try:
+            bad = tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
+        except Exception:  # columns numpy or numba cannot take: named
+            _name_columns(actions, len(awake))
+            raise
+        if bad != -1:
+            _name_columns(actions, len(awake), bad)
             raise BadAction(bad, move_problem(vel[bad], actions.listen[bad]))
         if actions.broadcast is not None:
             if actions.broadcast.dtype == self.dtype:
@@ -502,11 +507,16 @@ class Simulation:
         if not self.config.allow_sleep:
             return
         if actions.sleep is not None:
-            bad = tickrows.put_sleep(awake, vel, actions.sleep, actions.wake_range,
-                                     actions.wake_on_motion, actions.wake_tick, reach, NEVER,
-                                     self.asleep, self.wake_range, self.wake_on_motion,
-                                     self.wake_tick)
-            if bad >= 0:
+            try:
+                bad = tickrows.put_sleep(awake, vel, actions.sleep, actions.wake_range,
+                                         actions.wake_on_motion, actions.wake_tick, reach,
+                                         NEVER, self.asleep, self.wake_range,
+                                         self.wake_on_motion, self.wake_tick)
+            except Exception:  # columns numpy or numba cannot take: named
+                _name_columns(actions, len(awake))
+                raise
+            if bad != -1:
+                _name_columns(actions, len(awake), bad)
                 raise BadAction(bad, wake_range_problem(actions.wake_range[bad]))
             return
         for k, action in actions.sleepers.items():  # checked: swarmsim.actioncheck
@@ -647,6 +657,17 @@ class Simulation:
                                       **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
+
+
+def _name_columns(actions: ChunkActions, robots: int, refused: int = -2) -> None:
+    """BadAction naming the column of a chunk's ``actions`` (``robots`` rows) that a compiled
+    pass could not take (it raised) or ``refused`` (-2: not one row per robot); nothing for a
+    refused row (>= 0), which the caller names."""
+    if refused >= 0:
+        return
+    column_problems(actions, robots)
+    if refused == -2:
+        raise BadAction(None, "columns of different lengths")
 
 
 @contextmanager

@@ -42,9 +42,9 @@ def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: f
               velocities: np.ndarray, listen: np.ndarray) -> int:
     """Write a chunk's actions to the robots ``rows`` (R,): ``velocities[rows] = vel`` (R, 2),
     units per tick, and ``listen[rows]`` the asked ranges ``listen_in`` (R,), units (NaN: the
-    sensing range ``reach``), at most ``reach``; in place. Returns -1, or the first k whose
-    velocity is not finite or whose asked range is negative (rows from k on are not
-    written)."""
+    sensing range ``reach``), at most ``reach``; in place. Returns -1; -2 (nothing written)
+    when ``vel`` or ``listen_in`` is not of one row per robot; or the first k whose velocity
+    is not finite or whose asked range is negative (rows from k on are not written)."""
     return _put_moves(c_array(rows, np.int64), c_array(vel, np.float64),
                       c_array(listen_in, np.float64), float(reach), velocities, listen)
 
@@ -55,8 +55,9 @@ def put_sleep(rows: np.ndarray, vel: np.ndarray, sleep: np.ndarray, wake_range_i
               wake_on_motion: np.ndarray, wake_tick: np.ndarray) -> int:
     """Put to sleep the robots ``rows[k]`` that asked (``sleep[k]``) and stand still (``vel[k]``
     zero), with their wake range (units; NaN: ``reach``; at most ``reach``), whether motion
-    wakes them, and their wake tick (negative: ``never``); in place. Returns -1, or the first
-    such k whose wake range is negative (rows from k on are not written)."""
+    wakes them, and their wake tick (negative: ``never``); in place. Returns -1; -2 (nothing
+    written) when a column is not of one row per robot; or the first such k whose wake range
+    is negative (rows from k on are not written)."""
     return _put_sleep(c_array(rows, np.int64), c_array(vel, np.float64),
                       c_array(sleep, np.bool_), c_array(wake_range_in, np.float64),
                       c_array(wake_on_motion_in, np.bool_),
@@ -119,7 +120,10 @@ def _differ(a, b, rows):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _put_moves(rows, vel, listen_in, reach, velocities, listen):  # pragma: no cover
-    for k in range(rows.shape[0]):
+    n = rows.shape[0]
+    if vel.shape[0] != n or vel.shape[1] != 2 or listen_in.shape[0] != n:
+        return -2
+    for k in range(n):
         i = rows[k]
         vx, vy = vel[k, 0], vel[k, 1]
         ask = reach if math.isnan(listen_in[k]) else listen_in[k]
@@ -133,7 +137,11 @@ def _put_moves(rows, vel, listen_in, reach, velocities, listen):  # pragma: no c
 @njit(cache=True)
 def _put_sleep(rows, vel, sleep, wake_range_in, wake_on_motion_in, wake_tick_in, reach,
                never, asleep, wake_range, wake_on_motion, wake_tick):  # pragma: no cover
-    for k in range(rows.shape[0]):
+    n = rows.shape[0]
+    if (vel.shape[0] != n or sleep.shape[0] != n or wake_range_in.shape[0] != n
+            or wake_on_motion_in.shape[0] != n or wake_tick_in.shape[0] != n):
+        return -2
+    for k in range(n):
         if not sleep[k] or vel[k, 0] != 0 or vel[k, 1] != 0:
             continue
         i = rows[k]

@@ -285,6 +285,10 @@ class WalkerSwarm:
                 sleep[k], wake_range[k] = True, -1.0
             elif self.breaks == "shape":
                 velocities = velocities[:, :1]
+            elif self.breaks == "flat":
+                velocities = velocities[:, 0]
+            elif self.breaks == "short":
+                sleep = sleep[1:]
             elif self.breaks == "raise":
                 raise ZeroDivisionError("batch division")
         if self.breaks == "spoof":  # every robot, every tick, claims to be robot 0
@@ -324,6 +328,8 @@ Batch_wake_range = batch_walker("wake_range")
 Batch_shape = batch_walker("shape")
 Batch_raise = batch_walker("raise")
 Batch_spoof = batch_walker("spoof")
+Batch_flat = batch_walker("flat")
+Batch_short = batch_walker("short")
 
 
 class CreateSwarmReturnsNone(Walker):

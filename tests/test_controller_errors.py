@@ -74,6 +74,10 @@ RETURNS = [
     ("Batch_wake_range", AT, "decide() returned wake_range=-1.0; expected a distance >= 0"),
     ("Batch_shape", f"tick {bad.BAD_TICK}", ("decide() returned velocities of shape (6, 1) "
                                             "and dtype float64; expected shape (6, 2)")),
+    ("Batch_flat", f"tick {bad.BAD_TICK}", ("decide() returned velocities of shape (6,) "
+                                           "and dtype float64; expected shape (6, 2)")),
+    ("Batch_short", f"tick {bad.BAD_TICK}", ("decide() returned sleep of shape (5,) and dtype "
+                                            "bool; expected shape (6,)")),
 ]
 
 RAISES = [
