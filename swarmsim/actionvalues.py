@@ -134,17 +134,20 @@ def move_problem(velocity: np.ndarray, listen: float) -> str:
     """Why the compiled pass refused a robot's move: (2,) velocity, units per tick, not
     finite, or a negative ``listen`` (units)."""
     if not np.isfinite(velocity).all():
-        return (f"the velocity ({float(velocity[0])!r}, {float(velocity[1])!r}); expected finite numbers "
-                "(vx, vy), units per tick")
+        vx, vy = float(velocity[0]), float(velocity[1])
+        return f"the velocity ({vx!r}, {vy!r}); expected finite numbers (vx, vy), units per tick"
     return listen_problem(float(listen))
 
 
 def listen_problem(value: Any) -> str:
+    """The problem of a robot's ``listen``."""
     return f"listen={show(value)}; expected a distance >= 0, units (None: the sensing range)"
 
 
 def wake_range_problem(value: float) -> str:
-    return f"wake_range={float(value)!r}; expected a distance >= 0, units (NaN: the sensing range)"
+    """The problem of a dense wake_range column's value."""
+    return (f"wake_range={float(value)!r}; expected a distance >= 0, units (NaN: the sensing "
+            "range)")
 
 
 def _velocities(values: list) -> np.ndarray:
@@ -185,15 +188,12 @@ def _distances(values: list, name: str) -> np.ndarray:
     nones = values.count(None)
     if nones == len(values):
         return np.full(len(values), np.nan)
-    if not nones:  # numbers only (numpy finds their type: text and bools are not numbers)
-        try:
-            out = np.array(values)
-        except (ValueError, TypeError, OverflowError):
-            out = None
-        if (out is not None and out.dtype.kind in "iuf" and out.shape == (len(values),)
-                and not np.isnan(out).any()):
-            return out.astype(float, copy=False)
-    elif all(t is type(None) or _real_type(t) for t in set(map(type, values))):
+    types = set(map(type, values))
+    if not nones and types <= _NUMBERS:  # the usual case
+        out = np.array(values, dtype=float)
+        if not np.isnan(out).any():
+            return out
+    elif all(t is type(None) or _real_type(t) for t in types):
         try:
             out = np.array([np.nan if x is None else x for x in values], dtype=float)
         except OverflowError:
@@ -203,6 +203,10 @@ def _distances(values: list, name: str) -> np.ndarray:
     k = next(k for k, x in enumerate(values) if not _is_distance(x, negative=True))
     raise BadAction(k, listen_problem(values[k]) if name == "listen" else
                     f"{name}={show(values[k])}; expected a distance >= 0, units")
+
+
+_NUMBERS = frozenset({float, int, np.float64, np.float32, np.int64, np.int32})
+"""Types of distances checked a column at a time with no look at each type (not bool)."""
 
 
 def _real_type(t: type) -> bool:

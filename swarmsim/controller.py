@@ -23,8 +23,10 @@ then the controller's ``MESSAGE_FIELDS``; or a dict by field name (missing field
 ``id`` is always the sender's own: the engine writes it, whatever the broadcast holds there.
 The engine checks every Action and ChunkActions where it receives it (what it accepts: the
 docstrings of :class:`Action` and :class:`ChunkActions`, docs/input-checks.md); anything else
-stops the run with a ControllerError naming the controller, the robot and the tick. Register a class with ``@register`` in an imported module, with an
-entry point in the ``swarmsim.controllers`` group, or name it as ``module:Class``.
+stops the run with a ControllerError naming the controller, the robot and the tick.
+
+Register a class with ``@register`` in an imported module, with an entry point in the
+``swarmsim.controllers`` group, or name it as ``module:Class``.
 """
 
 from __future__ import annotations
@@ -239,11 +241,11 @@ class ChunkActions:
 
     What the engine accepts (anything else stops the run with a ControllerError): every column
     a numpy array of numbers (converted as numpy converts them to the dtypes below) with one
-    row per robot of the chunk (R rows); velocities finite; listen and wake_range NaN or >= 0; broadcast rows with the run's
-    message fields (``batch.neighbours.messages.dtype``), whose ``status`` is an index into
-    STATUSES (``id`` is replaced by each sender's own id); ``messages`` and ``sleepers`` keyed
-    by rows 0..R-1, their values as :class:`Action` says. :meth:`put` checks the Action it is
-    given.
+    row per robot of the chunk (R rows); velocities finite; listen and wake_range NaN or
+    >= 0; broadcast rows with the run's message fields (``batch.neighbours.messages.dtype``),
+    whose ``status`` is an index into STATUSES (``id`` is replaced by each sender's own id);
+    ``messages`` and ``sleepers`` keyed by rows 0..R-1, their values as :class:`Action` says.
+    :meth:`put` checks the Action it is given.
 
     Attributes:
         velocities: (R, 2) desired velocities, units per tick (float or integer).

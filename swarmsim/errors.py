@@ -2,9 +2,9 @@
 
 Every problem with user input (world files, parameters, sweep specs) is raised as a
 :class:`ConfigError` whose message names the file (when there is one), the key and the
-offending value, so that the command line can print one clear line instead of a traceback. A controller that
-raises or breaks the controller contract during a run is a :class:`ControllerError` naming the
-controller, the robot and the tick.
+offending value, so that the command line can print one clear line instead of a traceback.
+A controller that raises or breaks the controller contract is a :class:`ControllerError`
+naming the controller, the robot and the tick.
 """
 
 from __future__ import annotations
