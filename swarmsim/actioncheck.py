@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim.actionvalues import (
+    BOOLS,
     BadAction,
     action_columns,
     action_problem,
@@ -211,26 +212,12 @@ class Broadcasts:
         return np.concatenate([_field_values(field, [value]) for value in column])
 
 
-_PLAIN = {"b": frozenset({bool}), "i": frozenset({int, bool}), "u": frozenset({int, bool}),
-          "f": frozenset({float, int, bool, np.float64, np.float32})}
-"""Per kind of field, the types of values that numpy converts to it exactly or refuses
-(OverflowError), but for a float too large for a narrower float field (checked)."""
-
-
 def _field_values(field: np.dtype, column: Sequence[Any]) -> np.ndarray | None:
     """A field's values as a numpy array of shape (len(column), *field.shape), or None
     when one does not fit the field as given (see Broadcasts)."""
-    plain = None if field.shape else _PLAIN.get(field.kind)
-    if plain is not None and set(map(type, column)) <= plain:  # the usual case, fast
-        try:
-            if field.kind == "f":
-                with np.errstate(over="ignore"):  # a float too large: inf, refused below
-                    values = np.fromiter(column, dtype=field, count=len(column))
-            else:
-                values = np.fromiter(column, dtype=field, count=len(column))
-        except OverflowError:
-            return None
-        if field.kind != "f" or np.isfinite(values).all():
+    if not field.shape and field.kind in "ib":  # the usual fields, in one pass or two
+        values = _plain_values(field, column)
+        if values is not None:
             return values
     try:
         values = np.asarray(column)
@@ -239,6 +226,23 @@ def _field_values(field: np.dtype, column: Sequence[Any]) -> np.ndarray | None:
     if values.shape != (len(column), *field.shape) or not _fits(field.base, values):
         return None
     return values
+
+
+def _plain_values(field: np.dtype, column: Sequence[Any]) -> np.ndarray | None:
+    """A bool field's Python bools, or a signed integer field's whole numbers in its range,
+    converted; None for anything else (which _field_values then looks at)."""
+    n = len(column)
+    if field.kind == "b":
+        return np.fromiter(column, dtype=field, count=n) if set(map(type, column)) <= BOOLS \
+            else None
+    try:
+        wide = np.fromiter(column, dtype=np.int64, count=n)
+    except (ValueError, TypeError, OverflowError):
+        return None
+    if wide.tolist() != list(column):  # a fraction truncated, text parsed
+        return None
+    low, high = _int_range(field)
+    return wide if n == 0 or (wide.min() >= low and wide.max() <= high) else None
 
 
 def _fits(base: np.dtype, values: np.ndarray) -> bool:

@@ -18,7 +18,8 @@ from typing import Any
 import numpy as np
 
 BOOLS = frozenset({bool, np.bool_})
-"""The types a flag (``sleep``, ``wake_on_motion``) may have."""
+"""The types a flag (``wake_on_motion``, a broadcast's bool field) may have; ``sleep`` may
+also be 1 or 0."""
 
 _short = reprlib.Repr()
 _short.maxstring = _short.maxother = 40
@@ -65,8 +66,8 @@ def action_columns(actions: Sequence[Any], robots: int, action_class: type
     velocities = _velocities([a.velocity for a in actions])
     listen = _distances([a.listen for a in actions], "listen")
     sleeps = [a.sleep for a in actions]
-    if robots and not set(map(type, sleeps)) <= BOOLS:
-        k = next(k for k, s in enumerate(sleeps) if type(s) not in BOOLS)
+    if sleeps.count(True) + sleeps.count(False) != robots:  # bools (or 1, 0) only
+        k = next(k for k, s in enumerate(sleeps) if not (s is True or s is False or s in (0, 1)))
         raise BadAction(k, f"sleep={show(sleeps[k])}; expected True or False")
     sleepers = {k: actions[k] for k, s in enumerate(sleeps) if s}
     if sleepers and not _sleepers_fit(list(sleepers.values())):
@@ -153,7 +154,7 @@ def wake_range_problem(value: float) -> str:
 def _velocities(values: list) -> np.ndarray:
     """(R, 2) float velocities from R Actions' (BadAction naming the first that is not two
     numbers; finiteness is checked where they are written)."""
-    try:
+    try:  # numpy finds the type: text is not a number
         v = np.array(values)
     except (ValueError, TypeError, OverflowError):
         v = None
@@ -188,12 +189,15 @@ def _distances(values: list, name: str) -> np.ndarray:
     nones = values.count(None)
     if nones == len(values):
         return np.full(len(values), np.nan)
-    types = set(map(type, values))
-    if not nones and types <= _NUMBERS:  # the usual case
-        out = np.array(values, dtype=float)
-        if not np.isnan(out).any():
-            return out
-    elif all(t is type(None) or _real_type(t) for t in types):
+    if not nones:  # the usual case: numpy finds the type (text is not a number)
+        try:
+            out = np.array(values)
+        except (ValueError, TypeError, OverflowError):
+            out = None
+        if (out is not None and out.dtype.kind in "iuf" and out.shape == (len(values),)
+                and not np.isnan(out).any()):
+            return out.astype(float, copy=False)
+    elif all(t is type(None) or _real_type(t) for t in set(map(type, values))):
         try:
             out = np.array([np.nan if x is None else x for x in values], dtype=float)
         except OverflowError:
@@ -203,10 +207,6 @@ def _distances(values: list, name: str) -> np.ndarray:
     k = next(k for k, x in enumerate(values) if not _is_distance(x, negative=True))
     raise BadAction(k, listen_problem(values[k]) if name == "listen" else
                     f"{name}={show(values[k])}; expected a distance >= 0, units")
-
-
-_NUMBERS = frozenset({float, int, np.float64, np.float32, np.int64, np.int32})
-"""Types of distances checked a column at a time with no look at each type (not bool)."""
 
 
 def _real_type(t: type) -> bool:
