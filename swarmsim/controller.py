@@ -195,10 +195,10 @@ class Action:
     value per field of the run's message dtype (``id``, ``status``, ``moving``, then the
     controller's fields), a dict by field name (fields it leaves out are zero) or a row of
     that dtype, each value fitting its field as given (no rounding, no wrapping, no text;
-    ``status`` an index into STATUSES; ``id`` is replaced by the sender's own id); ``sleep``
-    and ``wake_on_motion`` True or False; ``listen`` and ``wake_range`` None or a distance
-    >= 0 (not NaN); ``wake_tick`` None or an integer >= 0. The sleep promises are checked
-    when ``sleep`` is True (they mean nothing otherwise).
+    ``status`` an index into STATUSES; ``id`` is replaced by the sender's own id);
+    ``sleep`` True or False (or 1, 0) and ``wake_on_motion`` True or False; ``listen`` and
+    ``wake_range`` None or a distance >= 0 (not NaN); ``wake_tick`` None or an integer >= 0.
+    The sleep promises are checked when ``sleep`` is True (they mean nothing otherwise).
 
     Attributes:
         velocity: desired velocity (vx, vy) in units per tick; the engine clamps it to v.
