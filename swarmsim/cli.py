@@ -1,7 +1,9 @@
 """Command line: ``swarmsim run | sweep | reproduce | study | worlds | make-world | controllers |
 params``.
 
-Every input error prints one line naming the file, key and value, and exits with status 2.
+Every input error prints one line naming the file, key and value, and exits with status 2; a
+controller's mistake, one line naming the controller, the robot and the tick (then, if the
+controller raised, its own traceback), also status 2.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from swarmsim import runfolder
-from swarmsim.errors import ConfigError, interrupts_unwrapped
+from swarmsim.errors import ConfigError, ControllerError, interrupts_unwrapped
 from swarmsim.limits import (
     MAX_COORDINATE,
     MAX_FPS,
@@ -585,6 +587,9 @@ def _main(args: argparse.Namespace) -> int:
             return _command(args)
     except ConfigError as exc:
         print(f"swarmsim: error: {exc}", file=sys.stderr)
+        return 2
+    except ControllerError as exc:  # the line, then the controller's own traceback if it raised
+        print(f"swarmsim: error: {exc}\n{exc.user_traceback()}".rstrip(), file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("swarmsim: interrupted", file=sys.stderr)

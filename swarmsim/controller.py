@@ -19,9 +19,14 @@ A controller class is one of two kinds (the whole contract: :class:`ControllerCl
   robots from their perceptions laid end to end (:class:`DecideBatch`).
 
 A broadcast is a tuple in the order of the run's message dtype: ``id``, ``status``, ``moving``,
-then the controller's ``MESSAGE_FIELDS``; or a dict by field name (missing fields are zero,
-``id`` is the robot's). Register a class with ``@register`` in an imported module, with an
-entry point in the ``swarmsim.controllers`` group, or name it as ``module:Class``.
+then the controller's ``MESSAGE_FIELDS``; or a dict by field name (missing fields are zero).
+``id`` is always the sender's own: the engine writes it, whatever the broadcast holds there.
+The engine checks every Action and ChunkActions where it receives it (what it accepts: the
+docstrings of :class:`Action` and :class:`ChunkActions`, docs/input-checks.md); anything else
+stops the run with a ControllerError naming the controller, the robot and the tick.
+
+Register a class with ``@register`` in an imported module, with an entry point in the
+``swarmsim.controllers`` group, or name it as ``module:Class``.
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
 from swarmsim.registry import available_controllers, get_controller, register
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
@@ -183,10 +189,22 @@ class DecideBatch:
 class Action:
     """What a robot does this tick.
 
+    What the engine accepts (anything else stops the run with a ControllerError naming the
+    controller, the robot and the tick; see docs/input-checks.md): ``step`` returns an Action
+    (not None, not a tuple); ``velocity`` two finite numbers; ``message`` None, a tuple of one
+    value per field of the run's message dtype (``id``, ``status``, ``moving``, then the
+    controller's fields), a dict by field name (fields it leaves out are zero) or a row of
+    that dtype, each value fitting its field as given (no rounding, no wrapping, no text;
+    ``status`` an index into STATUSES; ``id`` is replaced by the sender's own id);
+    ``sleep`` True or False (or 1, 0) and ``wake_on_motion`` True or False; ``listen`` and
+    ``wake_range`` None or a distance >= 0 (not NaN); ``wake_tick`` None or an integer >= 0.
+    The sleep promises are checked when ``sleep`` is True (they mean nothing otherwise).
+
     Attributes:
         velocity: desired velocity (vx, vy) in units per tick; the engine clamps it to v.
         message: the broadcast for this tick, a tuple in the order of the controller's message
-            dtype (or None to repeat the last one). Neighbours receive it next tick.
+            dtype, or a dict by field name (or None to repeat the last one). Neighbours
+            receive it next tick.
         sleep: True promises that, until its perception changes, this robot would keep
             returning this same action; the engine then skips it until a neighbour within its
             sensing range moves or changes its message, or the robot itself is moved.
@@ -221,17 +239,25 @@ class ChunkActions:
     broadcast row and ``sleep``, ``wake_range``, ``wake_on_motion`` and ``wake_tick`` every
     robot's sleep request.
 
+    What the engine accepts (anything else stops the run with a ControllerError): every column
+    a numpy array of numbers (converted as numpy converts them to the dtypes below) with one
+    row per robot of the chunk (R rows); velocities finite; listen and wake_range NaN or
+    >= 0; broadcast rows with the run's message fields (``batch.neighbours.messages.dtype``),
+    whose ``status`` is an index into STATUSES (``id`` is replaced by each sender's own id);
+    ``messages`` and ``sleepers`` keyed by rows 0..R-1, their values as :class:`Action` says.
+    :meth:`put` checks the Action it is given.
+
     Attributes:
-        velocities: (R, 2) desired velocities, units per tick.
+        velocities: (R, 2) desired velocities, units per tick (float or integer).
         listen: (R,) how far each robot senses next tick, units (NaN: its full range).
         messages: {k: robot k's new broadcast tuple} (the others repeat theirs).
         sleepers: {k: Action} the robots that ask to sleep, with their promises
             (``Action.sleep`` and its fields; honoured only where the velocity is zero).
         broadcast: (R,) structured rows in the run's message dtype, or None (sparse form).
         sleep: (R,) bool, or None (sparse form); honoured only where the velocity is zero.
-        wake_range: (R,) units, NaN = the sensing range (see Action.wake_range).
+        wake_range: (R,) float, units, NaN = the sensing range (see Action.wake_range).
         wake_on_motion: (R,) bool (see Action.wake_on_motion).
-        wake_tick: (R,) int64, -1 = no timeout (see Action.wake_tick).
+        wake_tick: (R,) integer, negative = no timeout (see Action.wake_tick).
     """
 
     __slots__ = ("broadcast", "listen", "messages", "sleep", "sleepers", "velocities",
@@ -262,7 +288,12 @@ class ChunkActions:
         return out
 
     def put(self, k: int, action: Action) -> None:
-        """Row k from a whole Action (sparse form)."""
+        """Row k from a whole Action (sparse form); an Action the engine would refuse raises
+        swarmsim.actionvalues.BadAction (the run names the robot)."""
+        problem = (action_problem(action) if isinstance(action, Action) else
+                   f"{show(action)}; expected an Action")
+        if problem:
+            raise BadAction(k, problem)
         self.velocities[k] = action.velocity
         if action.listen is not None:
             self.listen[k] = action.listen
@@ -273,13 +304,10 @@ class ChunkActions:
 
     @classmethod
     def of(cls, actions: list[Action]) -> ChunkActions:
-        """The columns of a list of Actions."""
-        velocities = np.array([a.velocity for a in actions], dtype=float).reshape(-1, 2)
-        listen = np.array([np.nan if a.listen is None else a.listen for a in actions],
-                          dtype=float)
-        return cls(velocities, listen,
-                   {k: a.message for k, a in enumerate(actions) if a.message is not None},
-                   {k: a for k, a in enumerate(actions) if a.sleep})
+        """The columns of a list of Actions (BadAction, swarmsim.actionvalues, naming the first
+        the engine would refuse; finiteness and broadcasts are checked when they are written).
+        """
+        return cls(*action_columns(actions, len(actions), Action))
 
 
 # Fast makers for the two objects made once per awake robot per tick. Calling a frozen

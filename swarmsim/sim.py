@@ -18,6 +18,8 @@ from typing import Any
 import numpy as np
 
 from swarmsim import cellsearch, contactrows, interrupts, spawn, tallies, tickrows, wakes
+from swarmsim.actioncheck import Broadcasts, blame, check_columns, column_problems, columns_of
+from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs, check_given_once
 from swarmsim.controller import (
@@ -32,7 +34,7 @@ from swarmsim.controller import (
     silent_message,
 )
 from swarmsim.controller_info import ControllerInfo, describe
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, ControllerError, interrupt_within
 from swarmsim.imperfections import Imperfections
 from swarmsim.layouts import LAYOUTS, LayoutRequest
 from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
@@ -48,11 +50,6 @@ NEVER = np.iinfo(np.int64).max
 """wake_tick of a sleeping robot that set no timeout."""
 DEFAULT_CONTROLLER = "ggc"
 """The controller of a run that names none, in a world that names none (the paper's GGC)."""
-
-LEGACY_FIELDS = ("gradient", "group", "leader")
-"""Base broadcast fields of earlier versions, third to fifth in a tuple: a controller that
-still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps working, and
-they are dropped."""
 
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
@@ -228,19 +225,21 @@ class Simulation:
         self.physics = Physics(self.world, positions, self.physics_config)
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
-        self.sensing_range = self.info.sensing_range(self.params)
+        with self._controller_call("sensing_range()"):
+            self.sensing_range = self.info.sensing_range(self.params)
         if cfg.sensing_limit > 0:
             self.sensing_range = min(self.sensing_range, cfg.sensing_limit)
         if not self.sensing_range > 0:
             raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
                               key="sensing_range")
-        self.swarm = self.info.create_swarm(
-            setups, self.params, [np.random.default_rng(s) for s in robot_seeds],
-            shuffled=cfg.decide_order == "shuffled", order_rng=order_rng,
-            batch=cfg.batch_decide)
+        self.swarm = self._create_swarm(setups, [np.random.default_rng(s) for s in robot_seeds],
+                                        order_rng)
+        self._decider = getattr(self.swarm, "decider", "decide()")
+        """What the run calls its controller's actions by in errors ("step()", ...)."""
         self.statuses = self.info.statuses
         scattered = any(s.scattered for s in setups)
         self.dtype = message_dtype(self.info.message_fields(cfg.groups, scattered))
+        self.broadcasts = Broadcasts(self.dtype, self.statuses)
         self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
@@ -268,7 +267,8 @@ class Simulation:
         tallies.warm_up()
         contactrows.warm_up()
         tickrows.warm_up()
-        self.info.warm_up()  # its kernels too
+        with self._controller_call("warm_up()"):
+            self.info.warm_up()  # its kernels too
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.cpu_seconds = 0.0  # this process's CPU time in the tick loop, s
@@ -284,7 +284,51 @@ class Simulation:
             injector = install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
-        self.summary_sources.add("controller", lambda: self.swarm.summarize(self.failed))
+        self.summary_sources.add("controller", self._controller_summary)
+
+    def _create_swarm(self, setups: list[RobotSetup], rngs: list[np.random.Generator],
+                      order_rng: np.random.Generator) -> Any:
+        """The run's Swarm (ControllerError if the controller's class cannot make one)."""
+        cls, cfg = self.controller_cls, self.config
+        call = ("create_swarm()" if self.info.batch else
+                "create_robots()" if hasattr(cls, "create_robots") else "__init__()")
+        with self._controller_call(call):
+            swarm = self.info.create_swarm(setups, self.params, rngs,
+                                           shuffled=cfg.decide_order == "shuffled",
+                                           order_rng=order_rng, batch=cfg.batch_decide)
+        if not all(callable(getattr(swarm, name, None)) for name in ("decide", "summarize")):
+            raise ControllerError(f"{call} returned {show(swarm)}; expected a Swarm (with "
+                                  "decide and summarize)", controller=self.controller_name)
+        return swarm
+
+    @contextmanager
+    def _controller_call(self, call: str, tick: int | None = None) -> Iterator[None]:
+        """Turn an exception of the controller's ``call`` into a ControllerError naming the
+        controller (the controller's own exception its cause). A ConfigError (the controller
+        refusing its settings) and an interrupt pass as they are."""
+        try:
+            yield
+        except ConfigError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
+            raise self._blamed(exc, call, tick)
+
+    def _blamed(self, exc: Exception, call: str, tick: int | None,
+                robots: np.ndarray | None = None) -> Exception:
+        """The ControllerError of an exception of the controller's ``call`` or of a BadAction
+        of what it returned (row k: robot ``robots[k]``), naming this run's controller; an
+        interrupt (swarmsim.errors.interrupt_within) as it is."""
+        return exc if interrupt_within(exc) else blame(exc, self.controller_name, call, tick,
+                                                        robots)
+
+    def _controller_summary(self) -> Mapping[str, Any]:
+        """The controller's own summary fields (Swarm.summarize)."""
+        with self._controller_call("summarize()", self.tick):
+            summary = self.swarm.summarize(self.failed)
+        if not isinstance(summary, Mapping):
+            raise ControllerError(f"summarize() returned {show(summary)}; expected a dict",
+                                  controller=self.controller_name, tick=self.tick)
+        return summary
 
     @property
     def controllers(self) -> list:
@@ -410,7 +454,14 @@ class Simulation:
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
                             bearings, lambda k: probe_at(*listed()[1][k]), perceive,
                             self.floor.probes(here))
-        self._apply(awake, self.swarm.decide(awake, batch), new_messages, velocities)
+        try:
+            actions = self.swarm.decide(awake, batch)
+        except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
+            raise self._blamed(exc, self._decider, tick, awake)  # a BadAction of put: its row
+        try:
+            self._apply(awake, actions, new_messages, velocities)
+        except BadAction as bad:
+            raise self._blamed(bad, self._decider, tick, awake) from None
 
     def _heard(self, senders: np.ndarray) -> np.ndarray:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
@@ -427,30 +478,52 @@ class Simulation:
 
     def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
                new_messages: np.ndarray, velocities: np.ndarray) -> None:
-        """Write the awake robots' actions: velocities, broadcasts, listening and sleep."""
+        """Write the awake robots' actions: velocities, broadcasts, listening and sleep.
+        Each is checked as it is written (swarmsim.actioncheck); BadAction names the chunk's
+        row of the first that breaks the controller API."""
         if len(awake) == 0:
             return
-        if not isinstance(actions, ChunkActions):
-            actions = ChunkActions.of(actions)
+        if isinstance(actions, ChunkActions):
+            check_columns(actions, len(awake), self.dtype)
+        elif isinstance(actions, (list, tuple)):
+            actions = columns_of(actions, len(awake))
+        else:
+            raise BadAction(None, f"{show(actions)}; expected a ChunkActions or a list of "
+                                  "Actions")
         vel = actions.velocities
         reach = self.sensing_range
-        tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
+        try:
+            bad = tickrows.put_moves(awake, vel, actions.listen, reach, velocities, self.listen)
+        except Exception:  # columns numpy or numba cannot take: named
+            _name_columns(actions, len(awake))
+            raise
+        if bad != -1:
+            _name_columns(actions, len(awake), bad)
+            raise BadAction(bad, move_problem(vel[bad], actions.listen[bad]))
         if actions.broadcast is not None:
             if actions.broadcast.dtype == self.dtype:
                 as_records(new_messages)[awake] = as_records(actions.broadcast)
             else:
                 new_messages[awake] = actions.broadcast
+            self._sign(new_messages, awake)
         elif actions.messages:
             self._send(awake, actions.messages, new_messages)
         if not self.config.allow_sleep:
             return
         if actions.sleep is not None:
-            tickrows.put_sleep(awake, vel, actions.sleep, actions.wake_range,
-                               actions.wake_on_motion, actions.wake_tick, reach, NEVER,
-                               self.asleep, self.wake_range, self.wake_on_motion,
-                               self.wake_tick)
+            try:
+                bad = tickrows.put_sleep(awake, vel, actions.sleep, actions.wake_range,
+                                         actions.wake_on_motion, actions.wake_tick, reach,
+                                         NEVER, self.asleep, self.wake_range,
+                                         self.wake_on_motion, self.wake_tick)
+            except Exception:  # columns numpy or numba cannot take: named
+                _name_columns(actions, len(awake))
+                raise
+            if bad != -1:
+                _name_columns(actions, len(awake), bad)
+                raise BadAction(bad, wake_range_problem(actions.wake_range[bad]))
             return
-        for k, action in actions.sleepers.items():
+        for k, action in actions.sleepers.items():  # checked: swarmsim.actioncheck
             if vel[k, 0] == 0 and vel[k, 1] == 0:
                 i = awake[k]
                 self.asleep[i] = True
@@ -459,36 +532,27 @@ class Simulation:
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 
-    def _send(self, awake: np.ndarray, messages: dict[int, tuple | dict],
+    def _send(self, awake: np.ndarray, messages: dict[int, Any],
               new_messages: np.ndarray) -> None:
         """Write the new broadcasts ({k: row} of the chunk's robots; a row is a tuple in the
-        dtype's order or a dict by field name)."""
-        sent, rows = list(messages), list(messages.values())
-        if not any(isinstance(row, dict) for row in rows):
-            try:
-                new_messages[awake[sent]] = rows_to_array(rows, self.dtype)
-                return
-            except (TypeError, ValueError):  # not plain tuples: assign row by row
-                pass
-        width = len(self.dtype.names)
-        for k, row in zip(sent, rows, strict=True):
-            if isinstance(row, dict):
-                row = self._named_row(awake[k], row)
-            elif len(row) == width + len(LEGACY_FIELDS):
-                row = (*row[:2], *row[5:])  # the old base fields: gradient, group, leader
-            new_messages[awake[k]] = row
+        dtype's order or a dict by field name: swarmsim.actioncheck.Broadcasts)."""
+        sent = np.fromiter(messages, dtype=np.int64, count=len(messages))
+        try:
+            rows = self.broadcasts.array(list(messages.values()))
+        except BadAction as bad:
+            raise BadAction(None if bad.row is None else int(sent[bad.row]), bad.problem) from None
+        new_messages[awake[sent]] = rows
+        self._sign(new_messages, awake[sent], sent)
 
-    def _named_row(self, robot: int, fields: dict) -> np.void:
-        """A broadcast given by field name: missing fields zero, ``id`` the robot's."""
-        unknown = set(fields) - set(self.dtype.names)
-        if unknown:
-            raise ConfigError(f"broadcast names unknown fields {sorted(unknown)}; the run's "
-                              f"fields are {list(self.dtype.names)}", key="controller")
-        row = np.zeros((), dtype=self.dtype)
-        row["id"] = robot
-        for name, value in fields.items():
-            row[name] = value
-        return row[()]
+    def _sign(self, new_messages: np.ndarray, robots: np.ndarray,
+              rows: np.ndarray | None = None) -> None:
+        """Stamp the new broadcasts of ``robots`` (the chunk's ``rows``; None: all its rows, in
+        order) with their senders' own ids, and check their status codes (BadAction)."""
+        bad = tickrows.sign_rows(new_messages, robots, len(self.statuses))
+        if bad >= 0:
+            status = int(new_messages["status"][robots[bad]])
+            raise BadAction(bad if rows is None else int(rows[bad]),
+                            self.broadcasts.status_problem(status))
 
     def fail(self, robots: np.ndarray) -> None:
         """Make robots fail now: they stop moving and communicating but stay physical bodies."""
@@ -599,6 +663,17 @@ class Simulation:
         return self._renderer.draw(self.snapshot())
 
 
+def _name_columns(actions: ChunkActions, robots: int, refused: int = -2) -> None:
+    """BadAction naming the column of a chunk's ``actions`` (``robots`` rows) that a compiled
+    pass could not take (it raised) or ``refused`` (-2: not one row per robot); nothing for a
+    refused row (>= 0), which the caller names."""
+    if refused >= 0:
+        return
+    column_problems(actions, robots)
+    if refused == -2:
+        raise BadAction(None, "columns of different lengths")
+
+
 @contextmanager
 def _old_objects_frozen() -> Iterator[None]:
     """Keep the objects that exist now out of Python's full garbage collections for a while.
@@ -620,21 +695,6 @@ def _old_objects_frozen() -> Iterator[None]:
 
 def _has_field(cls: type, name: str) -> bool:
     return name in getattr(cls, "__dataclass_fields__", {})
-
-
-def rows_to_array(rows: list[tuple], dtype: np.dtype) -> np.ndarray:
-    """``np.array(rows, dtype=dtype)`` for broadcast tuples, built field by field (the same
-    values; numpy converts a list of tuples row by row, which is slower).
-    A field holding an array per row (e.g. GGC's per-group fields) is joined with one
-    ``np.concatenate``. Raises TypeError or ValueError where ``np.array`` would."""
-    out = np.empty(len(rows), dtype=dtype)
-    for name, column in zip(dtype.names, zip(*rows, strict=True), strict=True):
-        field = dtype[name]
-        if field.shape and isinstance(column[0], np.ndarray):
-            out[name] = np.concatenate(column).reshape(len(column), *field.shape)
-        else:
-            out[name] = np.asarray(column, dtype=field.base)
-    return out
 
 
 def _progress_bar(total: int, enabled: bool):

@@ -2,7 +2,8 @@
 
 The engine decides every run through a Swarm. A per-robot controller class is wrapped here:
 one object per robot, each asked ``step(perception)`` (or the class's optional ``prepare``
-before them, or ``decide_batch`` in their place).
+before them, or ``decide_batch`` in their place). An exception of the class's own code is
+raised as a ControllerError naming the robot and the tick (the exception its cause).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from swarmsim.controller import Action, ChunkActions, DecideBatch, RobotSetup
+from swarmsim.errors import ControllerError, raised
 
 
 class RobotSwarm:
@@ -33,28 +35,40 @@ class RobotSwarm:
                  rngs: Sequence[np.random.Generator], shuffled: bool = False,
                  order_rng: np.random.Generator | None = None, batch: bool = True):
         create = getattr(cls, "create_robots", None)
-        self.robots = (list(create(setups, params, rngs)) if create is not None else
-                       [cls(s, params, rng) for s, rng in zip(setups, rngs, strict=True)])
+        self.robots = (_created(create, setups, params, rngs) if create is not None else
+                       [_made(cls, s, params, rng) for s, rng in zip(setups, rngs, strict=True)])
         self.cls = cls
         self._shuffled = shuffled
         self._order_rng = order_rng if order_rng is not None else np.random.default_rng(0)
         self._prepare = getattr(cls, "prepare", None)
         self._decide_batch = (getattr(cls, "decide_batch", None)
                               if batch and not shuffled else None)
+        self.decider = "decide_batch()" if self._decide_batch is not None else "step()"
+        """What this swarm calls its robots' actions by in errors."""
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions | list[Action]:
         deciding = [self.robots[i] for i in robots.tolist()]
         if self._decide_batch is not None:
             return self._decide_batch(deciding, batch)
         if self._prepare is not None:
-            self._prepare(deciding, batch.neighbours)
+            try:
+                self._prepare(deciding, batch.neighbours)
+            except Exception as exc:
+                raise ControllerError(raised("prepare()", exc), tick=batch.tick) from exc
         perceive = batch.perceive
-        if not self._shuffled:
-            return [robot.step(perceive(k)) for k, robot in enumerate(deciding)]
         actions: list[Action] = [None] * len(deciding)  # type: ignore[list-item]
-        perceptions = [perceive(k) for k in range(len(deciding))]  # drawn in index order
-        for k in self._order_rng.permutation(len(deciding)).tolist():
-            actions[k] = deciding[k].step(perceptions[k])
+        k = 0
+        try:
+            if not self._shuffled:
+                for k, robot in enumerate(deciding):
+                    actions[k] = robot.step(perceive(k))
+            else:
+                perceptions = [perceive(j) for j in range(len(deciding))]  # in index order
+                for k in self._order_rng.permutation(len(deciding)).tolist():
+                    actions[k] = deciding[k].step(perceptions[k])
+        except Exception as exc:
+            raise ControllerError(raised("step()", exc), robot=int(robots[k]),
+                                  tick=batch.tick) from exc
         return actions
 
     def summarize(self, failed: np.ndarray) -> dict[str, Any]:
@@ -63,6 +77,7 @@ class RobotSwarm:
         summarize = getattr(self.cls, "summarize", None)
         if summarize is None:
             return {}
+        # an exception here is the class's: the engine names it (Simulation._controller_call)
         summary = summarize(self.robots)
         if "status_counts" in summary and failed.any():
             working = [r for r, f in zip(self.robots, failed.tolist(), strict=True) if not f]
@@ -70,6 +85,24 @@ class RobotSwarm:
             counts["Failed"] = int(failed.sum())
             summary["status_counts"] = dict(sorted(counts.items()))
         return summary
+
+
+def _created(create: Any, setups: Sequence[RobotSetup], params: Any,
+             rngs: Sequence[np.random.Generator]) -> list:
+    """The robots ``cls.create_robots`` makes, one per setup."""
+    robots = list(create(setups, params, rngs))
+    if len(robots) != len(setups):
+        raise ControllerError(f"create_robots() returned {len(robots)} robots for "
+                              f"{len(setups)} setups")
+    return robots
+
+
+def _made(cls: type, setup: RobotSetup, params: Any, rng: np.random.Generator) -> Any:
+    """One robot's controller, ``cls(setup, params, rng)``."""
+    try:
+        return cls(setup, params, rng)
+    except Exception as exc:
+        raise ControllerError(raised("__init__()", exc), robot=setup.robot_id) from exc
 
 
 __all__ = ["RobotSwarm"]

@@ -39,26 +39,38 @@ def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarra
 
 
 def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: float,
-              velocities: np.ndarray, listen: np.ndarray) -> None:
+              velocities: np.ndarray, listen: np.ndarray) -> int:
     """Write a chunk's actions to the robots ``rows`` (R,): ``velocities[rows] = vel`` (R, 2),
     units per tick, and ``listen[rows]`` the asked ranges ``listen_in`` (R,), units (NaN: the
-    sensing range ``reach``), at most ``reach``; in place."""
-    _put_moves(c_array(rows, np.int64), c_array(vel, np.float64),
-               c_array(listen_in, np.float64), float(reach), velocities, listen)
+    sensing range ``reach``), at most ``reach``; in place. Returns -1; -2 (nothing written)
+    when ``vel`` or ``listen_in`` is not of one row per robot; or the first k whose velocity
+    is not finite or whose asked range is negative (rows from k on are not written)."""
+    return _put_moves(c_array(rows, np.int64), c_array(vel, np.float64),
+                      c_array(listen_in, np.float64), float(reach), velocities, listen)
 
 
 def put_sleep(rows: np.ndarray, vel: np.ndarray, sleep: np.ndarray, wake_range_in: np.ndarray,
               wake_on_motion_in: np.ndarray, wake_tick_in: np.ndarray, reach: float,
               never: int, asleep: np.ndarray, wake_range: np.ndarray,
-              wake_on_motion: np.ndarray, wake_tick: np.ndarray) -> None:
+              wake_on_motion: np.ndarray, wake_tick: np.ndarray) -> int:
     """Put to sleep the robots ``rows[k]`` that asked (``sleep[k]``) and stand still (``vel[k]``
     zero), with their wake range (units; NaN: ``reach``; at most ``reach``), whether motion
-    wakes them, and their wake tick (negative: ``never``); in place."""
-    _put_sleep(c_array(rows, np.int64), c_array(vel, np.float64),
-               c_array(sleep, np.bool_), c_array(wake_range_in, np.float64),
-               c_array(wake_on_motion_in, np.bool_),
-               c_array(wake_tick_in, np.int64), float(reach), int(never), asleep,
-               wake_range, wake_on_motion, wake_tick)
+    wakes them, and their wake tick (negative: ``never``); in place. Returns -1; -2 (nothing
+    written) when a column is not of one row per robot; or the first such k whose wake range
+    is negative (rows from k on are not written)."""
+    return _put_sleep(c_array(rows, np.int64), c_array(vel, np.float64),
+                      c_array(sleep, np.bool_), c_array(wake_range_in, np.float64),
+                      c_array(wake_on_motion_in, np.bool_),
+                      c_array(wake_tick_in, np.int64), float(reach), int(never), asleep,
+                      wake_range, wake_on_motion, wake_tick)
+
+
+def sign_rows(messages: np.ndarray, rows: np.ndarray, statuses: int) -> int:
+    """Write each sender's own id into its broadcast: ``messages["id"][i] = i`` for the robots
+    ``rows`` (messages: (N,) in a run's message dtype, row i robot i's); in place. Returns -1,
+    or the first k whose row's status is not a status code (0 <= status < ``statuses``)."""
+    return _sign_rows(messages["id"], messages["status"], c_array(rows, np.int64),
+                      int(statuses))
 
 
 def warm_up() -> None:
@@ -108,22 +120,49 @@ def _differ(a, b, rows):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _put_moves(rows, vel, listen_in, reach, velocities, listen):  # pragma: no cover
-    for k in range(rows.shape[0]):
+    n = rows.shape[0]
+    if vel.shape[0] != n or vel.shape[1] != 2 or listen_in.shape[0] != n:
+        return -2
+    for k in range(n):
         i = rows[k]
-        velocities[i, 0], velocities[i, 1] = vel[k, 0], vel[k, 1]
+        vx, vy = vel[k, 0], vel[k, 1]
         ask = reach if math.isnan(listen_in[k]) else listen_in[k]
+        if not (math.isfinite(vx) and math.isfinite(vy)) or ask < 0:
+            return k
+        velocities[i, 0], velocities[i, 1] = vx, vy
         listen[i] = min(ask, reach)
+    return -1
 
 
 @njit(cache=True)
 def _put_sleep(rows, vel, sleep, wake_range_in, wake_on_motion_in, wake_tick_in, reach,
                never, asleep, wake_range, wake_on_motion, wake_tick):  # pragma: no cover
-    for k in range(rows.shape[0]):
+    n = rows.shape[0]
+    if (vel.shape[0] != n or sleep.shape[0] != n or wake_range_in.shape[0] != n
+            or wake_on_motion_in.shape[0] != n or wake_tick_in.shape[0] != n):
+        return -2
+    for k in range(n):
         if not sleep[k] or vel[k, 0] != 0 or vel[k, 1] != 0:
             continue
         i = rows[k]
+        ask = reach if math.isnan(wake_range_in[k]) else wake_range_in[k]
+        if ask < 0:
+            return k
         asleep[i] = True
         wake_on_motion[i] = wake_on_motion_in[k]
         wake_tick[i] = never if wake_tick_in[k] < 0 else wake_tick_in[k]
-        ask = reach if math.isnan(wake_range_in[k]) else wake_range_in[k]
         wake_range[i] = min(ask, reach)
+    return -1
+
+
+# one signature for every run: the fields of a run's broadcasts are strided, maybe unaligned
+# views ('A' layout), or contiguous in a run of one robot
+@njit("int64(int32[:], int8[:], int64[::1], int64)", cache=True)
+def _sign_rows(ids, status, rows, statuses):  # pragma: no cover - compiled
+    bad = -1
+    for k in range(rows.shape[0]):
+        i = rows[k]
+        ids[i] = i
+        if bad < 0 and not 0 <= status[i] < statuses:
+            bad = k
+    return bad

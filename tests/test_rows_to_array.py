@@ -1,12 +1,15 @@
-"""The engine's broadcast rows -> structured array conversion (swarmsim.sim.rows_to_array)."""
+"""The engine's broadcast rows -> structured array conversion
+(swarmsim.actioncheck.Broadcasts.array): numpy's values, checked."""
 
 import numpy as np
 import pytest
 
-from swarmsim.sim import rows_to_array
+from swarmsim.actioncheck import Broadcasts
+from swarmsim.actionvalues import BadAction
 
 DTYPE = np.dtype([("id", "<i4"), ("status", "i1"), ("moving", "?"), ("vx", "<f4"),
                   ("ldist", "<f4", (3,)), ("lepoch", "<i4", (3,))])
+BROADCASTS = Broadcasts(DTYPE, ("A", "B", "C", "D", "E"))
 
 
 def rows(per_group):
@@ -18,20 +21,23 @@ def rows(per_group):
 
 @pytest.mark.parametrize("per_group", [lambda a: a, lambda a: a.tolist(), tuple],
                          ids=["arrays", "lists", "tuples"])
-def test_the_same_bytes_as_numpy_row_by_row(per_group):
+def test_the_same_bytes_as_numpy_row_by_row_but_the_id(per_group):
     given = rows(per_group)
-    assert rows_to_array(given, DTYPE).tobytes() == np.array(given, dtype=DTYPE).tobytes()
+    got, numpy = BROADCASTS.array(given), np.array(given, dtype=DTYPE)
+    assert (got["id"] == 0).all()  # the engine's to write (tickrows.sign_rows)
+    numpy["id"] = 0
+    assert got.tobytes() == numpy.tobytes()
 
 
-def test_bad_rows_fail_as_numpy_would():
-    too_big = [(1, 300, True, 0.0, np.zeros(3), np.zeros(3, dtype=int))]
-    with pytest.raises(OverflowError):
-        np.array(too_big, dtype=DTYPE)
-    with pytest.raises(OverflowError):
-        rows_to_array(too_big, DTYPE)
-    short = [(1, 2, True, 0.0, np.zeros(3))]
-    with pytest.raises(ValueError):
-        rows_to_array(short, DTYPE)
-    wrong_width = [(1, 2, True, 0.0, np.zeros(4), np.zeros(3, dtype=int))]
-    with pytest.raises(ValueError):
-        rows_to_array(wrong_width, DTYPE)
+@pytest.mark.parametrize("bad, names", [
+    ((1, 300, True, 0.0, np.zeros(3), np.zeros(3, dtype=int)), "status is 300"),
+    ((1, 2, True, 0.0, np.zeros(3)), "tuple of 5 values; expected 6"),
+    ((1, 2, True, 0.0, np.zeros(4), np.zeros(3, dtype=int)), "ldist is array"),
+    ((1, 2, True, 0.0, np.zeros(3), np.full(3, 0.5)), "lepoch is array"),
+    ((1, 2, "yes", 0.0, np.zeros(3), np.zeros(3, dtype=int)), "moving is 'yes'"),
+    ((1, 2, True, 1e300, np.zeros(3), np.zeros(3, dtype=int)), r"vx is 1e\+300; expected a number within float32's range")])
+def test_a_row_that_does_not_fit_is_named(bad, names):
+    good = rows(tuple)[:3]
+    with pytest.raises(BadAction, match=names) as caught:
+        BROADCASTS.array([*good, bad])
+    assert caught.value.row == 3

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from swarmsim.errors import interrupt_within
+from swarmsim.errors import ControllerError, interrupt_within
 from swarmsim.experiments import claims
 from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
@@ -69,6 +69,8 @@ def execute_run(run: RunSpec) -> dict[str, Any]:
     except Exception as exc:  # a failing run is recorded, the sweep goes on
         if interrupt_within(exc):  # Ctrl-C inside compiled code: not the run's failure
             raise KeyboardInterrupt from exc
+        if isinstance(exc, ControllerError):  # its line, and the controller's own frames
+            return {"error": str(exc), "traceback": exc.user_traceback()}
         return {"error": one_line(exc), "traceback": traceback.format_exc()}
 
 

@@ -1,0 +1,242 @@
+"""A controller's mistakes: one line naming the controller, the robot and the tick.
+
+Every way a controller can break the controller API (tests/bad_controllers.py: raising in
+any of its hooks, returning what is not an Action, a velocity or a broadcast that does not
+fit, sleep promises out of range) stops the run with ``swarmsim: error: controller 'NAME',
+robot R, tick T: PROBLEM`` and exit status 2; an exception of the controller's own code keeps
+its traceback below that line, without the engine's frames. The id of a broadcast is always
+the sender's own.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tests.bad_controllers as bad
+from swarmsim import Simulation
+from swarmsim.cli import main
+from swarmsim.controller import Action, ChunkActions
+from swarmsim.errors import ControllerError
+from swarmsim.experiments import run_sweep
+from swarmsim.experiments.spec import RunSpec
+
+MODULE = "tests.bad_controllers"
+AT = f"robot {bad.BAD_ROBOT}, tick {bad.BAD_TICK}"
+"""Where each bad controller misbehaves (its robot and tick)."""
+RUN = ["--robots", "6", "--max-ticks", "8", "--quiet"]
+
+# (class, where, problem): what each one returns or raises, and the line that names it
+RETURNS = [
+    ("ReturnsNone", AT, "step() returned None; expected an Action"),
+    ("ReturnsTuple", AT, r"step() returned (0.05, 0.0); expected an Action"),
+    ("NanVelocity", AT, "step() returned the velocity (nan, 0.0); expected finite numbers"),
+    ("InfVelocity", AT, "step() returned the velocity (0.0, -inf); expected finite numbers"),
+    ("StringVelocity", AT, "step() returned the velocity ('fast', 0.0); expected two numbers"),
+    ("NumericStringVelocity", AT, "step() returned the velocity ('1', '0'); expected two"),
+    ("ThreeVelocity", AT, "step() returned a velocity of shape (3,); expected (vx, vy)"),
+    ("ScalarVelocity", AT, "step() returned a velocity of shape (); expected (vx, vy)"),
+    ("StringStatus", AT, ("step() returned a broadcast whose status is 'Walking'; expected a "
+                         "status code: an integer in 0..1")),
+    ("StatusOutOfRange", AT, ("step() returned a broadcast whose status is 2; expected a "
+                             "status code: an integer in 0..1")),
+    ("NegativeStatus", AT, "step() returned a broadcast whose status is -1; expected"),
+    ("ShortTuple", AT, ("step() returned a broadcast tuple of 3 values; expected 5: "
+                       "(id, status, moving, x, hops)")),
+    ("LongTuple", AT, "step() returned a broadcast tuple of 6 values; expected 5"),
+    ("UnknownField", AT, "step() returned a broadcast naming the unknown fields ['speed']"),
+    ("TooBigForField", AT, ("step() returned a broadcast whose hops is 70000; expected an "
+                           "integer in -32768..32767 (int16)")),
+    ("FractionInIntField", AT, ("step() returned a broadcast whose hops is 2.5; expected an "
+                               "integer")),
+    ("StringInFloatField", AT, ("step() returned a broadcast whose x is 'left'; expected a "
+                               "number")),
+    ("MessageIsString", AT, "step() returned the broadcast 'hello'; expected a tuple"),
+    ("NegativeListen", AT, "step() returned listen=-1.0; expected a distance >= 0"),
+    ("NanListen", AT, "step() returned listen=nan; expected a distance >= 0"),
+    ("StringListen", AT, "step() returned listen='far'; expected a distance >= 0"),
+    ("StringSleep", AT, "step() returned sleep='no'; expected True or False"),
+    ("NegativeWakeRange", AT, "step() returned wake_range=-2.0; expected a distance >= 0"),
+    ("NanWakeRange", AT, "step() returned wake_range=nan; expected a distance >= 0"),
+    ("NegativeWakeTick", AT, "step() returned wake_tick=-5; expected a tick: an integer >= 0"),
+    ("FloatWakeTick", AT, "step() returned wake_tick=5.5; expected a tick: an integer >= 0"),
+    ("StringWakeOnMotion", AT, ("step() returned wake_on_motion='never'; expected True or "
+                               "False")),
+    ("SummarizeReturnsList", "tick 8", "summarize() returned [1, 2]; expected a dict"),
+    ("CreateSwarmReturnsNone", None, "create_swarm() returned None; expected a Swarm"),
+    ("Batch_nan", AT, "decide() returned the velocity (0.05, nan); expected finite numbers"),
+    ("Batch_status", AT, ("decide() returned a broadcast whose status is 9; expected a status "
+                         "code: an integer in 0..0")),
+    ("Batch_listen", AT, "decide() returned listen=-3.0; expected a distance >= 0"),
+    ("Batch_wake_range", AT, "decide() returned wake_range=-1.0; expected a distance >= 0"),
+    ("Batch_shape", f"tick {bad.BAD_TICK}", ("decide() returned velocities of shape (6, 1) "
+                                            "and dtype float64; expected shape (6, 2)")),
+    ("Batch_flat", f"tick {bad.BAD_TICK}", ("decide() returned velocities of shape (6,) "
+                                           "and dtype float64; expected shape (6, 2)")),
+    ("Batch_short", f"tick {bad.BAD_TICK}", ("decide() returned sleep of shape (5,) and dtype "
+                                            "bool; expected shape (6,)")),
+]
+
+RAISES = [
+    ("RaisesInStep", AT, "step() raised ZeroDivisionError: float division by zero",
+     "user_helper"),
+    ("RaisesInInit", f"robot {bad.BAD_ROBOT}", "__init__() raised RuntimeError: no battery",
+     "__init__"),
+    ("RaisesInCreateRobots", None, "create_robots() raised KeyError: 'layout'",
+     "create_robots"),
+    ("RaisesInPrepare", "tick 0", "prepare() raised ValueError: cannot prepare", "prepare"),
+    ("RaisesInDecideBatch", "tick 0", "decide_batch() raised ArithmeticError: batch broke",
+     "decide_batch"),
+    ("RaisesInSummarize", "tick 8", ("summarize() raised ZeroDivisionError: float division "
+     "by zero"), "summarize"),
+    ("RaisesInSensingRange", None, "sensing_range() raised NotImplementedError: which range?",
+     "sensing_range"),
+    ("Batch_raise", f"tick {bad.BAD_TICK}", ("decide() raised ZeroDivisionError: batch "
+                                             "division"), "decide"),
+]
+
+SETUP_FAILURES = ("RaisesInInit", "RaisesInCreateRobots", "RaisesInSensingRange",
+                  "CreateSwarmReturnsNone")
+"""Controllers that fail before the run's first tick."""
+
+
+def first_line(name: str, where: str | None) -> str:
+    """The start of the line that names controller ``name`` misbehaving ``where``."""
+    return f"swarmsim: error: controller '{MODULE}:{name}'" + (f", {where}: " if where else ": ")
+
+
+def run_cli(name: str, capsys, *extra: str) -> tuple[int, list[str]]:
+    code = main(["run", "tiny", "--controller", f"{MODULE}:{name}", *RUN, *extra])
+    return code, capsys.readouterr().err.strip().splitlines()
+
+
+@pytest.mark.parametrize("name, where, problem", RETURNS, ids=[r[0] for r in RETURNS])
+def test_what_the_engine_refuses_is_one_line_naming_controller_robot_and_tick(
+        name, where, problem, capsys):
+    code, err = run_cli(name, capsys)
+    assert code == 2
+    assert len(err) == 1, err  # no traceback: the controller raised nothing
+    assert err[0].startswith(first_line(name, where) + problem), err[0]
+
+
+def frames(lines: list[str]) -> list[str]:
+    """The files of a printed traceback's frames."""
+    return [m.group(1) for line in lines if (m := re.match(r'\s*File "([^"]+)"', line))]
+
+
+@pytest.mark.parametrize("name, where, problem, function", RAISES, ids=[r[0] for r in RAISES])
+def test_a_controllers_exception_is_the_line_then_its_own_frames(name, where, problem,
+                                                                 function, capsys):
+    code, err = run_cli(name, capsys)
+    assert code == 2
+    assert err[0] == first_line(name, where) + problem, err[0]
+    assert err[1] == "Traceback (most recent call last):"
+    files = frames(err)
+    assert files and all(Path(f).name == "bad_controllers.py" for f in files), files
+    assert any(line.strip().endswith(f"in {function}") for line in err), err
+    engine = Path(__import__("swarmsim").__file__).parent
+    assert not any(str(engine) in line or "numpy" in line for line in err[1:]), err
+
+
+@pytest.mark.parametrize("name", SETUP_FAILURES)
+def test_a_controller_failing_at_setup_leaves_no_output_folder(name, tmp_path, capsys):
+    out = tmp_path / "out"
+    code, err = run_cli(name, capsys, "--out", str(out))
+    assert code == 2 and err[0].startswith(first_line(name, None)[:-2])
+    assert not out.exists()
+
+
+def test_the_python_api_raises_a_controller_error_caused_by_the_controllers_exception():
+    sim = Simulation("tiny", controller=bad.RaisesInStep, robots=6, max_ticks=8)
+    with pytest.raises(ControllerError) as caught:
+        sim.run()
+    error = caught.value
+    assert (error.controller, error.robot, error.tick) == (
+        "tests.bad_controllers:RaisesInStep", bad.BAD_ROBOT, bad.BAD_TICK)
+    assert isinstance(error.__cause__, ZeroDivisionError)
+    assert "in user_helper" in error.user_traceback()
+
+
+def test_an_interrupt_in_a_controller_is_an_interrupt_not_its_error():
+    class Interrupted(bad.Walker):
+        def bad(self, p):
+            raise KeyboardInterrupt
+
+    sim = Simulation("tiny", controller=Interrupted, robots=6, max_ticks=8)
+    with pytest.raises(KeyboardInterrupt):
+        sim.run()
+
+
+def test_a_batch_that_puts_a_bad_action_names_the_robot():
+    class PutsNan(bad.Walker):
+        @classmethod
+        def decide_batch(cls, robots, batch):
+            columns = ChunkActions.empty(len(robots))
+            for k, robot in enumerate(robots):
+                action = robot.step(batch.perceive(k))
+                if robot.id == bad.BAD_ROBOT and batch.tick == bad.BAD_TICK:
+                    action = Action((0.0, float("nan")))
+                columns.put(k, action)
+            return columns
+
+    sim = Simulation("tiny", controller=PutsNan, robots=6, max_ticks=8)
+    with pytest.raises(ControllerError, match=re.escape(
+            f"{AT}: decide_batch() returned the velocity (0.0, nan); expected finite")):
+        sim.run()
+
+
+def test_a_sweep_records_a_failing_controller_with_its_line(tmp_path):
+    runs = [RunSpec("tiny", f"{MODULE}:RaisesInStep", {"robots": 6, "max_ticks": 8}, 0),
+            RunSpec("tiny", f"{MODULE}:Walker", {"robots": 6, "max_ticks": 8}, 0)]
+    report = run_sweep(runs, tmp_path / "sweep", workers=1, progress=False)
+    assert report.failed == 1
+    error = (tmp_path / "sweep" / "runs" / runs[0].run_id / "error.txt").read_text()
+    line, _, details = error.partition("\n\n")
+    assert line == (f"controller '{MODULE}:RaisesInStep', {AT}: step() raised "
+                    "ZeroDivisionError: float division by zero")
+    assert "in user_helper" in details and "swarmsim/sim.py" not in details
+
+
+def test_no_robot_can_broadcast_another_robots_id():
+    """Spoofer's robots all claim id 0, by tuple and by dict, Batch_spoof's by dense rows."""
+    for controller in (bad.Spoofer, bad.Batch_spoof):
+        sim = Simulation("tiny", controller=controller, robots=6, max_ticks=8)
+        for _ in range(3):
+            sim.step()
+            assert sim.messages["id"].tolist() == list(range(6))
+    sim = Simulation("tiny", controller=bad.Spoofer, robots=6, max_ticks=8)
+    sim.step()
+    odd = sim.messages[1::2]
+    assert (odd["status"] == 1).all() and (odd["x"] == 1.5).all() and (odd["hops"] == 0).all()
+
+
+class Legacy(bad.Walker):
+    """Broadcasts with the old base fields (id, status, gradient, group, leader, moving, ...)."""
+
+    def good(self, p):
+        return Action((self.v, 0.0), (self.id, 1, 4, 2, False, True, 2.5, 3))
+
+
+@pytest.mark.parametrize("controller", [bad.Walker, bad.Batch_none, Legacy],
+                         ids=["per-robot", "batch", "legacy tuples"])
+def test_good_controllers_run_as_before(controller):
+    sim = Simulation("tiny", controller=controller, robots=6, max_ticks=8)
+    result = sim.run()
+    assert result.summary["ticks"] == 8
+    assert sim.messages["id"].tolist() == list(range(6))
+    if controller is Legacy:
+        row = sim.messages[0]
+        assert (row["status"], row["moving"], row["x"], row["hops"]) == (1, True, 2.5, 3)
+
+
+def test_columns_of_actions_refuse_what_the_engine_would_not_use():
+    with pytest.raises(Exception, match=r"a velocity of shape \(3,\)") as caught:
+        ChunkActions.of([Action(), Action((1.0, 2.0, 3.0))])
+    assert caught.value.row == 1
+    with pytest.raises(Exception, match="expected an Action") as caught:
+        ChunkActions.of([Action(), None])  # type: ignore[list-item]
+    assert caught.value.row == 1
+    assert np.isnan(ChunkActions.of([Action(), Action(listen=2)]).listen[0])
