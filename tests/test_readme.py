@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import re
+import sys
+import types
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,3 +35,22 @@ def test_controller_section_keeps_the_marker_for_the_api() -> None:
     assert "<!-- controller-api" in section and "<!-- /controller-api -->" in section
     assert "examples/my_controller.py" in section
     assert len(section.splitlines()) <= 45  # one screen
+
+
+def test_the_controller_snippet_runs_as_printed() -> None:
+    """The README's controller, imports and all, is a working controller: robots reach the
+    target and stop there."""
+    from swarmsim import Simulation
+
+    section = README.split("## Writing a controller", 1)[1].split("\n## ", 1)[0]
+    code = section.split("```python\n", 1)[1].split("```", 1)[0]
+    module = types.ModuleType("readme_snippet")
+    sys.modules[module.__name__] = module  # dataclasses looks its module up
+    try:
+        exec(compile(code, "README.md", "exec", dont_inherit=True), module.__dict__)
+    finally:
+        del sys.modules[module.__name__]
+    sim = Simulation("tiny", controller=module.GoToLight, robots=6, max_ticks=1500)
+    result = sim.run()
+    assert result.summary["robots_on_target"] == 6
+    assert {row["status"] for row in result.robots} == {"Arrived"}
