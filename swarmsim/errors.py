@@ -106,7 +106,7 @@ def _package_folders() -> tuple[str, ...]:
     import importlib.util
 
     folders = [str(Path(__file__).resolve().parent)]
-    for name in ("numpy", "numba", "pymunk"):
+    for name in ("numpy", "numba", "pymunk", "importlib"):
         spec = importlib.util.find_spec(name)
         if spec is not None and spec.submodule_search_locations:
             folders.extend(str(Path(p).resolve()) for p in spec.submodule_search_locations)
@@ -114,7 +114,10 @@ def _package_folders() -> tuple[str, ...]:
 
 
 def _engine_file(filename: str) -> bool:
-    """Whether a traceback frame's file belongs to swarmsim, numpy, numba or pymunk."""
+    """Whether a traceback frame's file belongs to swarmsim, numpy, numba, pymunk or the
+    import machinery (a controller module that fails as it is imported)."""
+    if filename.startswith("<frozen importlib"):
+        return True
     try:
         resolved = str(Path(filename).resolve())
     except (OSError, ValueError):

@@ -16,7 +16,7 @@ import sys
 from importlib.metadata import EntryPoint, entry_points
 from typing import Any
 
-from swarmsim.errors import ConfigError, unknown_name
+from swarmsim.errors import ConfigError, ControllerError, did_you_mean, raised, unknown_name
 
 ENTRY_POINT_GROUP = "swarmsim.controllers"
 _REGISTRY: dict[str, type] = {}
@@ -81,9 +81,14 @@ def _from_module(name: str) -> type:
         mod = importlib.import_module(mod_name)
     except ImportError as exc:
         raise ConfigError(f"cannot import module {mod_name!r}: {exc}", key="controller") from None
+    except Exception as exc:  # the module's own code failed (a SyntaxError, a raise)
+        raise ControllerError(raised(f"importing module {mod_name!r}", exc),
+                              controller=name) from exc
     cls = getattr(mod, cls_name, None)
     if cls is None:
-        raise ConfigError(f"module {mod_name!r} has no {cls_name!r}", key="controller")
+        classes = [k for k, v in vars(mod).items() if isinstance(v, type)]
+        raise ConfigError(f"module {mod_name!r} has no {cls_name!r}"
+                          f"{did_you_mean(cls_name, classes)}", key="controller")
     _check_controller_class(cls, name)
     return cls
 

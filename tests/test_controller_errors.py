@@ -240,3 +240,34 @@ def test_columns_of_actions_refuse_what_the_engine_would_not_use():
         ChunkActions.of([Action(), None])  # type: ignore[list-item]
     assert caught.value.row == 1
     assert np.isnan(ChunkActions.of([Action(), Action(listen=2)]).listen[0])
+
+
+MODULE_FAULTS = [  # a controller module that fails as it is imported: (source, problem)
+    ("x = = 1\n", "importing module 'faulty_bot' raised SyntaxError: invalid syntax"),
+    ("raise RuntimeError('no battery')\n",
+     "importing module 'faulty_bot' raised RuntimeError: no battery"),
+    ("import math\nmath.sqrt(-1)\n",
+     "importing module 'faulty_bot' raised ValueError: math domain error"),
+]
+
+
+@pytest.mark.parametrize("source, problem", MODULE_FAULTS, ids=["syntax", "raise", "domain"])
+def test_a_module_that_fails_as_it_is_imported_is_the_line_then_its_own_frames(
+        source, problem, tmp_path, monkeypatch, capsys):
+    (tmp_path / "faulty_bot.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code = main(["run", "tiny", "--controller", "faulty_bot:Bot", "--out", "out", *RUN])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2
+    assert err[0].startswith(f"swarmsim: error: controller 'faulty_bot:Bot': {problem}"), err
+    assert "faulty_bot.py" in "\n".join(err[1:])
+    assert not any("importlib" in line or "swarmsim" in line for line in err[1:]), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_misspelt_class_gets_the_closest_names(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(Path(__file__).parents[1])
+    code = main(["run", "tiny", "--controller", f"{MODULE}:RaisesInStpe", *RUN])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "did you mean 'RaisesInStep'" in err and "\n" not in err, err
