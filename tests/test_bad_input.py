@@ -23,6 +23,7 @@ from swarmsim.experiments.spec import spec_from_dict
 from swarmsim.metrics import CoverageGrid
 from swarmsim.spawn import max_formation_robots
 from swarmsim.world import available_worlds, load_world, world_from_dict
+from tests.errlines import one_error_line
 
 TINY_TOML = (Path(__file__).parents[1] / "worlds" / "tiny.toml").read_text()
 
@@ -46,13 +47,6 @@ def nothing_built(monkeypatch):
         raise AssertionError("a refused run built its layout or physics")
 
     monkeypatch.setattr(Simulation, "_setup", refuse)
-
-
-def one_error_line(capsys) -> str:
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and err.startswith("swarmsim: error: "), err
-    assert "Traceback" not in err
-    return err
 
 
 # ----------------------------------------------------------------------------- non-finite

@@ -24,6 +24,7 @@ from swarmsim.limits import (
 from swarmsim.physics import PhysicsConfig
 from swarmsim.world import world_from_dict
 from swarmsim.worldinfo import describe_world, fit_number, format_report
+from tests.errlines import one_error_line
 
 SPEC = 'world = "tiny"\ncontroller = "dispersion"\n[params]\nmax_ticks = 5\n'
 
@@ -40,13 +41,6 @@ def nothing_built(monkeypatch):
     monkeypatch.setattr(sim_module.Simulation, "_setup", refuse)
     monkeypatch.setattr(makeworld, "_joined", refuse)
     monkeypatch.setattr(makeworld, "_check_start", refuse)
-
-
-def one_error_line(capsys) -> str:
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and err.startswith("swarmsim: error: "), err
-    assert "Traceback" not in err
-    return err
 
 
 def tall_world(tmp_path: Path) -> Path:

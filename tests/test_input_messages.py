@@ -22,15 +22,9 @@ from swarmsim.experiments.spec import load_spec, spec_from_dict
 from swarmsim.makeworld import toml_string
 from swarmsim.recording import Recorder
 from swarmsim.world import load_world, world_from_dict
+from tests.errlines import one_error_line
 
 REPO = Path(__file__).parents[1]
-
-
-def one_error_line(capsys) -> str:
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and err.startswith("swarmsim: error: "), err
-    assert "Traceback" not in err
-    return err
 
 
 # ----------------------------------------------------------------------------- make-world text

@@ -47,7 +47,7 @@ def test_the_controller_snippet_runs_as_printed() -> None:
     module = types.ModuleType("readme_snippet")
     sys.modules[module.__name__] = module  # dataclasses looks its module up
     try:
-        exec(compile(code, "README.md", "exec", dont_inherit=True), module.__dict__)
+        exec(compile(code, "README.md", "exec", dont_inherit=True), module.__dict__)  # noqa: S102
     finally:
         del sys.modules[module.__name__]
     sim = Simulation("tiny", controller=module.GoToLight, robots=6, max_ticks=1500)
