@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-from numba import njit
+import numba
+from numba import njit, types
 
 from .borrow import borrowed
 from .rules.aggregation import gather, select_leaders
@@ -133,3 +134,33 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
         velocity[j, 0], velocity[j, 1] = vx, vy
         sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until
         listen[j] = listen_range(me.status, P)
+
+
+_driver_ready: list[bool] = []
+"""[True] once :func:`ensure_driver` compiled (or loaded) the driver in this process."""
+
+
+def driver_types(args: tuple) -> tuple:
+    """numba's types of :func:`decide_chunk`'s arguments ``args``, with every broadcast column
+    (``c[3:]``, views of the heard messages' fields) typed as strided ('A').
+
+    numba types an array C-contiguous when numpy flags it so, as it does every array of 0 or
+    1 rows: a chunk that heard one message (a lone awake robot) would then need a driver
+    compiled anew for its types, mid-run (about a minute). Typed 'A', one compiled driver
+    takes every chunk (numba converts a C-contiguous column to 'A' on the call)."""
+    typed = [numba.typeof(a) for a in args]
+    columns = typed[5]
+    typed[5] = types.Tuple([*columns[:3], *(t.copy(layout="A") for t in columns[3:])])
+    return tuple(typed)
+
+
+def ensure_driver(args: tuple) -> None:
+    """Compile (or load from the cache) the one driver for ``args``' types (as
+    :func:`driver_types` gives them) on the first call, and then let numba compile no other
+    signature: a call whose types the driver cannot take fails loudly (TypeError) instead of
+    compiling for a minute mid-run."""
+    if _driver_ready:
+        return
+    decide_chunk.compile(driver_types(args))
+    decide_chunk.disable_compile()
+    _driver_ready.append(True)

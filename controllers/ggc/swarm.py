@@ -19,7 +19,7 @@ from numba import njit
 
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_dtype
 
-from .decide import RuleParams, decide_chunk
+from .decide import RuleParams, decide_chunk, ensure_driver
 from .params import GGCParams
 from .rules.common import MAX_PROBES
 from .rules.rulesets import ASIDE, BESIDE, HOLES, RULESETS, SURPLUS, YIELD
@@ -141,7 +141,7 @@ class GGCSwarm:
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
         """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
         in the dense column form (every robot's broadcast and sleep request)."""
-        robots = np.asarray(robots, dtype=np.intp)
+        robots = np.ascontiguousarray(robots, dtype=np.intp)
         n = len(robots)
         saved = np.empty(n, dtype=self.state.dtype)
         m = batch.neighbours.messages.view()
@@ -152,7 +152,7 @@ class GGCSwarm:
                    np.ascontiguousarray(batch.offsets, dtype=np.float64),
                    np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
                    *(m[name] for name in COLUMNS))
-        on_target = np.asarray(batch.on_target, dtype=bool)
+        on_target = np.ascontiguousarray(batch.on_target, dtype=bool)
         moved = np.ascontiguousarray(batch.moved, dtype=np.float64)
         has_beacon = batch.beacons is not None
         beacons = (np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
@@ -166,10 +166,11 @@ class GGCSwarm:
         wake_range, wake_tick = np.full(n, np.nan), np.full(n, -1, dtype=np.int64)
         todo, again = np.arange(n), False
         while len(todo):
-            decide_chunk(todo, robots, self.state, saved, again, columns, batch.tick,
-                         on_target, moved, beacons, has_beacon, req, ans, calls, pending,
-                         self.rules, velocity, sleep, wake_range, wake_on_motion, wake_tick,
-                         listen)
+            args = (todo, robots, self.state, saved, again, columns, int(batch.tick),
+                    on_target, moved, beacons, has_beacon, req, ans, calls, pending,
+                    self.rules, velocity, sleep, wake_range, wake_on_motion, wake_tick, listen)
+            ensure_driver(args)  # the one compiled signature, whatever the chunk's sizes
+            decide_chunk(*args)
             todo, again = np.flatnonzero(pending), True
             if len(todo):
                 self._answer(batch, todo, req, ans, calls)
