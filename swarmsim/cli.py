@@ -383,6 +383,7 @@ def _make_output_folders(args: argparse.Namespace) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from swarmsim.kernelbuild import build_notice
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
 
@@ -392,9 +393,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_width(args.width)
     every = _trajectories_every(args)
     _check_output_paths(args)
-    sim = Simulation(args.world, controller=args.controller, robots=args.robots,
-                     groups=args.groups, seed=args.seed, d_cover=args.d_cover,
-                     max_ticks=args.max_ticks, settings=_parse_set(args.set))
+    with build_notice(detail=not args.quiet):  # the first run compiles kernels: say so
+        sim = Simulation(args.world, controller=args.controller, robots=args.robots,
+                         groups=args.groups, seed=args.seed, d_cover=args.d_cover,
+                         max_ticks=args.max_ticks, settings=_parse_set(args.set))
     _make_output_folders(args)  # only now: a refused run leaves nothing behind
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),

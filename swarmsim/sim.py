@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, contactrows, spawn, tallies, tickrows, wakes
+from swarmsim import cellsearch, contactrows, kernelbuild, spawn, tallies, tickrows, wakes
 from swarmsim.carrays import as_records
 from swarmsim.config import SimConfig, build_configs
 from swarmsim.controller import (
@@ -260,12 +260,13 @@ class Simulation:
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
-        cellsearch.warm_up()  # compiled or loaded before the run's clock starts
-        wakes.warm_up()
-        tallies.warm_up()
-        contactrows.warm_up()
-        tickrows.warm_up()
-        self.info.warm_up()  # its kernels too
+        warm_ups = [("neighbour views", cellsearch.warm_up), ("wakes", wakes.warm_up),
+                    ("tallies", tallies.warm_up), ("contacts", contactrows.warm_up),
+                    ("tick rows", tickrows.warm_up),
+                    (f"controller {self.info.name}", self.info.warm_up)]
+        for k, (name, warm_up) in enumerate(warm_ups, 1):  # before the run's clock starts
+            with kernelbuild.step(name, k, len(warm_ups)):
+                warm_up()  # compiled (the first time) or loaded from the cache
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.cpu_seconds = 0.0  # this process's CPU time in the tick loop, s

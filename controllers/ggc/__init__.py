@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from controllers.gradient import COLOURINGS, SILENT
+from swarmsim import kernelcache
 from swarmsim.controller import (
     DecideBatch,
     NeighbourBatch,
@@ -45,9 +46,9 @@ from swarmsim.controller import (
     run_message_fields,
 )
 
-from .kernelcache import drop_stale_kernels
-
-drop_stale_kernels(Path(__file__).parent)  # before any rule is compiled or loaded
+# the driver (decide.py) is compiled with rules from every file here: its kernels are
+# stamped by the code of the whole package, before any of them is decorated
+kernelcache.register_tree(Path(__file__).parent, whole=True)
 
 from .params import GGCParams
 from .state import MAX_GROUPS, message_fields
