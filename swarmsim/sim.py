@@ -263,7 +263,7 @@ class Simulation:
         warm_ups = [("neighbour views", cellsearch.warm_up), ("wakes", wakes.warm_up),
                     ("tallies", tallies.warm_up), ("contacts", contactrows.warm_up),
                     ("tick rows", tickrows.warm_up),
-                    (f"controller {self.info.name}", self.info.warm_up)]
+                    (f"controller {self.info.name}", self._warm_up_controller)]
         for k, (name, warm_up) in enumerate(warm_ups, 1):  # before the run's clock starts
             with kernelbuild.step(name, k, len(warm_ups)):
                 warm_up()  # compiled (the first time) or loaded from the cache
@@ -283,6 +283,14 @@ class Simulation:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
         self.summary_sources.add("controller", lambda: self.swarm.summarize(self.failed))
+
+    def _warm_up_controller(self) -> None:
+        """Compile or load the controller's kernels: its class's, then its swarm's (the
+        optional ``warm_up`` of each)."""
+        self.info.warm_up()
+        warm_up = getattr(self.swarm, "warm_up", None)
+        if warm_up is not None:
+            warm_up()
 
     @property
     def controllers(self) -> list:
