@@ -29,6 +29,7 @@ import ast
 import hashlib
 import importlib.abc
 import importlib.util
+import json
 import os
 import sys
 from pathlib import Path
@@ -61,16 +62,47 @@ def code_digest(source: str) -> str:
     return hashlib.sha256(ast.dump(tree, include_attributes=False).encode()).hexdigest()
 
 
-_DIGESTS: dict[tuple[Path, int, int], str] = {}
+MEMO = "kernel-code-digests.json"
+"""Each directory's memo of its files' code digests (in its ``__pycache__``): a process
+parses only the files changed since (a warm run would otherwise parse every kernel file)."""
+_MEMOS: dict[Path, dict[str, list]] = {}
+
+
+def _memo(folder: Path) -> dict[str, list]:
+    """``folder``'s memo: file name -> [mtime_ns, size, digest] (empty if none is readable)."""
+    if folder not in _MEMOS:
+        try:
+            memo = json.loads((folder / "__pycache__" / MEMO).read_text())
+            _MEMOS[folder] = memo if isinstance(memo, dict) else {}
+        except (OSError, ValueError):
+            _MEMOS[folder] = {}
+    return _MEMOS[folder]
+
+
+def _save_memo(folder: Path) -> None:
+    """Write ``folder``'s memo (atomically; not at all where the folder is read-only)."""
+    cache = folder / "__pycache__"
+    try:
+        cache.mkdir(exist_ok=True)
+        partial = cache / f".{MEMO}.{os.getpid()}.tmp"
+        partial.write_text(json.dumps(_memo(folder)))
+        partial.replace(cache / MEMO)
+    except OSError:
+        pass
 
 
 def file_digest(path: Path) -> str:
-    """:func:`code_digest` of the file ``path`` (remembered while its mtime and size stay)."""
+    """:func:`code_digest` of the file ``path``, remembered (also on disk, :data:`MEMO`)
+    while its mtime and size stay."""
     st = path.stat()
-    key = (path, st.st_mtime_ns, st.st_size)
-    if key not in _DIGESTS:
-        _DIGESTS[key] = code_digest(path.read_text(encoding="utf-8"))
-    return _DIGESTS[key]
+    memo = _memo(path.parent)
+    known = memo.get(path.name)
+    if known is not None and known[:2] == [st.st_mtime_ns, st.st_size]:
+        return known[2]
+    digest = code_digest(path.read_text(encoding="utf-8"))
+    memo[path.name] = [st.st_mtime_ns, st.st_size, digest]
+    _save_memo(path.parent)
+    return digest
 
 
 def tree_digest(root: Path) -> str:
