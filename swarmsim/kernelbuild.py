@@ -58,7 +58,7 @@ class _Notice:
 
     def step_ended(self, seconds: float) -> None:
         if self.step_kernels and self.detail and not self.live:
-            self.write(f"  {self.k}/{self.n} {self.step_name}: {self.step_kernels} kernels, "
+            self.write(f"  {self.k}/{self.n} {self.step_name}: {_kernels(self.step_kernels)}, "
                        f"{seconds:.1f} s\n")
 
     def finish(self) -> None:
@@ -66,14 +66,18 @@ class _Notice:
             return
         wall = time.perf_counter() - self.started
         cpu = time.process_time() - self.cpu_start
-        done = (f"compiled {self.kernels} kernels in {wall:.1f} s ({cpu:.1f} s CPU); later runs "
-                f"load them from numba's cache")
+        done = (f"compiled {_kernels(self.kernels)} in {wall:.1f} s ({cpu:.1f} s CPU); later "
+                f"runs load them from numba's cache")
         if self.live:
             self.write(f"\r\033[K{PREFIX}: {done}\n")
         elif self.detail:
             self.write(f"swarmsim: {done}\n")
         else:
             self.write(f" done in {wall:.1f} s\n")
+
+
+def _kernels(count: int) -> str:
+    return f"{count} kernel" + ("" if count == 1 else "s")
 
 
 _ACTIVE: list[_Notice] = []

@@ -3,6 +3,7 @@ it compiles them (swarmsim/kernelbuild.py)."""
 
 from __future__ import annotations
 
+import io
 import os
 import subprocess
 import sys
@@ -117,3 +118,39 @@ def test_a_docstring_edit_keeps_the_compiled_kernels_and_a_code_edit_recompiles(
     (pkg / "rules.py").write_text(RULE.replace("x + 1", "x + 2"))
     value, compiled, _ = _run(tmp_path, cache)
     assert (value, compiled) == ("30", "driver,rule")
+
+
+def test_the_detailed_notice_names_each_step_that_compiled():
+    """Off a terminal: the first compile announces the build, each step that compiled gets a
+    line (k of n, kernels, seconds), and the end says how long it took; a step that compiled
+    nothing gets no line."""
+    from numba import njit
+
+    from swarmsim.kernelbuild import PREFIX, build_notice, step
+
+    @njit  # not cached: compiled on every call of this test
+    def add_one(x):  # pragma: no cover - compiled
+        return x + 1
+
+    stream = io.StringIO()
+    with build_notice(stream, detail=True):
+        with step("nothing", 1, 3):
+            pass
+        with step("a tiny kernel", 2, 3):
+            add_one(1)
+        with step("loaded", 3, 3):
+            add_one(2)  # compiled already
+    lines = stream.getvalue().splitlines()
+    assert lines[0] == f"{PREFIX} ..."
+    assert lines[1].startswith("  2/3 a tiny kernel: 1 kernel, ")
+    assert lines[2].startswith("swarmsim: compiled 1 kernel in ")
+    assert len(lines) == 3
+
+
+def test_nothing_is_printed_when_nothing_compiles():
+    from swarmsim.kernelbuild import build_notice, step
+
+    stream = io.StringIO()
+    with build_notice(stream, detail=True), step("loaded", 1, 1):
+        pass
+    assert stream.getvalue() == ""
