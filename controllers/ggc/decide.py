@@ -55,32 +55,22 @@ aggregation rules (rules/aggregation.py, ~11 % of the cold build) into the drive
 runs that start scattered (a formation's robots never reach them)."""
 
 
-@njit(cache=True)
 def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """One robot's tick: its status's rule (the scattered start's leader selection first)."""
-    me.odo_x += sense.moved_x
-    me.odo_y += sense.moved_y
-    return start_rules(view, me, sense, pb, P)
-
-
-def start_rules(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """The rules of the run's start, chosen by the type of ``P`` when numba compiles the
-    driver (:func:`_start_rules`); pure Python has none."""
+    """One robot's tick (its odometry already advanced): its status's rule, the scattered
+    start's leader selection and aggregation first. Compiled only, chosen by the type of
+    ``P`` when numba compiles the driver (:func:`_decide_robot`)."""
     raise NotImplementedError("compiled only (decide_chunk)")
 
 
-@overload(start_rules)
-def _start_rules(view, me, sense, pb, P):
+@overload(decide_robot)
+def _decide_robot(view, me, sense, pb, P):
     """A formation start's robots are decided by their status's rule; a scattered start's
-    (``P`` a ScatteredRuleParams) select leaders first and gather while aggregating."""
+    (``P`` a ScatteredRuleParams) select leaders first and gather while aggregating. The
+    implementation is the rule function's own Python code: numba compiles it once, inside
+    the driver, not as one more kernel that would optimise every rule again."""
     if getattr(P, "instance_class", None) is ScatteredRuleParams:
-        def scattered(view, me, sense, pb, P):  # pragma: no cover - compiled
-            return _scattered_rules(view, me, sense, pb, P)
-        return scattered
-
-    def formation(view, me, sense, pb, P):  # pragma: no cover - compiled
-        return status_rule(view, me, sense, pb, P)
-    return formation
+        return _scattered_rules.py_func
+    return status_rule.py_func
 
 
 @njit(cache=True)
@@ -171,6 +161,8 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
         pending[j] = False
         pb.req, pb.ans, pb.calls, pb.pending = req[j], ans[j], calls[j:j + 1], pending[j:j + 1]
         me = state[i]
+        me.odo_x += sense.moved_x
+        me.odo_y += sense.moved_y
         vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
         velocity[j, 0], velocity[j, 1] = vx, vy
         sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until
