@@ -3,3 +3,9 @@
 Rule: nothing in this package imports pymunk or pygame, or reads global positions
 (tests/test_locality.py enforces it).
 """
+
+from pathlib import Path
+
+from swarmsim import kernelcache
+
+kernelcache.register_tree(Path(__file__).parent)  # each kernel stamped by its file's code

@@ -14,7 +14,13 @@ The names below are loaded on first use, so that importing the controller API
 from __future__ import annotations
 
 import importlib
+from pathlib import Path
 from typing import Any
+
+from swarmsim import kernelcache
+
+kernelcache.register_tree(Path(__file__).parent)  # kernels stamped by their file's code
+kernelcache.install()  # before any kernel is decorated
 
 _LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.sim",
          "Simulation": "swarmsim.sim", "World": "swarmsim.world",

@@ -435,6 +435,7 @@ def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, ev
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from swarmsim.kernelbuild import build_notice
     from swarmsim.recording import Recorder
     from swarmsim.sim import Simulation
     from swarmsim.world import load_world
@@ -452,7 +453,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                                   max_ticks=args.max_ticks)}
     world = load_world(args.world)
     _check_run_sizes(args, world, Simulation.check(world, **run)[0], every)
-    sim = Simulation(world, **run)
+    with build_notice(detail=not args.quiet):  # the first run compiles kernels: say so
+        sim = Simulation(world, **run)
     recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
                         frame_every=_frame_every(args, sim.config.max_ticks),
                         color_by=args.color_by, width=args.width,

@@ -366,7 +366,9 @@ class Swarm(Protocol):
     """All robots' controllers of one run, deciding a chunk of awake robots at a time.
 
     A batch controller class makes one with ``create_swarm``; per-robot controllers are driven
-    through :class:`swarmsim.swarm.RobotSwarm`, which calls each robot's ``step``.
+    through :class:`swarmsim.swarm.RobotSwarm`, which calls each robot's ``step``. Optional:
+    ``warm_up()``, compile or load the kernels this swarm's run uses (called once, after the
+    class's ``warm_up``, before the run's clock starts: no kernel is then compiled mid-run).
     """
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions | list[Action]:

@@ -17,7 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import cellsearch, contactrows, interrupts, spawn, tallies, tickrows, wakes
+from swarmsim import (
+    cellsearch,
+    contactrows,
+    interrupts,
+    kernelbuild,
+    spawn,
+    tallies,
+    tickrows,
+    wakes,
+)
 from swarmsim.actioncheck import Broadcasts, blame, check_columns, column_problems, columns_of
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.carrays import as_records
@@ -262,13 +271,13 @@ class Simulation:
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
         self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
-        cellsearch.warm_up()  # compiled or loaded before the run's clock starts
-        wakes.warm_up()
-        tallies.warm_up()
-        contactrows.warm_up()
-        tickrows.warm_up()
-        with self._controller_call("warm_up()"):
-            self.info.warm_up()  # its kernels too
+        warm_ups = [("neighbour views", cellsearch.warm_up), ("wakes", wakes.warm_up),
+                    ("tallies", tallies.warm_up), ("contacts", contactrows.warm_up),
+                    ("tick rows", tickrows.warm_up),
+                    (f"controller {self.info.name}", self._warm_up_controller)]
+        for k, (name, warm_up) in enumerate(warm_ups, 1):  # before the run's clock starts
+            with kernelbuild.step(name, k, len(warm_ups)):
+                warm_up()  # compiled (the first time) or loaded from the cache
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.cpu_seconds = 0.0  # this process's CPU time in the tick loop, s
@@ -329,6 +338,15 @@ class Simulation:
             raise ControllerError(f"summarize() returned {show(summary)}; expected a dict",
                                   controller=self.controller_name, tick=self.tick)
         return summary
+
+    def _warm_up_controller(self) -> None:
+        """Compile or load the controller's kernels: its class's, then its swarm's (the
+        optional ``warm_up`` of each)."""
+        with self._controller_call("warm_up()"):
+            self.info.warm_up()
+            warm_up = getattr(self.swarm, "warm_up", None)
+            if warm_up is not None:
+                warm_up()
 
     @property
     def controllers(self) -> list:

@@ -114,8 +114,9 @@ def awake_robots(asleep, failed, wake_tick, tick, positions, ref, velocities, ep
             for i in range(n):
                 if drift[i]:
                     asleep[i] = False
-    else:
-        ref[:, :] = positions
+    else:  # ref[:, :] = positions, as a loop: numba's slice copy compiles a shape-error
+        for i in range(n):  # message (its string code, ~5 s of the first run's build)
+            ref[i, 0], ref[i, 1] = positions[i, 0], positions[i, 1]
     return np.flatnonzero(~asleep & ~failed)
 
 

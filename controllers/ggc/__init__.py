@@ -36,18 +36,12 @@ from typing import Any
 import numpy as np
 
 from controllers.gradient import COLOURINGS, SILENT
-from swarmsim.controller import (
-    DecideBatch,
-    NeighbourBatch,
-    RobotSetup,
-    message_dtype,
-    register,
-    run_message_fields,
-)
+from swarmsim import kernelcache
+from swarmsim.controller import RobotSetup, register
 
-from .kernelcache import drop_stale_kernels
-
-drop_stale_kernels(Path(__file__).parent)  # before any rule is compiled or loaded
+# the driver (decide.py) is compiled with rules from every file here: its kernels are
+# stamped by the code of the whole package, before any of them is decorated
+kernelcache.register_tree(Path(__file__).parent, whole=True)
 
 from .params import GGCParams
 from .state import MAX_GROUPS, message_fields
@@ -106,21 +100,6 @@ class GGC:
                      rngs: Sequence[np.random.Generator]) -> GGCSwarm:
         """The run's robots (row i: robot i)."""
         return GGCSwarm(setups, params, rngs)
-
-    @classmethod
-    def warm_up(cls) -> None:
-        """Compile (first time on a machine, about a minute) or load the rules' driver for a
-        run's types: two robots of a made-up chunk decided."""
-        setups = [RobotSetup(0, leader=True, group=1), RobotSetup(1, group=1)]
-        swarm = GGCSwarm(setups, cls.Params(), [np.random.default_rng(s) for s in (0, 1)])
-        for scattered in (False, True):  # the two starts' broadcasts: two column types
-            messages = np.zeros(2, dtype=message_dtype(run_message_fields(cls, 1, scattered)))
-            messages["id"] = [1, 0]
-            batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
-                                np.array([[1.0, 0.0], [-1.0, 0.0]]), [False, False],
-                                np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None,
-                                lambda ks, offsets: np.zeros(len(ks), dtype=bool))
-            swarm.decide(np.arange(2), batch)
 
 
 __all__ = ["GGC", "GGCParams", "GGCSwarm"]

@@ -9,9 +9,12 @@ row as it was (rules are deterministic, so the second pass asks the same questio
 
 from __future__ import annotations
 
+import inspect
 from collections import namedtuple
 
-from numba import njit
+import numba
+from numba import njit, types
+from numba.extending import overload
 
 from .borrow import borrowed
 from .rules.aggregation import gather, select_leaders
@@ -31,7 +34,6 @@ from .statuses import (
     JOIN,
     PEND,
     STOP,
-    SURPLUS,
 )
 
 RuleParams = namedtuple("RuleParams", [
@@ -47,13 +49,45 @@ which of our additions apply; surplus_winding in radians; confined_reach and con
 units)."""
 
 
-@njit(cache=True)
+ScatteredRuleParams = namedtuple("ScatteredRuleParams", RuleParams._fields)
+"""RuleParams of a run of the scattered start: a type of its own, so that numba compiles the
+aggregation rules (rules/aggregation.py, ~11 % of the cold build) into the driver only for
+runs that start scattered (a formation's robots never reach them)."""
+
+
 def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """One robot's tick: its status's rule (the scattered start's leader selection first)."""
-    me.odo_x += sense.moved_x
-    me.odo_y += sense.moved_y
-    if P.scattered and sense.tick < P.selection_ticks:
+    """One robot's tick (its odometry already advanced): its status's rule, the scattered
+    start's leader selection and aggregation first. Compiled only, chosen by the type of
+    ``P`` when numba compiles the driver (:func:`_decide_robot`)."""
+    raise NotImplementedError("compiled only (decide_chunk)")
+
+
+@overload(decide_robot)
+def _decide_robot(view, me, sense, pb, P):
+    """A formation start's robots are decided by their status's rule; a scattered start's
+    (``P`` a ScatteredRuleParams) select leaders first and gather while aggregating. The
+    implementation is the rule function's own Python code: numba compiles it once, inside
+    the driver, not as one more kernel that would optimise every rule again."""
+    if getattr(P, "instance_class", None) is ScatteredRuleParams:
+        return _scattered_rules.py_func
+    return status_rule.py_func
+
+
+@njit(cache=True)
+def _scattered_rules(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """A robot of the scattered start: leader selection first, then the aggregation rules
+    (Approach, Pend, Join, Formed), then its status's rule."""
+    if sense.tick < P.selection_ticks:
         return select_leaders(view, me, sense, P)
+    s = me.status
+    if s == APPROACH or s == PEND or s == JOIN or s == FORMED:
+        return gather(view, me, sense, pb, P)
+    return status_rule(view, me, sense, pb, P)
+
+
+@njit(cache=True)
+def status_rule(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """The rule of a robot's status, but the aggregation statuses' (see _scattered_rules)."""
     s = me.status
     if s == COVERAGE:
         return coverage(view, me, sense, pb, P)
@@ -65,9 +99,7 @@ def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
         return stopped(view, me, sense, pb, P)
     if s == ARRIVE and P.ruleset & HOLES:
         return settled(view, me, sense, pb, P)
-    if s == ARRIVE or s == SURPLUS:
-        return 0.0, 0.0, True, 0.0, True, -1
-    return gather(view, me, sense, pb, P)
+    return 0.0, 0.0, True, 0.0, True, -1  # Arrive, Surplus
 
 
 @njit(cache=True)
@@ -129,7 +161,47 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
         pending[j] = False
         pb.req, pb.ans, pb.calls, pb.pending = req[j], ans[j], calls[j:j + 1], pending[j:j + 1]
         me = state[i]
+        me.odo_x += sense.moved_x
+        me.odo_y += sense.moved_y
         vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
         velocity[j, 0], velocity[j, 1] = vx, vy
         sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until
         listen[j] = listen_range(me.status, P)
+
+
+ChunkArgs = namedtuple("ChunkArgs", inspect.signature(decide_chunk.py_func).parameters)
+"""decide_chunk's arguments, by name."""
+
+_DRIVERS: set[type] = set()
+"""The RuleParams types (one per start) whose driver :func:`ensure_driver` compiled (or
+loaded) in this process."""
+
+
+def driver_types(args: ChunkArgs) -> tuple:
+    """numba's types of :func:`decide_chunk`'s arguments ``args``, with every broadcast column
+    (``c[3:]``, views of the heard messages' fields) typed as strided ('A').
+
+    numba types an array C-contiguous when numpy flags it so, as it does every array of 0 or
+    1 rows: a chunk that heard one message (a lone awake robot) would then need a driver
+    compiled anew for its types, mid-run (about a minute). Typed 'A', one compiled driver
+    takes every chunk (numba converts a C-contiguous column to 'A' on the call)."""
+    typed = args._replace(**{name: numba.typeof(value) for name, value in args._asdict().items()})
+    columns = typed.c
+    return tuple(typed._replace(c=types.Tuple([*columns[:3],
+                                               *(t.copy(layout="A") for t in columns[3:])])))
+
+
+def ensure_driver(args: ChunkArgs) -> None:
+    """Compile (or load from the cache) the driver for ``args``' types (as
+    :func:`driver_types` gives them) unless this process has it for their start (the type of
+    ``args.P``); numba compiles nothing else: a call whose types no driver can take fails
+    loudly (TypeError) instead of compiling for a minute mid-run."""
+    start = type(args.P)
+    if start in _DRIVERS:
+        return
+    decide_chunk.disable_compile(False)
+    try:
+        decide_chunk.compile(driver_types(args))
+    finally:
+        decide_chunk.disable_compile()
+    _DRIVERS.add(start)

@@ -17,9 +17,15 @@ from dataclasses import replace
 import numpy as np
 from numba import njit
 
-from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup, message_dtype
+from swarmsim.controller import (
+    ChunkActions,
+    DecideBatch,
+    NeighbourBatch,
+    RobotSetup,
+    message_dtype,
+)
 
-from .decide import RuleParams, decide_chunk
+from .decide import ChunkArgs, RuleParams, ScatteredRuleParams, decide_chunk, ensure_driver
 from .params import GGCParams
 from .rules.common import MAX_PROBES
 from .rules.rulesets import ASIDE, BESIDE, HOLES, RULESETS, SURPLUS, YIELD
@@ -38,7 +44,7 @@ def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
     selection = (p.h_max + 1) * p.T_settle
     one = groups == 1
     flags = rule_flags(p)
-    return RuleParams(
+    return (ScatteredRuleParams if scattered else RuleParams)(
         d_safe=float(p.d_safe), d_cover=float(p.d_cover), d_min=float(p.d_min),
         R_c=float(p.R_c), v=float(p.v), radial_gain=float(p.radial_gain),
         arrive_tolerance=float(p.arrive_tolerance), probe_distance=float(p.probe_distance),
@@ -138,12 +144,22 @@ class GGCSwarm:
         open_probes(np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.int64),
                     np.zeros((0, MAX_PROBES), dtype=np.int8), np.zeros((0, MAX_PROBES, 2)))
 
-    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
-        """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
-        in the dense column form (every robot's broadcast and sleep request)."""
-        robots = np.asarray(robots, dtype=np.intp)
+    def warm_up(self) -> None:
+        """Compile (the first time) or load the driver for this run's types now, before the
+        run's clock starts: a made-up chunk of two robots that hear each other (nothing is
+        decided). Only the run's start's rules are compiled (decide.ScatteredRuleParams)."""
+        groups, scattered = self.rules.groups, self.rules.scattered
+        messages = np.zeros(2, dtype=message_dtype(message_fields(groups, scattered)))
+        batch = DecideBatch(0, NeighbourBatch(messages, np.ones(2), np.array([0, 1, 2])),
+                            np.array([[1.0, 0.0], [-1.0, 0.0]]), [False, False],
+                            np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None,
+                            lambda ks, offsets: np.zeros(len(ks), dtype=bool))
+        ensure_driver(self._chunk_args(np.arange(2, dtype=np.intp), batch))
+
+    def _chunk_args(self, robots: np.ndarray, batch: DecideBatch) -> ChunkArgs:
+        """The driver's arguments for a chunk (``robots``: their rows, C-contiguous intp), its
+        robots all to decide, afresh."""
         n = len(robots)
-        saved = np.empty(n, dtype=self.state.dtype)
         m = batch.neighbours.messages.view()
         m.flags.writeable = False  # the rules read it (one compiled signature: read-only)
         # each column a strided view of the heard rows, not a copy: the rules read a
@@ -152,30 +168,35 @@ class GGCSwarm:
                    np.ascontiguousarray(batch.offsets, dtype=np.float64),
                    np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
                    *(m[name] for name in COLUMNS))
-        on_target = np.asarray(batch.on_target, dtype=bool)
-        moved = np.ascontiguousarray(batch.moved, dtype=np.float64)
         has_beacon = batch.beacons is not None
-        beacons = (np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
-                   else np.zeros((n, 2)))
-        req = np.zeros((n, MAX_PROBES, 2))
-        ans = np.full((n, MAX_PROBES), -1, dtype=np.int8)
-        calls = np.zeros(n, dtype=np.int64)
-        pending = np.zeros(n, dtype=bool)
-        velocity, listen = np.zeros((n, 2)), np.zeros(n)
-        sleep, wake_on_motion = np.zeros(n, dtype=bool), np.ones(n, dtype=bool)
-        wake_range, wake_tick = np.full(n, np.nan), np.full(n, -1, dtype=np.int64)
-        todo, again = np.arange(n), False
-        while len(todo):
-            decide_chunk(todo, robots, self.state, saved, again, columns, batch.tick,
-                         on_target, moved, beacons, has_beacon, req, ans, calls, pending,
-                         self.rules, velocity, sleep, wake_range, wake_on_motion, wake_tick,
-                         listen)
-            todo, again = np.flatnonzero(pending), True
-            if len(todo):
-                self._answer(batch, todo, req, ans, calls)
-        broadcast = broadcast_rows(self.state, robots, m.dtype)
-        return ChunkActions.columns(velocity, listen, broadcast, sleep, wake_range,
-                                    wake_on_motion, wake_tick)
+        return ChunkArgs(
+            todo=np.arange(n), rows=robots, state=self.state,
+            saved=np.empty(n, dtype=self.state.dtype), again=False, c=columns,
+            tick=int(batch.tick), on_target=np.ascontiguousarray(batch.on_target, dtype=bool),
+            moved=np.ascontiguousarray(batch.moved, dtype=np.float64),
+            beacons=(np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
+                     else np.zeros((n, 2))),
+            has_beacon=has_beacon, req=np.zeros((n, MAX_PROBES, 2)),
+            ans=np.full((n, MAX_PROBES), -1, dtype=np.int8), calls=np.zeros(n, dtype=np.int64),
+            pending=np.zeros(n, dtype=bool), P=self.rules, velocity=np.zeros((n, 2)),
+            sleep=np.zeros(n, dtype=bool), wake_range=np.full(n, np.nan),
+            wake_on_motion=np.ones(n, dtype=bool), wake_tick=np.full(n, -1, dtype=np.int64),
+            listen=np.zeros(n))
+
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
+        """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
+        in the dense column form (every robot's broadcast and sleep request)."""
+        robots = np.ascontiguousarray(robots, dtype=np.intp)
+        a = self._chunk_args(robots, batch)
+        ensure_driver(a)  # one compiled signature per start, whatever the chunk's sizes
+        while len(a.todo):
+            decide_chunk(*a)
+            a = a._replace(todo=np.flatnonzero(a.pending), again=True)
+            if len(a.todo):
+                self._answer(batch, a.todo, a.req, a.ans, a.calls)
+        broadcast = broadcast_rows(self.state, robots, batch.neighbours.messages.dtype)
+        return ChunkActions.columns(a.velocity, a.listen, broadcast, a.sleep, a.wake_range,
+                                    a.wake_on_motion, a.wake_tick)
 
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, req: np.ndarray, ans: np.ndarray,
