@@ -6,6 +6,6 @@ Rule: nothing in this package imports pymunk or pygame, or reads global position
 
 from pathlib import Path
 
-from swarmsim import kernelcache
+from swarmsim.controller import stamp_kernels_by_code
 
-kernelcache.register_tree(Path(__file__).parent)  # each kernel stamped by its file's code
+stamp_kernels_by_code(Path(__file__).parent)  # each kernel stamped by its file's code

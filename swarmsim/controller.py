@@ -38,6 +38,7 @@ from typing import Any, ClassVar, Protocol, runtime_checkable
 import numpy as np
 
 from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
+from swarmsim.kernelcache import register_tree as stamp_kernels_by_code
 from swarmsim.registry import available_controllers, get_controller, register
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
@@ -409,7 +410,9 @@ class ControllerClass(Protocol):
       the start layouts it can start from, if not all; ``default_start`` is one of them.
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
       forms no groups of its own),
-      ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels).
+      ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels;
+      a package of numba kernels calls ``stamp_kernels_by_code(its_folder)`` before it
+      defines them, so that numba's cache survives edits of docstrings and comments).
     - ``same_run_settings(params, config)`` (none): settings that make the run of ``params``
       and ``config`` (SimConfig) tick for tick by construction, named canonically (e.g. a
       rule set whose extra rules act nowhere in this run -> the plain one), or {}. Runs that
@@ -432,4 +435,4 @@ __all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Contro
            "ControllerClass", "DecideBatch", "NeighbourBatch", "Perception", "RobotSetup",
            "Swarm", "available_controllers", "get_controller", "make_action",
            "make_perception", "message_dtype", "register", "run_message_fields",
-           "silent_message"]
+           "silent_message", "stamp_kernels_by_code"]

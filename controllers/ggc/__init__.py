@@ -36,12 +36,11 @@ from typing import Any
 import numpy as np
 
 from controllers.gradient import COLOURINGS, SILENT
-from swarmsim import kernelcache
-from swarmsim.controller import RobotSetup, register
+from swarmsim.controller import RobotSetup, register, stamp_kernels_by_code
 
 # the driver (decide.py) is compiled with rules from every file here: its kernels are
 # stamped by the code of the whole package, before any of them is decorated
-kernelcache.register_tree(Path(__file__).parent, whole=True)
+stamp_kernels_by_code(Path(__file__).parent, whole=True)
 
 from .params import GGCParams
 from .state import MAX_GROUPS, message_fields
