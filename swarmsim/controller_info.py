@@ -7,6 +7,8 @@ The engine asks a controller class nothing else: :func:`describe` reads the decl
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -14,8 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.controller import RobotSetup, Swarm, run_message_fields
-from swarmsim.errors import ConfigError
+from swarmsim.actionvalues import show
+from swarmsim.controller import RobotSetup, Swarm, message_dtype, run_message_fields
+from swarmsim.errors import ConfigError, ControllerError
 
 COLOURING_KINDS = ("scale", "category")
 
@@ -94,8 +97,37 @@ class ControllerInfo:
         return run_message_fields(self.cls, groups, scattered)
 
     def sensing_range(self, params: Any) -> float:
-        """How far its robots sense, units."""
-        return float(self.cls.sensing_range(params))
+        """How far its robots sense, units: the class's ``sensing_range(params)``, checked.
+        Raises ControllerError unless it is a finite number > 0."""
+        value = self.cls.sensing_range(params)
+        if (isinstance(value, bool) or not isinstance(value, numbers.Real)
+                or not math.isfinite(value) or value <= 0):
+            raise ControllerError(f"sensing_range() returned {show(value)}; expected a "
+                                  "distance > 0, units", controller=self.name)
+        return float(value)
+
+    def message_dtype(self, groups: int, scattered: bool) -> np.dtype:
+        """The run's broadcast dtype: the base fields, then the class's (``message_fields``).
+        Raises ConfigError naming ``MESSAGE_FIELDS`` when numpy cannot make it (a bad type, a
+        field named twice or a base field again) or when ``SILENT``, ``COLOURINGS``,
+        ``LEADER_FIELD`` or ``GROUP_FIELD`` name a field it does not have."""
+        fields = self.message_fields(groups, scattered)
+        try:
+            dtype = message_dtype(fields)
+        except (TypeError, ValueError) as exc:
+            raise ConfigError(f"{self.name}: MESSAGE_FIELDS {fields!r} is not a list of "
+                              f"(name, numpy type) with names of its own beside id, status and "
+                              f"moving ({' '.join(str(exc).split())})", key="controller") from None
+        named = {"SILENT": list(self.silent), "COLOURINGS": list(self.colourings),
+                 "LEADER_FIELD": [self.leader_field] if self.leader_field else [],
+                 "GROUP_FIELD": [self.group_field] if self.group_field else []}
+        for declaration, names in named.items():
+            unknown = [n for n in names if n not in dtype.names]
+            if unknown:
+                raise ConfigError(f"{self.name}: {declaration} names {unknown}, which it does not "
+                                  f"broadcast; its fields are {list(dtype.names)}",
+                                  key="controller")
+        return dtype
 
     def warm_up(self) -> None:
         """Compile or load its kernels (before a run's clock starts)."""
@@ -117,8 +149,8 @@ class ControllerInfo:
 def describe(cls: type, name: str | None = None) -> ControllerInfo:
     """Read a controller class's declarations, with their defaults; ConfigError if one is
     malformed."""
-    statuses = tuple(cls.STATUSES)
     name = name or getattr(cls, "name", cls.__name__)
+    statuses = _statuses(cls, name)
     colourings = dict(getattr(cls, "COLOURINGS", {}))
     for field, kind in colourings.items():
         if kind not in COLOURING_KINDS:
@@ -144,6 +176,22 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
         min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
+
+
+MAX_STATUSES = 127
+"""The most statuses a controller may name: a broadcast's ``status`` is an int8."""
+
+
+def _statuses(cls: type, name: str) -> tuple[str, ...]:
+    """The class's STATUSES; ConfigError unless they are 1 to MAX_STATUSES distinct strings."""
+    declared = cls.STATUSES
+    statuses = () if isinstance(declared, str) else tuple(declared)
+    if (not 0 < len(statuses) <= MAX_STATUSES or len(set(statuses)) != len(statuses)
+            or not all(isinstance(s, str) for s in statuses)):
+        raise ConfigError(f"{name}: STATUSES must be a tuple of 1 to {MAX_STATUSES} distinct "
+                          f"names (its status codes 0, 1, ...), got {declared!r}",
+                          key="controller")
+    return statuses
 
 
 def _layouts(cls: type, name: str) -> tuple[str, ...]:

@@ -39,7 +39,6 @@ from swarmsim.controller import (
     Perception,
     RobotSetup,
     make_perception,
-    message_dtype,
     silent_message,
 )
 from swarmsim.controller_info import ControllerInfo, describe
@@ -238,16 +237,13 @@ class Simulation:
             self.sensing_range = self.info.sensing_range(self.params)
         if cfg.sensing_limit > 0:
             self.sensing_range = min(self.sensing_range, cfg.sensing_limit)
-        if not self.sensing_range > 0:
-            raise ConfigError(f"sensing range must be positive, got {self.sensing_range!r}",
-                              key="sensing_range")
         self.swarm = self._create_swarm(setups, [np.random.default_rng(s) for s in robot_seeds],
                                         order_rng)
         self._decider = getattr(self.swarm, "decider", "decide()")
         """What the run calls its controller's actions by in errors ("step()", ...)."""
         self.statuses = self.info.statuses
         scattered = any(s.scattered for s in setups)
-        self.dtype = message_dtype(self.info.message_fields(cfg.groups, scattered))
+        self.dtype = self.info.message_dtype(cfg.groups, scattered)
         self.broadcasts = Broadcasts(self.dtype, self.statuses)
         self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)

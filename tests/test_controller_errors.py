@@ -271,3 +271,43 @@ def test_a_misspelt_class_gets_the_closest_names(tmp_path, monkeypatch, capsys):
     code = main(["run", "tiny", "--controller", f"{MODULE}:RaisesInStpe", *RUN])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "did you mean 'RaisesInStep'" in err and "\n" not in err, err
+
+
+def declaring(**declarations) -> type:
+    """bad.Walker with these class attributes (classmethods given as plain functions)."""
+    attrs = {k: classmethod(v) if callable(v) and not isinstance(v, type) else v
+             for k, v in declarations.items()}
+    return type("Declared", (bad.Walker,), attrs)
+
+
+DECLARATIONS = [  # (class attributes, the message's telling part)
+    ({"STATUSES": ()}, "STATUSES must be a tuple of 1 to 127 distinct names"),
+    ({"STATUSES": "Walking"}, "STATUSES must be a tuple of 1 to 127 distinct names"),
+    ({"STATUSES": ("A", "A")}, "STATUSES must be a tuple of 1 to 127 distinct names"),
+    ({"STATUSES": ("A", 1)}, "STATUSES must be a tuple of 1 to 127 distinct names"),
+    ({"MESSAGE_FIELDS": [("hops", "bogus")]}, "MESSAGE_FIELDS [('hops', 'bogus')] is not"),
+    ({"MESSAGE_FIELDS": [("status", "i4")]}, "field 'status' occurs more than once"),
+    ({"MESSAGE_FIELDS": [("x", "f4"), ("x", "i2")]}, "field 'x' occurs more than once"),
+    ({"SILENT": {"gradient": 3}}, "SILENT names ['gradient'], which it does not broadcast"),
+    ({"COLOURINGS": {"hue": "scale"}}, "COLOURINGS names ['hue'], which it does not"),
+    ({"LEADER_FIELD": "boss"}, "LEADER_FIELD names ['boss'], which it does not broadcast"),
+    ({"sensing_range": lambda cls, params: float("nan")},
+     "sensing_range() returned nan; expected a distance > 0, units"),
+    ({"sensing_range": lambda cls, params: -2},
+     "sensing_range() returned -2; expected a distance > 0, units"),
+    ({"sensing_range": lambda cls, params: "far"},
+     "sensing_range() returned 'far'; expected a distance > 0, units"),
+    ({"sensing_range": lambda cls, params: None},
+     "sensing_range() returned None; expected a distance > 0, units"),
+]
+
+
+@pytest.mark.parametrize("declarations, problem", DECLARATIONS,
+                         ids=[f"{next(iter(d))}-{k}" for k, (d, _) in enumerate(DECLARATIONS)])
+def test_a_malformed_declaration_is_refused_naming_it(declarations, problem):
+    from swarmsim import ConfigError
+
+    with pytest.raises((ConfigError, ControllerError)) as refused:
+        Simulation("tiny", controller=declaring(**declarations), robots=4, max_ticks=5).run()
+    assert problem in str(refused.value), str(refused.value)
+    assert "Declared" in str(refused.value)  # the controller is named
