@@ -198,7 +198,8 @@ class Action:
     that dtype, each value fitting its field as given (no rounding, no wrapping, no text;
     ``status`` an index into STATUSES; ``id`` is replaced by the sender's own id);
     ``sleep`` True or False (or 1, 0) and ``wake_on_motion`` True or False; ``listen`` and
-    ``wake_range`` None or a distance >= 0 (not NaN); ``wake_tick`` None or an integer >= 0.
+    ``wake_range`` None or a distance >= 0 (not NaN); ``wake_tick`` None or an integer >= 0
+    (one past int64's range is never, like None).
     The sleep promises are checked when ``sleep`` is True (they mean nothing otherwise).
 
     Attributes:

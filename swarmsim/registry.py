@@ -10,6 +10,7 @@ A controller joins the registry in one of two ways; the engine lists no controll
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import os
 import sys
@@ -111,6 +112,20 @@ def _check_controller_class(cls: Any, name: str) -> None:
     if missing:
         raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
                           key="controller")
+    _check_params_class(cls.Params, name)
+
+
+def _check_params_class(params: Any, name: str) -> None:
+    """A controller's ``Params``: a dataclass whose every field has a default (a run sets
+    the ones it names)."""
+    if not (isinstance(params, type) and dataclasses.is_dataclass(params)):
+        raise ConfigError(f"{name!r}: Params must be a dataclass whose fields all have "
+                          f"defaults, got {params!r}", key="controller")
+    bare = [f.name for f in dataclasses.fields(params)
+            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+    if bare:
+        raise ConfigError(f"{name!r}: Params field(s) {bare} have no default; every "
+                          "parameter needs one", key="controller")
 
 
 __all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "register",

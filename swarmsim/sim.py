@@ -542,7 +542,8 @@ class Simulation:
                 i = awake[k]
                 self.asleep[i] = True
                 self.wake_on_motion[i] = action.wake_on_motion
-                self.wake_tick[i] = NEVER if action.wake_tick is None else int(action.wake_tick)
+                tick = action.wake_tick  # past int64 (10**30, say) is never, as None
+                self.wake_tick[i] = NEVER if tick is None else min(int(tick), NEVER)
                 wake = action.wake_range
                 self.wake_range[i] = reach if wake is None else min(float(wake), reach)
 

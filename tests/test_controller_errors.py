@@ -10,6 +10,7 @@ the sender's own.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from pathlib import Path
 
@@ -280,7 +281,22 @@ def declaring(**declarations) -> type:
     return type("Declared", (bad.Walker,), attrs)
 
 
+class PlainParams:
+    """Not a dataclass."""
+
+    v = 0.05
+
+
+@dataclasses.dataclass(frozen=True)
+class BareParams:
+    """A field without a default."""
+
+    v: float
+
+
 DECLARATIONS = [  # (class attributes, the message's telling part)
+    ({"Params": PlainParams}, "Params must be a dataclass whose fields all have defaults"),
+    ({"Params": BareParams}, "Params field(s) ['v'] have no default"),
     ({"STATUSES": ()}, "STATUSES must be a tuple of 1 to 127 distinct names"),
     ({"STATUSES": "Walking"}, "STATUSES must be a tuple of 1 to 127 distinct names"),
     ({"STATUSES": ("A", "A")}, "STATUSES must be a tuple of 1 to 127 distinct names"),
@@ -311,3 +327,16 @@ def test_a_malformed_declaration_is_refused_naming_it(declarations, problem):
         Simulation("tiny", controller=declaring(**declarations), robots=4, max_ticks=5).run()
     assert problem in str(refused.value), str(refused.value)
     assert "Declared" in str(refused.value)  # the controller is named
+
+
+class SleepsPastInt64(bad.Walker):
+    """Sleeps with a timeout past int64's range: never, as None."""
+
+    def step(self, p):
+        return Action((0.0, 0.0), None, sleep=True, wake_tick=10**30)
+
+
+def test_a_timeout_past_int64_is_never():
+    sim = Simulation("tiny", controller=SleepsPastInt64, robots=4, max_ticks=20)
+    sim.run()
+    assert sim.asleep.all() and (sim.wake_tick == np.iinfo(np.int64).max).all()
