@@ -24,6 +24,7 @@ from swarmsim.controller import Action, ChunkActions
 from swarmsim.errors import ControllerError
 from swarmsim.experiments import run_sweep
 from swarmsim.experiments.spec import RunSpec
+from tests.errlines import error_lines
 
 MODULE = "tests.bad_controllers"
 AT = f"robot {bad.BAD_ROBOT}, tick {bad.BAD_TICK}"
@@ -111,7 +112,7 @@ def first_line(name: str, where: str | None) -> str:
 
 def run_cli(name: str, capsys, *extra: str) -> tuple[int, list[str]]:
     code = main(["run", "tiny", "--controller", f"{MODULE}:{name}", *RUN, *extra])
-    return code, capsys.readouterr().err.strip().splitlines()
+    return code, error_lines(capsys.readouterr().err)
 
 
 @pytest.mark.parametrize("name, where, problem", RETURNS, ids=[r[0] for r in RETURNS])

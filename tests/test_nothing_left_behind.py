@@ -20,6 +20,7 @@ from swarmsim.cli import _terminate_as_interrupt, main
 from swarmsim.experiments import run_sweep, spec_from_dict
 from swarmsim.sim import Simulation
 from tests import early_end_bots
+from tests.errlines import error_lines
 
 REPO = Path(__file__).resolve().parents[1]
 BOTS = "tests.early_end_bots"
@@ -116,7 +117,7 @@ def test_a_folder_in_use_is_refused_naming_the_other_run(tmp_path, monkeypatch, 
     with runfolder.locked("o"):  # this process is the other run
         if who == "swarmsim run":
             assert main(["run", "tiny", "--quiet", "--out", "o"]) == 2
-            lines = capsys.readouterr().err.splitlines()
+            lines = error_lines(capsys.readouterr().err)
             assert len(lines) == 1
             message = lines[0]
         else:
