@@ -434,6 +434,14 @@ def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, ev
         check_memory(every, config.robots, config.max_ticks, key="--trajectories")
 
 
+def _run_arguments(args: argparse.Namespace) -> dict[str, Any]:
+    """Simulation's keyword arguments from run's options (an option that --set gives again
+    is refused: swarmsim.config.settings_from_pairs)."""
+    given = {"robots": args.robots, "groups": args.groups, "seed": args.seed,
+             "d_cover": args.d_cover, "max_ticks": args.max_ticks}
+    return {"controller": args.controller, **given, "settings": _parse_set(args.set, **given)}
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.kernelbuild import build_notice
     from swarmsim.recording import Recorder
@@ -446,11 +454,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         _check_width(args.width)
     every = _trajectories_every(args)
     _check_output_paths(args)
-    run = {"controller": args.controller, "robots": args.robots, "groups": args.groups,
-           "seed": args.seed, "d_cover": args.d_cover, "max_ticks": args.max_ticks,
-           "settings": _parse_set(args.set, robots=args.robots, groups=args.groups,
-                                  seed=args.seed, d_cover=args.d_cover,
-                                  max_ticks=args.max_ticks)}
+    run = _run_arguments(args)
     world = load_world(args.world)
     _check_run_sizes(args, world, Simulation.check(world, **run)[0], every)
     with build_notice(detail=not args.quiet):  # the first run compiles kernels: say so
