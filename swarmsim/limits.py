@@ -18,11 +18,10 @@ from swarmsim.errors import ConfigError
 MAX_ROBOTS = 50_000
 """Robots in one run: 5x the largest swarm measured (10,000 robots, docs/performance-log.md)."""
 MAX_TICKS = 10_000_000
-"""Ticks in one run: 100x the default limit (K completes at ~12,500)."""
+"""Ticks in one run: 100x the default limit."""
 MAX_RECORD_ROWS = 1_000_000
-"""Time-series rows a run keeps in memory until it ends (max_ticks / record_every): ~730
-bytes each (a dict of 13 numbers, measured), so at most ~0.7 GB; the default run keeps
-10,000."""
+"""Time-series rows a run keeps in memory until it ends (max_ticks / record_every); a row's
+size, and so this bound's memory: docs/input-checks.md."""
 MAX_GRID_SIZE = 2_000
 """Coverage raster side, cells (paper: 100): grid_size^2 cells, 4 million at the bound."""
 MAX_SUBSTEPS = 100

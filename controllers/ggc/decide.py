@@ -51,7 +51,7 @@ units)."""
 
 ScatteredRuleParams = namedtuple("ScatteredRuleParams", RuleParams._fields)
 """RuleParams of a run of the scattered start: a type of its own, so that numba compiles the
-aggregation rules (rules/aggregation.py, ~11 % of the cold build) into the driver only for
+aggregation rules (rules/aggregation.py; their cost: docs/cold-build.md) into the driver only for
 runs that start scattered (a formation's robots never reach them)."""
 
 
