@@ -85,7 +85,6 @@ class RunMetrics:
             "robots.csv column", self.parts, "robot_columns", reserved=ROBOT_COLUMN)
         self._summary_fields: list[tuple[str, Reporter]] = _declared(
             "summary field", self.parts, "summary_fields")
-        self._coverage = self.part(CoveragePart)
         self.rows: list[dict] = []
         self._last_recorded = -1
 
@@ -98,8 +97,9 @@ class RunMetrics:
 
     @property
     def coverage(self) -> float:
-        """The coverage fraction P at the end of the last observed tick."""
-        return self._coverage.coverage
+        """The coverage fraction P at the end of the last observed tick (the coverage
+        part's)."""
+        return self.part(CoveragePart).coverage
 
     # --------------------------------------------------------------- the loop hook
     def start(self, run: ObservedRun) -> None:
