@@ -13,7 +13,6 @@ from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
-from swarmsim.metrics.awake import AwakePart
 from swarmsim.metrics.contacts import ContactsPart
 from swarmsim.metrics.coverage import CoveragePart
 from swarmsim.metrics.final import FinalState
@@ -58,7 +57,7 @@ def standard_parts(grid: CoverageGrid, config: Any, physics: Any,
     settled = SettledPart(physics.n, settled_codes, config.displaced_threshold)
     progress = ProgressPart(physics.n, coverage, settled, settled_codes, config,
                             counts_broadcast_moving="moving" in (broadcasts.names or ()))
-    return [coverage, progress, ContactsPart(physics), settled, SpacingPart(), AwakePart()]
+    return [coverage, progress, ContactsPart(physics), settled, SpacingPart()]
 
 
 class RunMetrics:
