@@ -137,13 +137,6 @@ class MaxTicksRule(Hook):
         return "max_ticks" if run.tick >= self.max_ticks else None
 
 
-class AllFailedRule(Hook):
-    """Stop ("all_failed") when every robot has failed."""
-
-    def is_finished(self, run: Any) -> str | None:
-        return "all_failed" if run.failed.all() else None
-
-
 def stop_rules(config: Any, metrics: RunMetrics) -> list[Hook]:
     """A run's stop rules, in the order they are asked: complete (if ``stop_on_complete``),
     stalled, plateau, max_ticks (``config``: the run's SimConfig)."""
@@ -152,7 +145,7 @@ def stop_rules(config: Any, metrics: RunMetrics) -> list[Hook]:
     return [*complete,
             StallRule(metrics.part(ProgressPart), config.stall_ticks, config.wake_eps),
             PlateauRule(coverage, config.plateau_ticks, config.plateau_delta),
-            MaxTicksRule(config.max_ticks), AllFailedRule()]
+            MaxTicksRule(config.max_ticks)]
 
 
 __all__ = ["CompleteRule", "Hook", "LoopHook", "MaxTicksRule", "PlateauRule", "StallRule",
