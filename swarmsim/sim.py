@@ -13,7 +13,7 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -54,6 +54,9 @@ from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
 from swarmsim.summary import SummaryCollector
 from swarmsim.world import World, load_world
+
+if TYPE_CHECKING:
+    from swarmsim.faults import FaultInjector
 
 NEVER = np.iinfo(np.int64).max
 """wake_tick of a sleeping robot that set no timeout."""
@@ -299,7 +302,7 @@ class Simulation:
                 "fault_tick": None if injector is None else injector.fired_tick})
         self.summary_sources.add("controller", self._controller_summary)
 
-    def _fault_injector(self) -> LoopHook | None:
+    def _fault_injector(self) -> FaultInjector | None:
         """The hook that fails robots as the run's ``failures`` settings ask (None: none)."""
         cfg = self.config
         if not cfg.failures:
@@ -621,7 +624,8 @@ class Simulation:
 
     def run(self, progress: bool = False, on_tick: Callable[[Simulation], None] | None = None
             ) -> RunResult:
-        """Run until completion, plateau, stall or max_ticks; return the summary and series."""
+        """Run until a stop rule (a loop hook's ``is_finished``: completion, stall, plateau,
+        max_ticks, or a user's) says stop; return the summary, the series and robots.csv."""
         bar = _progress_bar(self.config.max_ticks, progress)
         start, start_cpu = time.perf_counter(), time.process_time()
         try:
