@@ -183,8 +183,7 @@ def compare(args: argparse.Namespace) -> None:
         for name, sim in sims.items():  # taking turns
             before, start = sim.phase_seconds["physics"], sim.tick
             while sim.tick < start + args.block and sim.stop_reason is None:
-                sim.step()
-                sim.stop_reason = sim._should_stop()
+                sim.advance()
             spent[name] = (sim.phase_seconds["physics"] - before, sim.tick - start)
         if spent["on"][1] == spent["off"][1] == args.block:
             ratios.append(spent["on"][0] / spent["off"][0])

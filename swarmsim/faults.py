@@ -35,6 +35,7 @@ import numpy as np
 
 from swarmsim.controller_info import ControllerInfo
 from swarmsim.errors import ConfigError
+from swarmsim.hooks import Hook
 
 PHASES = ("gradient", "coverage", "tick")
 FAULT_STREAM = 0xFA17
@@ -86,27 +87,24 @@ class FaultTarget(Protocol):
     info: ControllerInfo
     messages: np.ndarray
     failed: np.ndarray
-    fault_hook: Any
 
     def fail(self, robots: np.ndarray) -> None: ...
 
 
-class FaultInjector:
-    """A ``Simulation.fault_hook``: fails the plan's robots once, when its phase starts.
+class FaultInjector(Hook):
+    """A loop hook (swarmsim.hooks) that fails the plan's robots once, at the end of the
+    tick on which its phase starts (after the physics step, before the tick's metrics).
 
     After firing, ``fired_tick`` is the tick and ``robots`` the indices of the failed robots.
     """
 
-    def __init__(self, plan: FaultPlan, rng: np.random.Generator, chained=None):
+    def __init__(self, plan: FaultPlan, rng: np.random.Generator):
         self.plan = plan
         self.rng = rng
-        self.chained = chained
         self.fired_tick: int | None = None
         self.robots: np.ndarray = np.zeros(0, dtype=np.intp)
 
-    def __call__(self, sim: FaultTarget) -> None:
-        if self.chained is not None:
-            self.chained(sim)
+    def post_step(self, sim: FaultTarget) -> None:
         if self.fired_tick is None and self.plan.count > 0 and self.due(sim):
             self.robots = self.choose(sim)
             sim.fail(self.robots)
@@ -152,21 +150,17 @@ class FaultInjector:
         return np.sort(np.concatenate(chosen)).astype(np.intp)
 
 
-def install_faults(sim: FaultTarget, plan: FaultPlan, rng: np.random.Generator
+def fault_injector(plan: FaultPlan, robots: int, rng: np.random.Generator
                    ) -> FaultInjector | None:
-    """Make ``plan.count`` robots of ``sim`` fail when the plan's phase begins.
-
-    Sets ``sim.fault_hook`` (keeping any hook already there, which still runs first) and returns
-    the injector, or None when the plan fails no robot.
-    """
+    """The hook that makes ``plan.count`` of a run's ``robots`` fail when the plan's phase
+    begins, or None when the plan fails no robot (ConfigError if it fails more robots than
+    the run has). The run puts it before its metrics in ``Simulation.hooks``."""
     if plan.count <= 0:
         return None
-    if plan.count > sim.n:
+    if plan.count > robots:
         raise ConfigError(f"{plan.count} failures need at least as many robots "
-                          f"(robots = {sim.n})", key="failures")
-    injector = FaultInjector(plan, rng, chained=sim.fault_hook)
-    sim.fault_hook = injector
-    return injector
+                          f"(robots = {robots})", key="failures")
+    return FaultInjector(plan, rng)
 
 
-__all__ = ["PHASES", "FaultInjector", "FaultPlan", "fault_rng", "install_faults"]
+__all__ = ["PHASES", "FaultInjector", "FaultPlan", "fault_injector", "fault_rng"]

@@ -13,7 +13,7 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -43,9 +43,10 @@ from swarmsim.controller import (
 )
 from swarmsim.controller_info import ControllerInfo, describe
 from swarmsim.errors import ConfigError, ControllerError, interrupt_within
+from swarmsim.hooks import LoopHook, stop_rules
 from swarmsim.imperfections import Imperfections
 from swarmsim.layouts import LAYOUTS, LayoutRequest
-from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics
+from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics, standard_parts
 from swarmsim.physics import Physics, PhysicsConfig
 from swarmsim.provenance import code_version
 from swarmsim.registry import resolve_controller
@@ -53,6 +54,9 @@ from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
 from swarmsim.summary import SummaryCollector
 from swarmsim.world import World, load_world
+
+if TYPE_CHECKING:
+    from swarmsim.faults import FaultInjector
 
 NEVER = np.iinfo(np.int64).max
 """wake_tick of a sleeping robot that set no timeout."""
@@ -262,11 +266,21 @@ class Simulation:
         self.velocities = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size, self.world.obstacles)
-        self.metrics = RunMetrics(self.grid, cfg, self.physics, self.settled_codes())
+        self.metrics = RunMetrics(standard_parts(self.grid, cfg, self.physics,
+                                                 self.settled_codes(), self.dtype),
+                                  cfg.record_every)
         self.imperfect = Imperfections(cfg.noise_levels(), cfg.seed)
         self.on_target = self.floor.on_target(self.positions)
         self.phase_seconds = dict.fromkeys(PHASES, 0.0)
-        self.metrics.observe(0, self.positions, self.on_target, self.messages, awake=self.n)
+        self.awake_count = self.n
+        """Robots that decided in the last tick (all of them before the first)."""
+        injector = self._fault_injector()
+        self.hooks: list[LoopHook] = [*([injector] if injector is not None else []),
+                                      self.metrics, *stop_rules(cfg, self.metrics)]
+        """What runs around each tick, in order (swarmsim.hooks.LoopHook): the fault
+        injector, the metrics, the stop rules; a user's hook is appended."""
+        for hook in self.hooks:
+            hook.start(self)
         warm_ups = [("neighbour views", cellsearch.warm_up), ("wakes", wakes.warm_up),
                     ("tallies", tallies.warm_up), ("contacts", contactrows.warm_up),
                     ("tick rows", tickrows.warm_up),
@@ -277,7 +291,6 @@ class Simulation:
         self.stop_reason: str | None = None
         self.wall_seconds = 0.0
         self.cpu_seconds = 0.0  # this process's CPU time in the tick loop, s
-        self.fault_hook: Callable[[Simulation], None] | None = None
         self.summary_sources = SummaryCollector()
         """Where summary.json's fields come from, in order (add a source to add fields)."""
         self.summary_sources.add("run", self._run_fields)
@@ -285,11 +298,17 @@ class Simulation:
                                  lambda: self.metrics.summary(self.positions, self.on_target))
         self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
         if cfg.failures:
-            from swarmsim.faults import FaultPlan, fault_rng, install_faults
-            injector = install_faults(self, FaultPlan.from_config(cfg), fault_rng(cfg.seed))
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
         self.summary_sources.add("controller", self._controller_summary)
+
+    def _fault_injector(self) -> FaultInjector | None:
+        """The hook that fails robots as the run's ``failures`` settings ask (None: none)."""
+        cfg = self.config
+        if not cfg.failures:
+            return None
+        from swarmsim.faults import FaultPlan, fault_injector, fault_rng
+        return fault_injector(FaultPlan.from_config(cfg), self.n, fault_rng(cfg.seed))
 
     def _create_swarm(self, setups: list[RobotSetup], rngs: list[np.random.Generator],
                       order_rng: np.random.Generator) -> Any:
@@ -372,6 +391,8 @@ class Simulation:
         """Advance the run by one tick (sense -> decide -> act -> physics -> record)."""
         clock = time.perf_counter
         t0 = clock()
+        for hook in self.hooks:
+            hook.pre_step(self)
         pos = self.positions
         search = NeighbourSearch(pos)
         awake = self._awake_robots()
@@ -392,10 +413,9 @@ class Simulation:
         self.positions, _ = self.physics.read()
         self.on_target = self._on_target_now(pos)
         t3 = clock()
-        if self.fault_hook is not None:
-            self.fault_hook(self)
-        self.metrics.observe(self.tick, self.positions, self.on_target, self.messages,
-                             awake=len(awake), changed=np.count_nonzero(self._changed_msg) > 0)
+        self.awake_count = len(awake)
+        for hook in self.hooks:  # faults, metrics, the stop rules' bookkeeping
+            hook.post_step(self)
         t4 = clock()
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
@@ -578,30 +598,40 @@ class Simulation:
             self._changed_msg[robots] = True
 
     # ----------------------------------------------------------------------------- running
-    def _should_stop(self) -> str | None:
-        cfg, m = self.config, self.metrics
-        if cfg.stop_on_complete and m.completion_tick is not None:
-            return "complete"
-        if self.tick - m.last_change_tick >= cfg.stall_ticks:
-            return "stalled"
-        if self.tick - m.plateau_tick >= cfg.plateau_ticks:
-            return "plateau"
-        if self.tick >= cfg.max_ticks:
-            return "max_ticks"
+    @property
+    def broadcasts_changed(self) -> bool:
+        """Did a broadcast change in the last tick (or a robot fall silent)?"""
+        return np.count_nonzero(self._changed_msg) > 0
+
+    def finished(self) -> str | None:
+        """Why the run should stop now: the reason of the first hook in ``hooks`` whose
+        ``is_finished`` gives one ("complete", "stalled", "plateau", "max_ticks", or a user
+        hook's), else None."""
+        for hook in self.hooks:
+            reason = hook.is_finished(self)
+            if reason is not None:
+                return reason
         return None
+
+    def advance(self, on_tick: Callable[[Simulation], None] | None = None) -> str | None:
+        """Run one tick (:meth:`step`), then ``on_tick(self)`` if given, then set and return
+        ``stop_reason`` (:meth:`finished`: None while the run goes on)."""
+        self.step()
+        if on_tick is not None:
+            on_tick(self)
+        self.stop_reason = self.finished()
+        return self.stop_reason
 
     def run(self, progress: bool = False, on_tick: Callable[[Simulation], None] | None = None
             ) -> RunResult:
-        """Run until completion, plateau, stall or max_ticks; return the summary and series."""
+        """Run until a stop rule (a loop hook's ``is_finished``: completion, stall, plateau,
+        max_ticks, or a user's) says stop; return the summary, the series and robots.csv."""
         bar = _progress_bar(self.config.max_ticks, progress)
         start, start_cpu = time.perf_counter(), time.process_time()
         try:
             with _old_objects_frozen(), interrupts.handled():  # never a lost Ctrl-C
                 while self.stop_reason is None:
-                    self.step()
-                    if on_tick is not None:
-                        on_tick(self)
-                    self.stop_reason = self._should_stop()
+                    self.advance(on_tick)
                     if bar is not None and (self.tick % 50 == 0 or self.stop_reason):
                         bar.set_postfix_str(f"coverage {100 * self.metrics.coverage:5.1f}%",
                                             refresh=False)

@@ -30,7 +30,7 @@ from swarmsim.experiments.verdicts import (
     claims_fig18,
     claims_fig21,
 )
-from swarmsim.faults import FaultPlan
+from swarmsim.faults import FaultInjector, FaultPlan
 from swarmsim.sim import TIMING_FIELDS, Simulation
 
 TINY = {"world": "tiny", "controller": "dispersion", "params": {"max_ticks": 30}}
@@ -477,13 +477,20 @@ class Scripted:
 SCRIPTED = f"{__name__}:Scripted"
 
 
+def injector(sim: Simulation) -> FaultInjector:
+    """The run's fault injector: the one FaultInjector among its loop hooks."""
+    found = [hook for hook in sim.hooks if isinstance(hook, FaultInjector)]
+    assert len(found) == 1, sim.hooks
+    return found[0]
+
+
 @pytest.mark.parametrize("phase, tick, fired", [("gradient", 0, 6), ("coverage", 0, 16),
                                                 ("tick", 40, 40)])
 def test_failures_fire_when_their_phase_starts(phase, tick, fired):
     sim = Simulation("tiny", SCRIPTED, robots=30, groups=3, seed=4, max_ticks=60,
                      settings={"failures": 5, "failure_phase": phase, "failure_tick": tick,
                                "mode": "ghost", "stall_ticks": 100})
-    hook = sim.fault_hook
+    hook = injector(sim)
     res = sim.run()
     assert hook.fired_tick == fired and len(hook.robots) == 5
     assert res.summary["failed_robots"] == 5
@@ -499,7 +506,7 @@ def test_failed_robots_never_move_after_failing():
                                "mode": "ghost"})
     positions = {0: sim.positions.copy()}
     sim.run(on_tick=lambda s: positions.__setitem__(s.tick, s.positions.copy()))
-    hook = sim.fault_hook
+    hook = injector(sim)
     failed, t0 = hook.robots, hook.fired_tick
     assert t0 == 20 and len(failed) == 6 and sim.failed.sum() == 6
     assert np.hypot(*(positions[t0][failed] - positions[t0 - 5][failed]).T).min() > 0.05
@@ -517,7 +524,7 @@ def test_same_seed_same_failures():
         sim = Simulation("tiny", "dispersion", seed=seed, max_ticks=15,
                          settings={"failures": 4, "failure_phase": "coverage"})
         sim.run()
-        return sim.fault_hook.robots.tolist()
+        return injector(sim).robots.tolist()
 
     assert failed(1) == failed(1)
     assert failed(1) != failed(2)

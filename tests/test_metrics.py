@@ -1,11 +1,23 @@
 """Coverage metric on known layouts (paper: 100x100 grid, r = 4)."""
 
 import math
+import re
+from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from shapely.geometry import box
 
-from swarmsim.metrics import CoverageGrid, nearest_neighbour_spacing
+from swarmsim.metrics import (
+    CoverageGrid,
+    MetricPart,
+    Observation,
+    ProgressPart,
+    RunMetrics,
+    SettledPart,
+    first_within,
+    nearest_neighbour_spacing,
+)
 
 
 def hex_lattice(spacing: float, extent: float) -> np.ndarray:
@@ -78,18 +90,61 @@ def test_incremental_coverage_at_the_rim_and_off_the_grid():
 
 
 def test_settle_point_ignores_the_flicker_of_robots_passing_by():
-    from types import SimpleNamespace
-
-    from swarmsim.metrics import RunMetrics, first_within
-
     # coverage reaches 0.842 at tick 300; passing robots lift it to 0.8445 later; it ends at
     # 0.8439: it settled at tick 300 (within plateau_delta 0.002), not at the last rise
     rises = [(0.5, 100, 10.0), (0.842, 300, 50.0), (0.843, 700, 90.0), (0.8445, 900, 120.0)]
     assert first_within(rises, 0.8439 - 0.002) == (300, 50.0)
     assert first_within(rises, 0.9) == (0, 0.0)
-    metrics = RunMetrics.__new__(RunMetrics)
-    metrics.config = SimpleNamespace(plateau_delta=0.002)
-    metrics.completion_tick, metrics.coverage, metrics._rises = None, 0.8439, rises
-    assert metrics.settled_at() == (300, 50.0)
-    metrics.completion_tick, metrics.completion_distance = 950, 130.0
-    assert metrics.settled_at() == (950, 130.0)
+    coverage = SimpleNamespace(coverage=0.8439, completion_tick=None)
+    config = SimpleNamespace(plateau_delta=0.002, v_max=1.0)
+    progress = ProgressPart(3, coverage, SettledPart(3, (), 1.0), (), config, False)
+    progress._rises = rises
+    assert progress.settled_at() == (300, 50.0)
+    coverage.completion_tick, progress.completion_distance = 950, 130.0
+    assert progress.settled_at() == (950, 130.0)
+
+
+class Reports(MetricPart):
+    """A part that reports the given names (each value: the part's name)."""
+
+    def __init__(self, name: str, columns=(), robots=(), fields=()):
+        self.name, self._names = name, (columns, robots, fields)
+
+    def columns(self):
+        return {c: lambda: self.name for c in self._names[0]}
+
+    def robot_columns(self):
+        return {c: lambda: [self.name] * 2 for c in self._names[1]}
+
+    def summary_fields(self):
+        return {c: lambda: self.name for c in self._names[2]}
+
+
+@pytest.mark.parametrize("output, names, message", [
+    ("columns", ("coverage", "coverage"), ("time-series column 'coverage' reported by both "
+                                          "metric parts 'a' and 'b'")),
+    ("robots", ("distance", "distance"), ("robots.csv column 'distance' reported by both "
+                                         "metric parts 'a' and 'b'")),
+    ("fields", ("x", "x"), "summary field 'x' reported by both metric parts 'a' and 'b'"),
+    ("columns", ("y", "tick"), ("metric part 'b': time-series column 'tick' is the "
+                               "collector's own")),
+])
+def test_two_parts_reporting_one_name_are_refused(output, names, message):
+    a, b = (Reports(part, **{output: (name,)}) for part, name in zip("ab", names, strict=True))
+    with pytest.raises(ValueError, match=re.escape(message)):
+        RunMetrics([a, b], record_every=1)
+    with pytest.raises(ValueError, match="name 'a' reported by both"):
+        RunMetrics([Reports("a"), Reports("a")], record_every=1)
+
+
+def test_parts_report_in_their_order_after_the_collectors_own_columns():
+    metrics = RunMetrics([Reports("a", columns=("p", "q"), robots=("r",), fields=("s",)),
+                          Reports("b", columns=("t",), robots=("u",), fields=("v", "w"))],
+                         record_every=5)
+    now = Observation(5, np.zeros((2, 2)), np.zeros(2, bool), np.zeros(2), 2)
+    metrics.observe(now)
+    metrics.observe(Observation(6, now.positions, now.on_target, now.messages, 2))  # no row
+    assert metrics.rows == [{"tick": 5, "p": "a", "q": "a", "t": "b"}]
+    assert metrics.robot_rows() == [{"robot": 0, "r": "a", "u": "b"},
+                                    {"robot": 1, "r": "a", "u": "b"}]
+    assert metrics.summary(now.positions, now.on_target) == {"s": "a", "v": "b", "w": "b"}

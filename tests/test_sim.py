@@ -1,5 +1,6 @@
 """The tick loop: determinism, order independence, stopping rules and bad input."""
 
+import dataclasses
 import gc
 import json
 import weakref
@@ -12,6 +13,8 @@ import shapely
 from controllers.ggc.statuses import ARRIVE
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
+from swarmsim.controller import Action, Perception, RobotSetup
+from swarmsim.hooks import Hook
 from swarmsim.sim import TIMING_FIELDS
 
 from .conftest import square_world
@@ -150,6 +153,95 @@ def test_stops_on_stall_and_reports_it():
     res = sim.run()
     assert res.summary["stop_reason"] == "stalled"
     assert res.summary["ticks"] < 200
+
+
+@dataclasses.dataclass(frozen=True)
+class NoParams:
+    """No parameters."""
+
+
+class StandStill:
+    """A per-robot controller whose robots stand still and say so (the same broadcast every
+    tick: the broadcasts change on tick 1 only)."""
+
+    name = "stand-still"
+    Params = NoParams
+    STATUSES = ("Standing",)
+
+    @classmethod
+    def sensing_range(cls, params) -> float:
+        return 2.0
+
+    def __init__(self, setup: RobotSetup, params, rng: np.random.Generator):
+        pass
+
+    def step(self, p: Perception) -> Action:
+        return Action((0.0, 0.0), {"status": 0, "moving": False})
+
+
+@pytest.mark.parametrize("stall_ticks, plateau_ticks, reason", [
+    (10, 11, "stalled"), (12, 11, "plateau"), (12, 12, "max_ticks")])
+def test_stop_rules_are_asked_in_their_order(stall_ticks, plateau_ticks, reason):
+    """Robots standing still, off the target: stalled after stall_ticks from tick 1, plateau
+    after plateau_ticks from tick 0, max_ticks at 11. Two or three rules say stop at tick 11:
+    the first asked (stalled, plateau, max_ticks) names the reason."""
+    sim = Simulation(square_world(beacon=False), controller=StandStill, robots=5,
+                     max_ticks=11,
+                     settings={"stall_ticks": stall_ticks, "plateau_ticks": plateau_ticks})
+    s = sim.run().summary
+    assert (s["stop_reason"], s["ticks"]) == (reason, 11)
+
+
+@pytest.mark.parametrize("plateau_delta, reason, ticks", [(0.9, "plateau", 100),
+                                                          (0.002, "max_ticks", 250)])
+def test_stops_on_plateau_when_coverage_stops_rising_by_plateau_delta(plateau_delta, reason,
+                                                                       ticks):
+    # coverage rises by ~0.02 every 10 ticks from tick ~90: never by 0.9 at once
+    s, series, _ = run(settings={"plateau_ticks": 100, "plateau_delta": plateau_delta})
+    assert (s["stop_reason"], s["ticks"]) == (reason, ticks)
+    assert 0 < s["coverage"] < 0.9 and series[0]["coverage"] == 0.0
+
+
+class EnoughAt(Hook):
+    """A user's stop rule: "enough" once coverage reaches a share, counting its calls."""
+
+    def __init__(self, share: float):
+        self.share = share
+        self.calls = {"start": 0, "pre_step": 0, "post_step": 0}
+        self.seen_coverage: list[float] = []
+
+    def start(self, run) -> None:
+        self.calls["start"] += 1
+
+    def pre_step(self, run) -> None:
+        self.calls["pre_step"] += 1
+
+    def post_step(self, run) -> None:
+        self.calls["post_step"] += 1
+        self.seen_coverage.append(run.metrics.coverage)  # after the metrics: this tick's
+
+    def is_finished(self, run) -> str | None:
+        return "enough" if run.metrics.coverage >= self.share else None
+
+
+def test_a_users_hook_can_stop_a_run():
+    def make() -> Simulation:
+        return Simulation(square_world(), controller="dispersion", robots=30, seed=3,
+                          max_ticks=400)
+
+    plain = make()
+    series = plain.run().timeseries
+    share = series[len(series) // 2]["coverage"]  # reached at some tick of the plain run
+    reached = min(row["tick"] for row in series if row["coverage"] >= share)
+    sim = make()
+    hook = EnoughAt(share)
+    sim.hooks.append(hook)
+    res = sim.run()
+    tick = res.summary["ticks"]
+    assert res.summary["stop_reason"] == "enough" and 0 < tick <= reached < plain.tick
+    assert hook.calls == {"start": 0, "pre_step": tick, "post_step": tick}  # added after start
+    assert hook.seen_coverage[-1] >= share > max(hook.seen_coverage[:-1])
+    assert res.timeseries[-1]["tick"] == tick  # the last row is the tick the hook stopped
 
 
 def test_completion_tick_when_target_covered():
