@@ -7,7 +7,8 @@ Runs GGC (or --controller) like ``swarmsim run`` and keeps, per robot, the dista
 (units) and the tick it settled. Prints the distance of the robots in each status at the end
 (did the walking go to robots that found a place, or to robots that never did?) and every
 robot that settled after ``--late-from`` (tick, id, group, position, coverage then). On K with
-3 groups this is how the interior holes that end a run were found (docs/ggc-findings.md).
+3 groups this is how the interior holes that end a run were found
+(docs/reports/ggc-findings-journal.md).
 It also splits the distance by the status each robot had as it moved, and by whether it was
 driven (a velocity commanded that tick) or pushed (moved by contacts with none commanded):
 travel in formation shows as Initial, walking to a place as Coverage.

@@ -22,7 +22,7 @@ def c_array(a: np.ndarray, dtype: type | np.dtype, writeable: bool = False) -> n
 def as_records(rows: np.ndarray) -> np.ndarray:
     """A view of a structured array's rows as opaque records (numpy void of the same size), so
     that copying, taking and assigning rows move bytes (memcpy) instead of walking the
-    fields one by one (see docs/performance-log.md). ``.view(rows.dtype)`` turns
+    fields one by one (see docs/reports/performance-log.md). ``.view(rows.dtype)`` turns
     the result back."""
     return rows.view(_record(rows.dtype.itemsize))
 

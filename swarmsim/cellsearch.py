@@ -6,7 +6,7 @@ products added (numba keeps IEEE arithmetic: no fast-math, no fused multiply-add
 own radius is compared with the same ``r * r``, and each robot's neighbours are ordered by
 (squared distance, index), the total order the numpy path sorts by. Why compiled code: a
 robot's view is ~5-40 rows, so numpy spends its time in per-call overhead and in five 16-bit
-radix passes over the whole chunk; here it is one loop (docs/performance-log.md has the
+radix passes over the whole chunk; here it is one loop (docs/reports/performance-log.md has the
 figures).
 
 The first call compiles the kernel (seconds); ``cache=True`` keeps the machine code in
@@ -151,7 +151,7 @@ def _views(positions, robots, radii, per_robot, ordered):  # pragma: no cover - 
     then an insertion sort of the nearly sorted places (few moves, well-predicted branches),
     by (squared distance, index), a total order (indices differ), so any correct sort gives
     the same rows. One function on purpose: a compiled call per robot for the gather or the
-    sort costs more than the sort's moves (docs/performance-log.md has the figures).
+    sort costs more than the sort's moves (docs/reports/performance-log.md has the figures).
     """
     x0, y0, cell, nx, ny = grid_frame(positions, radii.max() / CELL_SPLIT, per_robot)
     members, xs, ys, starts, _, _, _ = grid(positions, x0, y0, cell, nx, ny)

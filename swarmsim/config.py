@@ -52,7 +52,8 @@ class SimConfig:
         record_every: a time-series row every this many ticks (kept in memory until the run
             ends: at most 1,000,000 rows, max_ticks / record_every).
         plateau_ticks: stop ("plateau") when coverage has not risen by plateau_delta for this
-            many ticks (long enough for a slow last stretch: see docs/measurements.md).
+            many ticks (long enough for a slow last stretch: see
+            docs/reports/measurements-journal.md).
         plateau_delta: see plateau_ticks (fraction of the target).
         stall_ticks: stop ("stalled") when no robot moved or changed its message for this long.
         stop_on_complete: stop at the completion tick.

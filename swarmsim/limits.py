@@ -16,7 +16,7 @@ from typing import Any
 from swarmsim.errors import ConfigError
 
 MAX_ROBOTS = 50_000
-"""Robots in one run: 5x the largest swarm measured (10,000 robots, docs/performance-log.md)."""
+"""Robots in one run: 5x the largest swarm measured (10,000 robots, docs/performance.md)."""
 MAX_TICKS = 10_000_000
 """Ticks in one run: 100x the default limit."""
 MAX_RECORD_ROWS = 1_000_000

@@ -62,7 +62,7 @@ class PhysicsConfig:
         physics_sleep: parked robots (a zero command this tick and the last) sleep in pymunk,
             out of its solver, until something pushes them or they are commanded again.
             Same physics, contacts solved in another order. False solves every body on every
-            step (the code before; docs/performance-log.md compares the two).
+            step (the code before; docs/reports/performance-log.md compares the two).
         physics_sleep_time: how long a parked robot must rest (zero velocity) before pymunk
             puts it to sleep, ticks (pymunk's sleep_time_threshold).
     """

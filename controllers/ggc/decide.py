@@ -51,8 +51,8 @@ units)."""
 
 ScatteredRuleParams = namedtuple("ScatteredRuleParams", RuleParams._fields)
 """RuleParams of a run of the scattered start: a type of its own, so that numba compiles the
-aggregation rules (rules/aggregation.py; their cost: docs/cold-build.md) into the driver only for
-runs that start scattered (a formation's robots never reach them)."""
+aggregation rules (rules/aggregation.py; their cost: docs/reports/cold-build.md) into the
+driver only for runs that start scattered (a formation's robots never reach them)."""
 
 
 def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled

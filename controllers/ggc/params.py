@@ -1,6 +1,6 @@
 """GGC parameters: the paper's Table 2 plus the constants its algorithms leave open.
 
-What each of our additions was measured to do is in docs/ggc-findings.md.
+What each of our additions was measured to do is in docs/reports/ggc-findings-journal.md.
 """
 
 from __future__ import annotations

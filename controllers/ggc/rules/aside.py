@@ -12,7 +12,7 @@ that still hear each other take their gradients from each other, counting up for
 copy each other's travel command: so a follower whose gradient has risen LOST_HOPS above the
 lowest it held in Initial has lost its formation, and starts alone, as one that never heard
 a gradient does after init_timeout. (A formation that only deforms raises a robot's
-gradient by fewer hops: docs/ggc-findings.md, "Formations that turn aside".)
+gradient by fewer hops: docs/reports/ggc-findings-journal.md, "Formations that turn aside".)
 """
 
 from __future__ import annotations

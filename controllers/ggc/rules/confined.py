@@ -26,7 +26,7 @@ uncovered).
 A walk along the structure changes how many arrived robots the mover hears, so the count
 can start afresh for ever while the mover circles a stretch of it. So a mover that has walked
 more than RuleParams.confined_walk units in Coverage since it left its formation
-(``me.path``) gives up too (docs/ggc-findings.md has the runs that needed it).
+(``me.path``) gives up too (docs/reports/ggc-findings-journal.md has the runs that needed it).
 """
 
 from __future__ import annotations

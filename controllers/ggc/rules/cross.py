@@ -4,7 +4,7 @@ With the rule set's CROSS flag (our addition; rule set "yield-holes-cross", not 
 Movers follow the structure's outer edge, so a mover whose formation halted in a pocket of the
 target (the large K's notch between stem and leg) must walk round the whole structure to reach
 its frontier: six formations of ten wait there while their movers circle them
-(docs/ggc-findings.md, "The large K").
+(docs/reports/ggc-findings-journal.md, "The large K").
 
 * **When.** A mover in Coverage, off the target, that has walked CROSS_PATH units since it
   left its formation (or since its last crossing) without finding a place, hears the beacon,

@@ -66,9 +66,9 @@ def may_arrive_when_stuck(view, P):  # pragma: no cover - compiled
 def wedged(view, me, P):  # pragma: no cover - compiled
     """Pressed against waiting robots of my group: a Detection robot of my group closer than
     0.9 d_safe (bodies touching), or within 1.5 d_min with groups or while d_cover <=
-    yield_release (see docs/ggc-findings.md). With YIELD, also pressed (within 1.5 d_min)
-    against another group's waiting robots while a waiting robot of my group is within
-    d_cover: jammed there, I hold my own formation back (its robots wait for me)."""
+    yield_release (see docs/reports/ggc-findings-journal.md). With YIELD, also pressed (within
+    1.5 d_min) against another group's waiting robots while a waiting robot of my group is
+    within d_cover: jammed there, I hold my own formation back (its robots wait for me)."""
     reach = 0.9 * P.d_safe
     if P.d_cover <= P.yield_release or P.groups > 1:
         reach = 1.5 * P.d_min

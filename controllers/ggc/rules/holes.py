@@ -2,7 +2,8 @@
 
 Robots that arrive a little too far apart leave spots inside the structure that no robot
 covers. Movers follow the structure's outer edge and never reach them, so runs end on a
-plateau short of completion (docs/ggc-findings.md, "Holes sealed inside the structure").
+plateau short of completion (docs/reports/ggc-findings-journal.md, "Holes sealed inside the
+structure").
 Applies while d_cover + arrive_tolerance <= lattice_reach (swarm.rule_flags): a wider lattice
 leaves holes by design.
 

@@ -24,20 +24,20 @@ each flag switches on the functions of one module:
   group's robots turns at right angles to the beacon's bearing, away from them, and slides
   along them, instead of pushing its way through (which packs both formations until their
   robots touch, and keeps them awake in pymunk); a follower that lost its formation starts
-  alone. Experimental: "yield-holes-aside" is not the default (docs/ggc-findings.md,
+  alone. Experimental: "yield-holes-aside" is not the default (docs/reports/ggc-findings-journal.md,
   "Formations that turn aside").
 * BESIDE (rules/travel.py, ``touching``), with groups: a formation in Initial halts where its
   front meets a halted formation of another group that reached the target (its robots in
   Detection that say so) as if it had touched the target, so that no formation pushes
   into another. Part of the default; "yield-holes-push" is the default without it, as it
-  was before (docs/ggc-findings.md, "Formations that halt beside another").
+  was before (docs/reports/ggc-findings-journal.md, "Formations that halt beside another").
 * CROSS (rules/cross.py): a mover walled in beside its own formation, that has walked far off
   the target without finding a place, crosses the structure toward the beacon, to the open
-  floor beyond it. Experimental: "yield-holes-cross" is not the default (docs/ggc-findings.md,
-  "The large K at 40,000 ticks").
+  floor beyond it. Experimental: "yield-holes-cross" is not the default
+  (docs/reports/ggc-findings-journal.md, "The large K at 40,000 ticks").
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here and a branch where its
-rule applies. docs/ggc-findings.md has each rule set's measurements.
+rule applies. docs/reports/ggc-findings-journal.md has each rule set's measurements.
 """
 
 from __future__ import annotations
