@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action
 
 from .cellkernel import owned
 from .cellkernel import warm_up as _warm_up_cell
@@ -230,7 +230,6 @@ class CVTParams:
             raise ValueError(f"tolerance must be < 1, got {self.tolerance!r}")
 
 
-@register
 class CVT:
     """Limited-range Lloyd: move to the centroid of your Voronoi cell in the sensed target."""
 

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action
 
 from .dashkernel import spacing_view
 from .dashkernel import warm_up as _warm_up_spacing
@@ -101,7 +101,6 @@ class DashParams:
                              "engine's default probe range)")
 
 
-@register
 class Dash:
     """DASH (reconstructed): dispersion whose spacing adapts in real time up to d_cover."""
 

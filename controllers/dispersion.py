@@ -13,7 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action
 
 IDLE, SEEKING, SPREADING = 0, 1, 2
 
@@ -44,7 +44,6 @@ class DispersionParams:
             raise ValueError(f"deadband must be >= 0, got {self.deadband!r}")
 
 
-@register
 class Dispersion:
     """Repel neighbours within d_cover; head for the beacon until on the target; stay on it."""
 

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action
 
 from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
 
@@ -157,7 +157,6 @@ class FCDFSParams:
         return self.entry_clearance if self.entry_clearance > 0 else 1.5 * self.spacing
 
 
-@register
 class FCDFS(FormationTravel):
     """Find-Corner DFS: enter through a door in a line, settle in lattice corners."""
 

@@ -57,7 +57,6 @@ from swarmsim.controller import (
     RobotSetup,
     make_action,
     message_dtype,
-    register,
 )
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
@@ -194,7 +193,6 @@ class KilobotParams:
                              "engine's default probe range)")
 
 
-@register
 class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
 

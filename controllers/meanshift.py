@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action
 
 from .cvt import MIN_MAP_CELL, LocalMap, clamp, sq_norms
 from .mapkernel import warm_up as _warm_up_map
@@ -106,7 +106,6 @@ class MeanShiftParams:
                              "floor points a robot senses) and at most r_sense / 4")
 
 
-@register
 class MeanShift:
     """Sun et al. 2023: enter, explore free target floor by mean shift, avoid, agree."""
 

@@ -294,13 +294,12 @@ class Simulation:
     def _create_swarm(self, setups: list[RobotSetup], rngs: list[np.random.Generator],
                       order_rng: np.random.Generator) -> Any:
         """The run's Swarm (ControllerError if the controller's class cannot make one)."""
-        cls, cfg = self.controller_cls, self.config
-        call = ("create_swarm()" if self.info.batch else
-                "create_robots()" if hasattr(cls, "create_robots") else "__init__()")
+        cfg = self.config
+        call = "create_swarm()" if self.info.batch else "__init__()"
         with self._controller_call(call):
             swarm = self.info.create_swarm(setups, self.params, rngs,
                                            shuffled=cfg.decide_order == "shuffled",
-                                           order_rng=order_rng, batch=cfg.batch_decide)
+                                           order_rng=order_rng)
         if not all(callable(getattr(swarm, name, None)) for name in ("decide", "summarize")):
             raise ControllerError(f"{call} returned {show(swarm)}; expected a Swarm (with "
                                   "decide and summarize)", controller=self.controller_name)

@@ -87,11 +87,7 @@ RAISES = [
      "user_helper"),
     ("RaisesInInit", f"robot {bad.BAD_ROBOT}", "__init__() raised RuntimeError: no battery",
      "__init__"),
-    ("RaisesInCreateRobots", None, "create_robots() raised KeyError: 'layout'",
-     "create_robots"),
-    ("RaisesInPrepare", "tick 0", "prepare() raised ValueError: cannot prepare", "prepare"),
-    ("RaisesInDecideBatch", "tick 0", "decide_batch() raised ArithmeticError: batch broke",
-     "decide_batch"),
+    ("RaisesInCreateSwarm", None, "create_swarm() raised KeyError: 'layout'", "create_swarm"),
     ("RaisesInSummarize", "tick 8", ("summarize() raised ZeroDivisionError: float division "
      "by zero"), "summarize"),
     ("RaisesInSensingRange", None, "sensing_range() raised NotImplementedError: which range?",
@@ -100,7 +96,7 @@ RAISES = [
                                              "division"), "decide"),
 ]
 
-SETUP_FAILURES = ("RaisesInInit", "RaisesInCreateRobots", "RaisesInSensingRange",
+SETUP_FAILURES = ("RaisesInInit", "RaisesInCreateSwarm", "RaisesInSensingRange",
                   "CreateSwarmReturnsNone")
 """Controllers that fail before the run's first tick."""
 
@@ -173,20 +169,18 @@ def test_an_interrupt_in_a_controller_is_an_interrupt_not_its_error():
 
 
 def test_a_batch_that_puts_a_bad_action_names_the_robot():
+    def nan_for_the_bad_robot(robot, tick, action):
+        bad_one = robot.id == bad.BAD_ROBOT and tick == bad.BAD_TICK
+        return Action((0.0, float("nan"))) if bad_one else action
+
     class PutsNan(bad.Walker):
         @classmethod
-        def decide_batch(cls, robots, batch):
-            columns = ChunkActions.empty(len(robots))
-            for k, robot in enumerate(robots):
-                action = robot.step(batch.perceive(k))
-                if robot.id == bad.BAD_ROBOT and batch.tick == bad.BAD_TICK:
-                    action = Action((0.0, float("nan")))
-                columns.put(k, action)
-            return columns
+        def create_swarm(cls, setups, params, rngs):
+            return bad.PutSwarm.of(bad.Walker, setups, params, rngs, edit=nan_for_the_bad_robot)
 
     sim = Simulation("tiny", controller=PutsNan, robots=6, max_ticks=8)
     with pytest.raises(ControllerError, match=re.escape(
-            f"{AT}: decide_batch() returned the velocity (0.0, nan); expected finite")):
+            f"{AT}: decide() returned the velocity (0.0, nan); expected finite")):
         sim.run()
 
 
@@ -215,23 +209,28 @@ def test_no_robot_can_broadcast_another_robots_id():
     assert (odd["status"] == 1).all() and (odd["x"] == 1.5).all() and (odd["hops"] == 0).all()
 
 
-class Legacy(bad.Walker):
-    """Broadcasts with the old base fields (id, status, gradient, group, leader, moving, ...)."""
+class OldBaseFields(bad.Walker):
+    """Broadcasts with the base fields of earlier versions (id, status, gradient, group,
+    leader, moving, ...): no longer read as the run's fields, refused."""
 
-    def good(self, p):
+    def good(self, perception):
         return Action((self.v, 0.0), (self.id, 1, 4, 2, False, True, 2.5, 3))
 
 
-@pytest.mark.parametrize("controller", [bad.Walker, bad.Batch_none, Legacy],
-                         ids=["per-robot", "batch", "legacy tuples"])
+@pytest.mark.parametrize("controller", [bad.Walker, bad.Batch_none],
+                         ids=["per-robot", "batch"])
 def test_good_controllers_run_as_before(controller):
     sim = Simulation("tiny", controller=controller, robots=6, max_ticks=8)
     result = sim.run()
     assert result.summary["ticks"] == 8
     assert sim.messages["id"].tolist() == list(range(6))
-    if controller is Legacy:
-        row = sim.messages[0]
-        assert (row["status"], row["moving"], row["x"], row["hops"]) == (1, True, 2.5, 3)
+
+
+def test_a_tuple_with_the_old_base_fields_is_refused():
+    sim = Simulation("tiny", controller=OldBaseFields, robots=6, max_ticks=8)
+    with pytest.raises(ControllerError, match=re.escape(
+            "a broadcast tuple of 8 values; expected 5: (id, status, moving, x, hops)")):
+        sim.run()
 
 
 def test_columns_of_actions_refuse_what_the_engine_would_not_use():

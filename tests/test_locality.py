@@ -85,7 +85,7 @@ def test_perception_has_no_global_fields():
 
 
 def test_a_neighbour_batch_holds_perception_rows_only():
-    """What ``prepare`` hooks see: the chunk's perceptions end to end, nothing global."""
+    """What a swarm's ``decide`` sees of the neighbours: the chunk's perceptions end to end."""
     names = {f.name for f in dataclasses.fields(NeighbourBatch)}
     assert names == {"messages", "distances", "starts"}
 
