@@ -274,6 +274,13 @@ def field_defaults(cls: type) -> dict[str, Any]:
     return out
 
 
+def engine_settings() -> dict[str, str]:
+    """The engine's settings: each SimConfig and PhysicsConfig field name -> its class's
+    name. A controller's Params may name none of them (controller_info.describe)."""
+    return {f.name: cls.__name__ for cls in (SimConfig, PhysicsConfig)
+            for f in dataclasses.fields(cls)}
+
+
 def resolve_settings(settings: Mapping[str, Any], params_cls: type
                      ) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
     """Split ``settings`` into SimConfig, PhysicsConfig and controller-params keyword dicts."""

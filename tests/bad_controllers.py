@@ -352,3 +352,18 @@ class RaisesInCreateSwarm(Walker):
     @classmethod
     def create_swarm(cls, setups, params, rngs):
         raise KeyError("layout")
+
+
+@dataclass(frozen=True)
+class RadiusParams:
+    """Attributes:
+        v: speed, units per tick.
+        radius: named like the engine's robot radius (PhysicsConfig.radius): refused.
+    """
+
+    v: float = 0.05
+    radius: float = 2.0
+
+
+class ParamNamedRadius(Walker):
+    Params = RadiusParams

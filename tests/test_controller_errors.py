@@ -20,8 +20,9 @@ import pytest
 import tests.bad_controllers as bad
 from swarmsim import Simulation
 from swarmsim.cli import main
-from swarmsim.controller import Action, ChunkActions
-from swarmsim.errors import ControllerError
+from swarmsim.config import engine_settings
+from swarmsim.controller import Action, ChunkActions, available_controllers, get_controller
+from swarmsim.errors import ConfigError, ControllerError
 from swarmsim.experiments import run_sweep
 from swarmsim.experiments.spec import RunSpec
 from tests.errlines import error_lines
@@ -340,3 +341,41 @@ def test_a_timeout_past_int64_is_never():
     sim = Simulation("tiny", controller=SleepsPastInt64, robots=4, max_ticks=20)
     sim.run()
     assert sim.asleep.all() and (sim.wake_tick == np.iinfo(np.int64).max).all()
+
+
+ENGINE_NAMES = [("radius", "PhysicsConfig"), ("seed", "SimConfig"), ("groups", "SimConfig"),
+                ("probe_range", "SimConfig"), ("start", "SimConfig"), ("max_ticks", "SimConfig"),
+                ("mode", "PhysicsConfig")]
+
+
+@pytest.mark.parametrize("field, section", ENGINE_NAMES, ids=[n for n, _ in ENGINE_NAMES])
+def test_a_parameter_named_like_an_engine_setting_is_refused(field, section):
+    """The engine would take a run's value of that name: the controller never would."""
+    params = dataclasses.make_dataclass("Params", [("v", float, 0.05), (field, int, 1)],
+                                        frozen=True)
+    walker = type("Clash", (bad.Walker,), {"Params": params, "name": "clash"})
+    with pytest.raises(ConfigError, match=re.escape(
+            f"{walker.__module__}:Clash: Params field {field!r} has the name of the engine setting "
+            f"{section}.{field}; a run's {field} would set the engine's, never the "
+            "controller's: rename the field")):
+        Simulation("tiny", controller=walker, robots=6, max_ticks=8)
+
+
+def test_the_refusal_of_an_engine_name_is_one_line(capsys):
+    code, err = run_cli("ParamNamedRadius", capsys)
+    assert code == 2
+    line = (f"swarmsim: error: key 'controller': {MODULE}:ParamNamedRadius: Params field "
+            "'radius' has the name of the engine setting PhysicsConfig.radius; a run's "
+            "radius would set the engine's, never the controller's: rename the field")
+    assert err == [line]
+
+
+def test_no_registered_controller_names_an_engine_setting_and_d_cover_is_the_controllers():
+    """d_cover is a controller parameter (GGC's and the baselines'), routed to the
+    controller's Params: the engine has no setting of that name."""
+    assert "d_cover" not in engine_settings()
+    for name in available_controllers():
+        cls = get_controller(name)
+        assert not {f.name for f in dataclasses.fields(cls.Params)} & set(engine_settings())
+    sim = Simulation("tiny", controller="dispersion", robots=6, d_cover=4.5, max_ticks=8)
+    assert sim.params.d_cover == 4.5
