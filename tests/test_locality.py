@@ -6,14 +6,17 @@ import dataclasses
 import re
 from pathlib import Path
 
-import numpy as np
 from shapely.geometry import box
 
+from swarmsim import Simulation
 from swarmsim.controller import (
+    Action,
     NeighbourBatch,
     Perception,
     available_controllers,
     get_controller,
+    message_dtype,
+    run_message_fields,
 )
 from swarmsim.sensing import FloorProbe, FloorSensor
 from tests.import_graph import assert_no_circles
@@ -97,8 +100,32 @@ def test_every_controller_is_declared_properly():
         assert cls.sensing_range(params) > 0
         assert len(cls.STATUSES) >= 1
         assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
-        assert isinstance(cls.MESSAGE_FIELDS, list)
-        np.dtype(cls.MESSAGE_FIELDS) if cls.MESSAGE_FIELDS else None
+        fields = run_message_fields(cls, groups=1, scattered=False)  # [] when undeclared
+        assert message_dtype(fields).names[:3] == ("id", "status", "moving")
+
+
+def test_message_fields_are_optional():
+    """A controller that broadcasts nothing of its own declares no MESSAGE_FIELDS."""
+
+    class Quiet:
+        name = "quiet"
+        Params = get_controller("dispersion").Params
+        STATUSES = ("Still",)
+
+        @classmethod
+        def sensing_range(cls, params):
+            return 3.0
+
+        def __init__(self, setup, params, rng):
+            pass
+
+        def step(self, perception):
+            return Action()
+
+    assert not hasattr(Quiet, "MESSAGE_FIELDS")
+    sim = Simulation("tiny", controller=Quiet, robots=4, max_ticks=3)
+    sim.run()
+    assert sim.messages.dtype.names == ("id", "status", "moving")
 
 
 RULE_PARAMETERS = {
