@@ -36,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
 
 from .cellkernel import owned
 from .cellkernel import warm_up as _warm_up_cell
@@ -214,10 +214,7 @@ class CVTParams:
     tolerance: float = 0.01
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "cell_radius", "map_cell", "v", "gain", "tolerance"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"CVT parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "cell_radius", "map_cell", "v", "gain", "tolerance")
         if self.repulsion_gain < 0:
             raise ValueError(f"repulsion_gain must be >= 0, got {self.repulsion_gain!r}")
         if self.cell_radius > MIN_PROBE_RANGE:

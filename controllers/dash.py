@@ -39,7 +39,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action
+from swarmsim.controller import (
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+    require_positive,
+)
 
 from .dashkernel import spacing_view
 from .dashkernel import warm_up as _warm_up_spacing
@@ -84,11 +91,8 @@ class DashParams:
     probe_distance: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "d_cover", "s_start", "adapt_rate", "v", "gain",
-                     "probe_distance", "crowd"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"DASH parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "d_cover", "s_start", "adapt_rate", "v", "gain",
+                         "probe_distance", "crowd")
         if not self.d_safe <= self.s_start <= self.d_cover:
             raise ValueError(f"need d_safe <= s_start <= d_cover, got {self.d_safe}, "
                              f"{self.s_start}, {self.d_cover}")

@@ -13,7 +13,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
 
 IDLE, SEEKING, SPREADING = 0, 1, 2
 
@@ -37,9 +37,7 @@ class DispersionParams:
     probe_distance: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_cover", "v", "gain", "probe_distance"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        require_positive(self, "d_cover", "v", "gain", "probe_distance")
         if self.deadband < 0:
             raise ValueError(f"deadband must be >= 0, got {self.deadband!r}")
 

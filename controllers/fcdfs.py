@@ -64,7 +64,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import Action, Perception, RobotSetup, make_action
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
 
 from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
 
@@ -131,11 +131,9 @@ class FCDFSParams:
     init_timeout: int = 400
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "d_cover", "d_min", "v", "queue_gap", "door_depth", "door_radius",
-                     "arrive_tolerance", "avoid_range", "patience", "init_timeout"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"FCDFS parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "d_cover", "d_min", "v", "queue_gap", "door_depth",
+                         "door_radius", "arrive_tolerance", "avoid_range", "patience",
+                         "init_timeout")
         if self.cell < 0 or self.entry_clearance < 0:
             raise ValueError("cell and entry_clearance must be >= 0 (0 = default)")
         if self.turn not in (1, -1):

@@ -57,6 +57,7 @@ from swarmsim.controller import (
     RobotSetup,
     make_action,
     message_dtype,
+    require_positive,
 )
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
@@ -176,12 +177,9 @@ class KilobotParams:
     theta: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
-                     "quiet_range", "yield_distance", "radial_gain", "probe_distance",
-                     "init_timeout", "T_r"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"Kilobot parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
+                         "quiet_range", "yield_distance", "radial_gain", "probe_distance",
+                         "init_timeout", "T_r")
         if self.d_cover < self.d_safe:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):

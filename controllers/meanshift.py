@@ -39,7 +39,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action
+from swarmsim.controller import (
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+    require_non_negative,
+    require_positive,
+)
 
 from .cvt import MIN_MAP_CELL, LocalMap, clamp, sq_norms
 from .mapkernel import warm_up as _warm_up_map
@@ -88,14 +96,9 @@ class MeanShiftParams:
     deadband: float = 0.004
 
     def __post_init__(self) -> None:
-        for name in ("d_cover", "r_sense", "r_occupied", "map_cell", "v", "kappa_enter"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"mean-shift parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
-        for name in ("kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons", "deadband"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"mean-shift parameter {name} must be >= 0, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_cover", "r_sense", "r_occupied", "map_cell", "v", "kappa_enter")
+        require_non_negative(self, "kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons",
+                             "deadband")
         if not 0 <= self.inertia < 1:
             raise ValueError(f"inertia must be in [0, 1), got {self.inertia!r}")
         if self.r_sense > MIN_PROBE_RANGE:

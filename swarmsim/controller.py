@@ -40,6 +40,7 @@ import numpy as np
 
 from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
 from swarmsim.kernelcache import register_tree as stamp_kernels_by_code
+from swarmsim.limits import require_non_negative, require_positive
 from swarmsim.registry import available_controllers, get_controller
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
@@ -435,5 +436,5 @@ class ControllerClass(Protocol):
 __all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Controller",
            "ControllerClass", "DecideBatch", "NeighbourBatch", "Perception", "RobotSetup",
            "Swarm", "available_controllers", "get_controller", "make_action",
-           "make_perception", "message_dtype", "run_message_fields",
-           "silent_message", "stamp_kernels_by_code"]
+           "make_perception", "message_dtype", "require_non_negative", "require_positive",
+           "run_message_fields", "silent_message", "stamp_kernels_by_code"]

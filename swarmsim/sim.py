@@ -666,15 +666,20 @@ class Simulation:
         """
         key = (color_by, width, tuple(sorted(options.items())))
         if getattr(self, "_renderer_key", None) != key:
-            from swarmsim.render import Renderer
-
-            self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
-                                      colourings=self.info.colourings,
-                                      leader_field=self.info.leader_field,
-                                      group_field=self.info.group_field,
-                                      **options)
+            self._renderer = self.new_renderer(width=width, color_by=color_by, **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
+
+    def new_renderer(self, **options: Any) -> Any:
+        """A swarmsim.render.Renderer of this run's world and coverage grid that colours and
+        marks robots as the controller declares (COLOURINGS, LEADER_FIELD, GROUP_FIELD);
+        ``options`` go to the Renderer (width, color_by, ...). Raises ConfigError for an
+        option it refuses."""
+        from swarmsim.render import Renderer
+
+        return Renderer(self.world, self.grid, colourings=self.info.colourings,
+                        leader_field=self.info.leader_field, group_field=self.info.group_field,
+                        **options)
 
 
 def _name_columns(actions: ChunkActions, robots: int, refused: int = -2) -> None:
