@@ -4,6 +4,9 @@ Every robot is repelled by neighbours closer than ``d_cover`` (force growing as 
 and attracted toward the beacon while it is off the target; once on the target it stays on it:
 a step whose probe says it would leave the target is cancelled. Robots with no neighbour within
 range and nothing to do sleep.
+
+Sensing: relative positions of neighbours within d_cover, the floor sensor, a floor probe
+``probe_distance`` ahead, and the beacon's bearing. It broadcasts nothing of its own.
 """
 
 from __future__ import annotations
