@@ -117,7 +117,8 @@ class LocalMap:
         self._grid = grid
         self._origin = new_origin
 
-    def sense(self, p: Perception, radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def sense(self, perception: Perception, radius: float | None = None
+              ) -> tuple[np.ndarray, np.ndarray]:
         """Lattice points within ``radius`` (default: the map's radius) of the robot.
 
         Returns their offsets from the robot (k, 2) and whether each is target floor (k,);
@@ -136,13 +137,13 @@ class LocalMap:
         offsets, known, unknown, unknown_at = window_within(self._points, self.odo,
                                                             radius * radius, values)
         if len(unknown):
-            known[unknown_at] = values[unknown] = probe_all(p.probe, offsets[unknown_at])
+            known[unknown_at] = values[unknown] = probe_all(perception.probe, offsets[unknown_at])
             loc = self._local[unknown]
             self._grid[loc[:, 0], loc[:, 1]] = values[unknown]
         return offsets, known == 1
 
 
-    def lookup(self, p: Perception, offsets: np.ndarray) -> np.ndarray:
+    def lookup(self, perception: Perception, offsets: np.ndarray) -> np.ndarray:
         """Target floor at arbitrary offsets, read from the nearest lattice point.
 
         Lattice points not yet known are probed (only those within ``radius``); farther ones
@@ -153,7 +154,7 @@ class LocalMap:
                                                         self._origin, self._grid,
                                                         self.radius * self.radius)
         if len(unknown):
-            values[unknown] = probe_all(p.probe, points)
+            values[unknown] = probe_all(perception.probe, points)
             self._grid[local[unknown, 0], local[unknown, 1]] = values[unknown]
             self._base = None  # cached window values are stale
         return values == 1
@@ -168,9 +169,9 @@ def probe_all(probe: Callable[[np.ndarray], bool], offsets: np.ndarray) -> np.nd
     return np.array([bool(probe(offset)) for offset in offsets], dtype=bool)
 
 
-def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
+def repulsion(perception: Perception, radius: float, gain: float) -> np.ndarray:
     """Push away from neighbours closer than ``radius`` (grows as they get closer)."""
-    return push_away(p.offsets, p.distances, radius, gain)
+    return push_away(perception.offsets, perception.distances, radius, gain)
 
 
 def sq_norms(v: np.ndarray) -> np.ndarray:
@@ -253,7 +254,7 @@ class CVT:
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.p = params
+        self.params = params
         self.map = LocalMap(params.cell_radius, params.map_cell)
         self.status = SEEKING
         self.heard = 2 * params.cell_radius  # how far it listened for this tick's perception
@@ -266,7 +267,7 @@ class CVT:
     def message(self, moving: bool) -> tuple:
         return (self.id, self.status, moving)
 
-    def cell(self, p: Perception) -> np.ndarray:
+    def cell(self, perception: Perception) -> np.ndarray:
         """Sample points of this robot's cell: target floor nearer to it than to any neighbour.
 
         The cell is sampled on a fine grid (``DISC`` points) over a disc of radius R, sized to
@@ -276,22 +277,22 @@ class CVT:
         farther than 2 R cannot own a point within R. When the cell reaches the edge of the
         disc, the next tick uses the full cell_radius.
         """
-        full = self.p.cell_radius
+        full = self.params.cell_radius
         radius = self.disc_radius()
-        self.map.sense(p)
+        self.map.sense(perception)
         h = radius / DISC_STEPS
         q = self.disc * radius
-        q = q[self.map.lookup(p, q)]
+        q = q[self.map.lookup(perception, q)]
         if len(q):
-            q = q[owned(q, p.offsets[p.distances <= 2 * radius])]
+            q = q[owned(q, perception.offsets[perception.distances <= 2 * radius])]
         if len(q) == 0:
             self.extent = full
             self.reach = 0.0
-            target_near = bool(self.map.lookup(p, self.disc * full).any())
-            self.heard = 2 * full if target_near else max(2 * self.p.d_safe, 1.0)
+            target_near = bool(self.map.lookup(perception, self.disc * full).any())
+            self.heard = 2 * full if target_near else max(2 * self.params.d_safe, 1.0)
             return q
         self.reach = math.sqrt(float(sq_norms(q).max()))
-        margin = 2 * h + 2 * self.p.v
+        margin = 2 * h + 2 * self.params.v
         self.extent = full if self.reach >= radius - 1.5 * h else min(full, self.reach + margin)
         self.heard = 2 * self.extent
         return q
@@ -308,7 +309,7 @@ class CVT:
         """Radius (units) of the disc (extent, heard) a cell is sampled in (default: the
         next cell's)."""
         extent, heard = (self.extent, self.heard) if disc is None else disc
-        return min(self.p.cell_radius, heard / 2, extent)
+        return min(self.params.cell_radius, heard / 2, extent)
 
     def settle_disc(self, sampled_with: tuple[float, float]) -> bool:
         """Whether a robot standing still may sleep; it then keeps the disc (extent, heard)
@@ -331,33 +332,34 @@ class CVT:
         self.still_disc = sampled_with
         return False
 
-    def step(self, p: Perception) -> Action:
-        self.map.move(p.moved)
+    def step(self, perception: Perception) -> Action:
+        self.map.move(perception.moved)
         sampled_with = (self.extent, self.heard)
-        mine = self.cell(p)
+        mine = self.cell(perception)
         rest = False
         if len(mine):
             c = mine.mean(axis=0)
             nearest = mine[np.argmin(sq_norms(mine - c))]
             if math.hypot(*(nearest - c)) > 1.5 * self.extent / DISC_STEPS:
                 c = nearest  # the centroid fell outside the (non-convex) cell: project it
-            v = self.p.gain * c
-            rest = (math.hypot(float(c[0]), float(c[1])) < self.p.tolerance * self.reach
-                    and p.on_target)
-            self.status = MOVING if p.on_target else SEEKING
-        elif not p.on_target and p.beacon is not None:
-            v = p.beacon * self.p.v
+            v = self.params.gain * c
+            rest = (math.hypot(float(c[0]), float(c[1])) < self.params.tolerance * self.reach
+                    and perception.on_target)
+            self.status = MOVING if perception.on_target else SEEKING
+        elif not perception.on_target and perception.beacon is not None:
+            v = perception.beacon * self.params.v
             self.status = SEEKING
         else:
             v = np.zeros(2)
             rest = True
         if rest:
             v = np.zeros(2)
-        v = clamp(v + repulsion(p, self.p.d_safe, self.p.repulsion_gain), self.p.v)
+        push = repulsion(perception, self.params.d_safe, self.params.repulsion_gain)
+        v = clamp(v + push, self.params.v)
         moving = bool(v.any())
         settled = False
         if not moving:
-            self.status = RESTING if p.on_target else SEEKING
+            self.status = RESTING if perception.on_target else SEEKING
             settled = self.settle_disc(sampled_with)
         else:
             self.still_disc = None
