@@ -63,10 +63,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from controllers.common.formation import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
+from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
-
-from .kilobot import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
 
 TRAVEL, QUEUE, DOOR, MOVING, SETTLED = range(5)
 STATUSES = ("Travel", "Queue", "Door", "Moving", "Settled")

@@ -49,6 +49,38 @@ def test_controllers_import_nothing_global():
                 assert mod == "swarmsim.controller", f"{f.name} imports {mod}"
 
 
+def test_no_controller_imports_another():
+    """A controller imports what it shares only from controllers/common, never another
+    controller's module or package (fcdfs once took kilobot's formation travel)."""
+    for f in sorted(CONTROLLERS.rglob("*.py")):
+        parts = f.relative_to(CONTROLLERS).with_suffix("").parts
+        for mod in absolute_imports(f):
+            if mod.startswith("controllers."):
+                package = mod.split(".")[1]
+                assert package in ("common", parts[0]), f"{'/'.join(parts)} imports {mod}"
+
+
+def absolute_imports(path: Path) -> set[str]:
+    """The modules ``path`` (a file under controllers/) imports, relative imports made
+    absolute (``from .kilobot import x`` in controllers/fcdfs.py: controllers.kilobot)."""
+    package = ["controllers", *path.relative_to(CONTROLLERS).parent.parts]
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            names.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package[:len(package) - node.level + 1] if node.level else []
+            module = ".".join([*base, *([node.module] if node.module else [])])
+            names.update([module] if node.module else
+                         [f"{module}.{a.name}" for a in node.names])
+    return names
+
+
+def test_absolute_imports_resolve_relative_ones():
+    assert absolute_imports(CONTROLLERS / "cvt" / "controller.py") >= {
+        "controllers.cvt.kernel", "controllers.common.localmap"}
+
+
 def test_no_controller_module_names_global_state():
     for f in sorted(CONTROLLERS.rglob("*.py")):
         text = f.read_text()
@@ -148,7 +180,7 @@ def test_ggc_rules_take_only_local_arguments():
     seen = set()
     for f in rules:
         allowed = {"__future__", "math", "numpy", "numba", "numba.experimental", "collections",
-                   "controllers.gradient", "swarmsim.controller"}
+                   "controllers.common.gradient", "swarmsim.controller"}
         assert imported_modules(f) <= allowed, f.name
         module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
         for name, fn in vars(module).items():

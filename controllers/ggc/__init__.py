@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from controllers.gradient import COLOURINGS, SILENT
+from controllers.common.gradient import COLOURINGS, SILENT
 from swarmsim.controller import RobotSetup, stamp_kernels_by_code
 
 # the driver (decide.py) is compiled with rules from every file here: its kernels are

@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from controllers.common.push import push_away
+from controllers.common.push import warm_up as _warm_up_push
 from swarmsim.controller import (
     NO_SENDER,
     Action,
@@ -48,10 +50,8 @@ from swarmsim.controller import (
     require_positive,
 )
 
-from .dashkernel import spacing_view
-from .dashkernel import warm_up as _warm_up_spacing
-from .pushkernel import push_away
-from .pushkernel import warm_up as _warm_up_push
+from .kernel import spacing_view
+from .kernel import warm_up as _warm_up_spacing
 
 SEEKING, SPREADING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Spreading", "Resting")

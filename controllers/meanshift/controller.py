@@ -39,6 +39,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from controllers.common.localmap import MIN_MAP_CELL, LocalMap, clamp, sq_norms
+from controllers.common.mapkernel import warm_up as _warm_up_map
 from swarmsim.controller import (
     NO_SENDER,
     Action,
@@ -49,10 +51,8 @@ from swarmsim.controller import (
     require_positive,
 )
 
-from .cvt import MIN_MAP_CELL, LocalMap, clamp, sq_norms
-from .mapkernel import warm_up as _warm_up_map
-from .shiftkernel import explore, interact
-from .shiftkernel import warm_up as _warm_up_kernels
+from .kernel import explore, interact
+from .kernel import warm_up as _warm_up_kernels
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
