@@ -4,6 +4,9 @@ Every robot is repelled by neighbours closer than ``d_cover`` (force growing as 
 and attracted toward the beacon while it is off the target; once on the target it stays on it:
 a step whose probe says it would leave the target is cancelled. Robots with no neighbour within
 range and nothing to do sleep.
+
+Sensing: relative positions of neighbours within d_cover, the floor sensor, a floor probe
+``probe_distance`` ahead, and the beacon's bearing. It broadcasts nothing of its own.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
 
 IDLE, SEEKING, SPREADING = 0, 1, 2
 
@@ -37,14 +40,11 @@ class DispersionParams:
     probe_distance: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_cover", "v", "gain", "probe_distance"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        require_positive(self, "d_cover", "v", "gain", "probe_distance")
         if self.deadband < 0:
             raise ValueError(f"deadband must be >= 0, got {self.deadband!r}")
 
 
-@register
 class Dispersion:
     """Repel neighbours within d_cover; head for the beacon until on the target; stay on it."""
 
@@ -59,27 +59,28 @@ class Dispersion:
 
     def __init__(self, setup: RobotSetup, params: DispersionParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.p = params
+        self.params = params
 
-    def step(self, p: Perception) -> Action:
+    def step(self, perception: Perception) -> Action:
         v = np.zeros(2)
-        close = p.distances < self.p.d_cover
+        close = perception.distances < self.params.d_cover
         if close.any():
-            d = np.maximum(p.distances[close], 1e-6)
-            push = (self.p.d_cover - d) / d
-            v -= self.p.gain * (p.offsets[close] * push[:, None]).sum(axis=0)
-        if not p.on_target and p.beacon is not None:
-            v += p.beacon * self.p.v
+            d = np.maximum(perception.distances[close], 1e-6)
+            push = (self.params.d_cover - d) / d
+            v -= self.params.gain * (perception.offsets[close] * push[:, None]).sum(axis=0)
+        if not perception.on_target and perception.beacon is not None:
+            v += perception.beacon * self.params.v
         speed = float(np.hypot(*v))
-        if speed > self.p.v:
-            v *= self.p.v / speed
-            speed = self.p.v
-        if (speed > self.p.deadband and p.on_target
-                and not p.probe(v / speed * self.p.probe_distance)):
+        if speed > self.params.v:
+            v *= self.params.v / speed
+            speed = self.params.v
+        if (speed > self.params.deadband and perception.on_target
+                and not perception.probe(v / speed * self.params.probe_distance)):
                 v[:] = 0.0
                 speed = 0.0
-        status = SPREADING if speed > self.p.deadband else (SEEKING if not p.on_target else IDLE)
-        msg = (self.id, status, speed > self.p.deadband)
-        if speed <= self.p.deadband:
+        status = (SPREADING if speed > self.params.deadband else
+                  SEEKING if not perception.on_target else IDLE)
+        msg = (self.id, status, speed > self.params.deadband)
+        if speed <= self.params.deadband:
             return make_action((0.0, 0.0), msg, sleep=True)
         return make_action((float(v[0]), float(v[1])), msg)

@@ -42,92 +42,27 @@ GGC (hop counts and distances); no map of the target.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from controllers import formationkernel
-from controllers.edges import CirclingWatch, ProgressWatch
-from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from controllers.common import formationkernel
+from controllers.common.edges import CirclingWatch, ProgressWatch
+from controllers.common.formation import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
+from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim.controller import (
     NO_SENDER,
     Action,
     Perception,
     RobotSetup,
     make_action,
-    message_dtype,
-    register,
+    require_positive,
 )
 
 TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
 STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
 MOVING = (OUTSIDE, INSIDE)
-CMD_NONE, CMD_TRAVEL, CMD_HALT = 0, 1, 2
 MESSAGE_FIELDS = [*GRADIENT_FIELDS, ("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
-
-
-def unit(v: np.ndarray) -> np.ndarray:
-    n = math.hypot(float(v[0]), float(v[1]))
-    return v / n if n > 1e-12 else np.zeros(2)
-
-
-class FormationTravel:
-    """The formation's trip to the target, GGC's way (shared with the FCDFS controller).
-
-    The leader sets ``cmd``/``travel``; every other robot copies them from its gradient parent
-    (the nearest stationary neighbour within 1.5 * d_min whose gradient is one less) one tick
-    later. Subclasses provide ``grad``, ``p.d_min`` and ``p.init_timeout``.
-    """
-
-    grad: int
-    cmd: int
-    travel: np.ndarray
-    STATUSES: tuple[str, ...]
-
-    @classmethod
-    def summarize(cls, robots) -> dict:
-        """Per-run figures for the summary: how many robots end in each status."""
-        counts: dict[str, int] = {}
-        for r in robots:
-            counts[cls.STATUSES[r.status]] = counts.get(cls.STATUSES[r.status], 0) + 1
-        return {"status_counts": dict(sorted(counts.items()))}
-
-    @classmethod
-    def warm_up(cls) -> None:
-        """Compile or load the formation's kernels for this class's broadcasts before a
-        run's clock starts."""
-        formationkernel.warm_up(message_dtype(cls.MESSAGE_FIELDS))
-
-    def heard(self, p: Perception) -> np.ndarray:
-        return p.messages["id"] != NO_SENDER
-
-    def formation_gradient(self, p: Perception) -> int | None:
-        """1 + the smallest gradient of stationary neighbours within 1.5 d_min."""
-        low = formationkernel.lowest_gradient(p.distances, p.messages, 1.5 * self.p.d_min,
-                                              NO_SENDER, INF_GRADIENT)
-        return None if low < 0 else int(low) + 1
-
-    def travel_parent(self, p: Perception) -> np.void | None:
-        """The nearest stationary neighbour within 1.5 d_min one gradient below mine."""
-        k = formationkernel.first_parent(p.distances, p.messages, 1.5 * self.p.d_min,
-                                         self.grad - 1, NO_SENDER)
-        return p.messages[k] if k >= 0 else None
-
-    def follow_travel(self, p: Perception) -> int | None:
-        """Copy the parent's travel command; returns the command, or None with no gradient."""
-        grad = self.formation_gradient(p)
-        if grad is None:
-            return None
-        self.grad = grad
-        parent = self.travel_parent(p)
-        if parent is None:
-            return None
-        self.cmd = int(parent["cmd"])
-        self.travel = np.array([parent["vx"], parent["vy"]], dtype=float)
-        if self.cmd != CMD_TRAVEL:
-            self.travel[:] = 0.0
-        return self.cmd
 
 
 @dataclass(frozen=True)
@@ -177,12 +112,9 @@ class KilobotParams:
     theta: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
-                     "quiet_range", "yield_distance", "radial_gain", "probe_distance",
-                     "init_timeout", "T_r"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"Kilobot parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
+                         "quiet_range", "yield_distance", "radial_gain", "probe_distance",
+                         "init_timeout", "T_r")
         if self.d_cover < self.d_safe:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
@@ -194,7 +126,6 @@ class KilobotParams:
                              "engine's default probe range)")
 
 
-@register
 class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
 
@@ -219,7 +150,7 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         self.id = setup.robot_id
         self.group = setup.group
         self.leader = setup.leader
-        self.p = params
+        self.params = params
         self.status = TRAVEL
         self.grad = 0 if self.leader else INF_GRADIENT
         self.cmd = CMD_NONE
@@ -244,138 +175,142 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
     def listen_range(self) -> float | None:
         """How far this robot needs to hear next tick (less is cheaper)."""
         if self.status == TRAVEL:
-            return 1.5 * self.p.d_min
+            return 1.5 * self.params.d_min
         if self.status == WAIT:
-            return max(self.p.start_range, self.p.quiet_range, 1.5 * self.p.d_min)
+            return max(self.params.start_range, self.params.quiet_range, 1.5 * self.params.d_min)
         if self.status == JOINED:
-            return self.p.d_safe
+            return self.params.d_safe
         return None
 
-    def step(self, p: Perception) -> Action:
-        self.odometer += p.moved
+    def step(self, perception: Perception) -> Action:
+        self.odometer += perception.moved
         if self.status == TRAVEL:
-            return self.lead(p) if self.leader else self.follow(p)
+            return self.lead(perception) if self.leader else self.follow(perception)
         if self.status == WAIT:
-            return self.wait(p)
+            return self.wait(perception)
         if self.status in MOVING:
-            return self.move(p)
+            return self.move(perception)
         return self.act(sleep=True, wake_range=0.0)
 
     # ------------------------------------------------------------------ travel
-    def lead(self, p: Perception) -> Action:
+    def lead(self, perception: Perception) -> Action:
         """The seed heads for the beacon until its floor sensor finds the target."""
-        if p.on_target or p.beacon is None:
+        if perception.on_target or perception.beacon is None:
             self.cmd, self.travel = CMD_HALT, np.zeros(2)
             self.status = JOINED
             return self.act()
-        self.cmd, self.travel = CMD_TRAVEL, p.beacon * self.p.v
+        self.cmd, self.travel = CMD_TRAVEL, perception.beacon * self.params.v
         return self.act(self.travel)
 
-    def follow(self, p: Perception) -> Action:
-        cmd = self.follow_travel(p)
+    def follow(self, perception: Perception) -> Action:
+        cmd = self.follow_travel(perception)
         if cmd is None:
-            if p.tick >= self.p.init_timeout:
+            if perception.tick >= self.params.init_timeout:
                 self.status = WAIT
-            return self.act(sleep=True, wake_range=1.5 * self.p.d_min,
-                            wake_tick=self.p.init_timeout)  # then the timeout above
+            return self.act(sleep=True, wake_range=1.5 * self.params.d_min,
+                            wake_tick=self.params.init_timeout)  # then the timeout above
         if cmd == CMD_HALT:
             self.status = WAIT
             return self.act()
         return self.act(self.travel)
 
     # ------------------------------------------------------------------ waiting
-    def wait(self, p: Perception) -> Action:
-        grad = self.formation_gradient(p)
+    def wait(self, perception: Perception) -> Action:
+        grad = self.formation_gradient(perception)
         if grad is not None:
             self.grad = grad
-        if self.blocked(p):
-            return self.act(sleep=True, wake_range=max(self.p.start_range, self.p.quiet_range))
-        self.status = INSIDE if p.on_target else OUTSIDE
+        if self.blocked(perception):
+            return self.act(sleep=True,
+                            wake_range=max(self.params.start_range, self.params.quiet_range))
+        self.status = INSIDE if perception.on_target else OUTSIDE
         self.odometer[:] = 0.0
-        self.progress_tick = p.tick
-        return self.move(p)
+        self.progress_tick = perception.tick
+        return self.move(perception)
 
-    def blocked(self, p: Perception) -> bool:
+    def blocked(self, perception: Perception) -> bool:
         """Kilobot's start rule: wait while a robot moves nearby or a waiting one outranks."""
-        return bool(formationkernel.blocked(p.distances, p.messages, self.p.quiet_range,
-                                            self.p.start_range, self.grad, self.id, NO_SENDER,
-                                            WAIT, TRAVEL))
+        return bool(formationkernel.blocked(perception.distances, perception.messages,
+                                            self.params.quiet_range, self.params.start_range,
+                                            self.grad, self.id, NO_SENDER, WAIT, TRAVEL))
 
     # ------------------------------------------------------------------ moving
-    def move(self, p: Perception) -> Action:
-        self.status = INSIDE if p.on_target else OUTSIDE
-        structure = np.flatnonzero(~p.messages["moving"])
+    def move(self, perception: Perception) -> Action:
+        self.status = INSIDE if perception.on_target else OUTSIDE
+        structure = np.flatnonzero(~perception.messages["moving"])
         if len(structure) == 0:
-            return self.wander(p)
+            return self.wander(perception)
         nearest = int(structure[0])
-        velocity = self.edge_follow(p.offsets[nearest], float(p.distances[nearest]))
+        velocity = self.edge_follow(perception.offsets[nearest],
+                                    float(perception.distances[nearest]))
         self.heading = unit(velocity)
-        circled = self.circling(p, nearest)
+        circled = self.circling(perception, nearest)
         if circled:
             self.circled = 0.0  # count the next lap afresh: one lap, one trap
-        trapped = circled or self.stuck(p)
+        trapped = circled or self.stuck(perception)
         self.traps = self.traps + 1 if trapped else self.traps
-        if self.should_join(p, nearest) or (trapped and (p.on_target or self.traps > 2)):
+        if (self.should_join(perception, nearest)
+                or (trapped and (perception.on_target or self.traps > 2))):
             self.status = JOINED
             return self.act()
-        if trapped and p.beacon is not None:  # trapped off the target: make for the beacon
-            self.escape_until = p.tick + self.p.T_r
-        if p.tick < self.escape_until and p.beacon is not None:
-            velocity = p.beacon * self.p.v
-        self.update_gradient(p)
-        if self.must_yield(p, velocity):
-            self.progress_tick = p.tick  # waiting for another robot is not being stuck
+        if trapped and perception.beacon is not None:  # trapped off the target: make for the beacon
+            self.escape_until = perception.tick + self.params.T_r
+        if perception.tick < self.escape_until and perception.beacon is not None:
+            velocity = perception.beacon * self.params.v
+        self.update_gradient(perception)
+        if self.must_yield(perception, velocity):
+            self.progress_tick = perception.tick  # waiting for another robot is not being stuck
             self.odometer[:] = 0.0
             return self.act()
         return self.act(velocity)
 
     def edge_follow(self, offset: np.ndarray, dist: float) -> np.ndarray:
         radial = offset / max(dist, 1e-9)
-        tangent = np.array([radial[1], -radial[0]]) * self.p.orbit
-        error = max(-1.0, min(1.0, (dist - self.p.d_cover) * self.p.radial_gain))
-        return unit(tangent + error * radial) * self.p.v
+        tangent = np.array([radial[1], -radial[0]]) * self.params.orbit
+        error = max(-1.0, min(1.0, (dist - self.params.d_cover) * self.params.radial_gain))
+        return unit(tangent + error * radial) * self.params.v
 
-    def should_join(self, p: Perception, nearest: int) -> bool:
-        if not p.on_target or p.distances[nearest] < self.p.d_cover - self.p.arrive_tolerance:
+    def should_join(self, perception: Perception, nearest: int) -> bool:
+        near = self.params.d_cover - self.params.arrive_tolerance
+        if not perception.on_target or perception.distances[nearest] < near:
             return False
-        if not p.probe(self.heading * self.p.probe_distance):
+        if not perception.probe(self.heading * self.params.probe_distance):
             return True
-        m = p.messages[nearest]
+        m = perception.messages[nearest]
         return bool(m["id"] != NO_SENDER and m["status"] == JOINED and m["gradient"] >= self.grad)
 
-    def update_gradient(self, p: Perception) -> None:
-        low = formationkernel.lowest_gradient(p.distances, p.messages,
-                                              self.p.gradient_reach * self.p.d_cover,
+    def update_gradient(self, perception: Perception) -> None:
+        low = formationkernel.lowest_gradient(perception.distances, perception.messages,
+                                              self.params.gradient_reach * self.params.d_cover,
                                               NO_SENDER, INF_GRADIENT)
         if low >= 0:
             self.grad = int(low) + 1
 
-    def stuck(self, p: Perception) -> bool:
+    def stuck(self, perception: Perception) -> bool:
         """Moved less than theta over the last T_r ticks."""
-        moved = self.sample_progress(p)
+        moved = self.sample_progress(perception)
         if moved is None:
             return False
-        if moved > self.p.theta:
+        if moved > self.params.theta:
             self.traps = 0
-        return moved <= self.p.theta
+        return moved <= self.params.theta
 
-    def must_yield(self, p: Perception, velocity: np.ndarray) -> bool:
-        close = ((p.distances <= self.p.yield_distance) & p.messages["moving"]
-                 & (p.messages["id"] > self.id))
+    def must_yield(self, perception: Perception, velocity: np.ndarray) -> bool:
+        close = ((perception.distances <= self.params.yield_distance)
+                 & perception.messages["moving"] & (perception.messages["id"] > self.id))
         if not close.any():
             return False
-        return bool((p.offsets[close] @ velocity > 0).any())
+        return bool((perception.offsets[close] @ velocity > 0).any())
 
-    def wander(self, p: Perception) -> Action:
+    def wander(self, perception: Perception) -> Action:
         """No stationary robot in range: head for the beacon (or keep going)."""
-        if p.beacon is not None and not p.on_target:
-            self.heading = p.beacon
+        if perception.beacon is not None and not perception.on_target:
+            self.heading = perception.beacon
         if not self.heading.any():
             self.heading = np.array([1.0, 0.0])
-        if p.on_target and not p.probe(self.heading * self.p.probe_distance):
+        if perception.on_target and not perception.probe(self.heading * self.params.probe_distance):
             self.status = JOINED
             return self.act()
-        return self.act(self.heading * self.p.v)
+        return self.act(self.heading * self.params.v)
 
 
 __all__ = ["FormationTravel", "Kilobot", "KilobotParams"]

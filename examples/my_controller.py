@@ -37,10 +37,10 @@ class GoToLight:
         return 2.0
 
     def __init__(self, setup: RobotSetup, params: GoToLightParams, rng: np.random.Generator):
-        self.p = params
+        self.params = params
 
-    def step(self, p: Perception) -> Action:
-        if p.on_target or p.beacon is None:
+    def step(self, perception: Perception) -> Action:
+        if perception.on_target or perception.beacon is None:
             return Action((0.0, 0.0), {"status": ARRIVED, "moving": False}, sleep=True)
-        v = p.beacon * self.p.v
+        v = perception.beacon * self.params.v
         return Action((float(v[0]), float(v[1])), {"status": MOVING, "moving": True})

@@ -35,10 +35,6 @@ from swarmsim.actionvalues import (
 from swarmsim.controller import Action, ChunkActions
 from swarmsim.errors import ControllerError, raised
 
-LEGACY_FIELDS = ("gradient", "group", "leader")
-"""Base broadcast fields of earlier versions, third to fifth in a tuple: a controller that
-still sends them (``(id, status, gradient, group, leader, moving, ...)``) keeps working, and
-they are dropped."""
 
 def columns_of(actions: Sequence[Any], robots: int) -> ChunkActions:
     """The checked columns (sparse form) of a chunk's ``robots`` Actions
@@ -185,8 +181,6 @@ class Broadcasts:
         if isinstance(row, tuple):
             if len(row) == width:
                 return row
-            if len(row) == width + len(LEGACY_FIELDS):
-                return (*row[:2], *row[5:])  # the old base fields: gradient, group, leader
             raise BadAction(k, f"a broadcast tuple of {len(row)} values; expected {width}: "
                                f"({', '.join(names)})")
         if isinstance(row, Mapping):
@@ -300,5 +294,4 @@ def _expected(field: np.dtype) -> str:
     return f"{field.shape} values, each {kind}" if field.shape else kind
 
 
-__all__ = ["LEGACY_FIELDS", "Broadcasts", "blame", "check_columns", "column_problems",
-           "columns_of"]
+__all__ = ["Broadcasts", "blame", "check_columns", "column_problems", "columns_of"]

@@ -205,8 +205,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"preview width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
     _add_make_world_parser(sub)
     sub.add_parser("controllers", help="list registered controllers",
-                   description="List the registered controllers (built in, @register'ed or "
-                   "installed by entry point), each with a line on what it does. Give one "
+                   description="List the registered controllers (swarmsim's and those other "
+                   "packages install by entry point), each with a line on what it does. Give one "
                    "to run with --controller NAME, or any class as --controller module:Class.")
     pp = sub.add_parser("params", help="list every parameter with its default and meaning",
                         description="List every parameter a run takes, by section (engine, "

@@ -62,9 +62,6 @@ class SimConfig:
         decide_order: "index" or "shuffled": the order controllers are called in each tick (a
             check: results must not depend on it; sensing and noise are drawn in index order).
         allow_sleep: honour controllers' sleep requests (a check: results must not depend on it).
-        batch_decide: let a controller class that has ``decide_batch`` decide a chunk of
-            robots at once (GGC: its movers' common case) instead of one ``step`` each (a
-            check: results must not depend on it; decide_order "shuffled" turns it off).
         failures: number of robots that fail during the run (paper Section 6.6; 0 = none). They
             stop moving and communicating but stay in the way. See swarmsim/faults.py for the
             rule that picks them (random working non-leader robots that have not arrived).
@@ -107,7 +104,6 @@ class SimConfig:
     wake_eps: float = 1e-3
     decide_order: str = "index"
     allow_sleep: bool = True
-    batch_decide: bool = True
     failures: int = 0
     failure_phase: str = "coverage"
     failure_tick: int = field(default=0, metadata=at_most(MAX_TICKS))
@@ -277,6 +273,13 @@ def field_defaults(cls: type) -> dict[str, Any]:
         elif f.default_factory is not dataclasses.MISSING:
             out[f.name] = f.default_factory()
     return out
+
+
+def engine_settings() -> dict[str, str]:
+    """The engine's settings: each SimConfig and PhysicsConfig field name -> its class's
+    name. A controller's Params may name none of them (controller_info.describe)."""
+    return {f.name: cls.__name__ for cls in (SimConfig, PhysicsConfig)
+            for f in dataclasses.fields(cls)}
 
 
 def resolve_settings(settings: Mapping[str, Any], params_cls: type

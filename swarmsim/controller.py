@@ -25,8 +25,9 @@ The engine checks every Action and ChunkActions where it receives it (what it ac
 docstrings of :class:`Action` and :class:`ChunkActions`, docs/input-checks.md); anything else
 stops the run with a ControllerError naming the controller, the robot and the tick.
 
-Register a class with ``@register`` in an imported module, with an entry point in the
-``swarmsim.controllers`` group, or name it as ``module:Class``.
+Register a class with an entry point in the ``swarmsim.controllers`` group of the installing
+package's pyproject.toml (swarmsim.registry), or run it unregistered: name it as
+``module:Class`` or pass the class.
 """
 
 from __future__ import annotations
@@ -39,7 +40,8 @@ import numpy as np
 
 from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
 from swarmsim.kernelcache import register_tree as stamp_kernels_by_code
-from swarmsim.registry import available_controllers, get_controller, register
+from swarmsim.limits import require_non_negative, require_positive
+from swarmsim.registry import available_controllers, get_controller
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
     ("id", "i4"),  # the sender's own id (robots know their id, like a Kilobot's UID)
@@ -133,7 +135,7 @@ class Perception:
 @dataclass(frozen=True)
 class NeighbourBatch:
     """The perceptions of the robots deciding together (one chunk of a tick), laid end to
-    end, for controller classes that vectorise work over many robots (see ``prepare``).
+    end (:attr:`DecideBatch.neighbours`), for a swarm that vectorises work over many robots.
 
     Robot k of the chunk owns rows ``starts[k]:starts[k + 1]``: the very rows, in the same
     order, of its Perception's ``messages`` and ``distances``. Nothing else is in here: a
@@ -152,8 +154,7 @@ class NeighbourBatch:
 
 @dataclass(frozen=True, slots=True)
 class DecideBatch:
-    """A chunk of awake robots' sensing, for a controller class's optional ``decide_batch``
-    (which then takes the place of ``prepare`` and each robot's ``step`` for the chunk).
+    """A chunk of awake robots' sensing: what a :class:`Swarm`'s ``decide`` is given.
 
     Robot k of the chunk owns rows ``neighbours.starts[k]:neighbours.starts[k + 1]`` of
     ``neighbours`` and ``offsets`` and the k-th entry of the lists: the very values of its
@@ -169,8 +170,8 @@ class DecideBatch:
         beacons: (R, 2) each robot's unit bearing toward the beacon (Perception.beacon), or
             None in a world without a beacon.
         probe: ``probe(k)`` is robot k's floor probe (see Perception.probe).
-        perceive: ``perceive(k)`` is robot k's whole Perception (for robots the batch
-            does not decide itself: ``robot.step(perceive(k))``).
+        perceive: ``perceive(k)`` is robot k's whole Perception (for robots the swarm
+            decides one at a time: ``robot.step(perceive(k))``).
         probe_many: ``probe_many(ks, offsets)`` asks many probes at once: (M,) bool, entry j
             is robot ``ks[j]``'s probe at ``offsets[j]`` (units, each within the probe range).
     """
@@ -395,9 +396,9 @@ class ControllerClass(Protocol):
     Optional declarations (defaults in brackets), read once by
     :func:`swarmsim.controller_info.describe`:
 
-    - ``MESSAGE_FIELDS`` ([]): broadcast fields beyond ``id``, ``status``, ``moving``
-      (numpy dtype spec); ``message_fields_for(groups, scattered)`` if they depend on the
-      run's group count or start (RobotSetup.scattered).
+    - ``MESSAGE_FIELDS`` ([]: no fields of its own): broadcast fields beyond ``id``,
+      ``status``, ``moving`` (a list of (name, numpy type)); ``message_fields_for(groups,
+      scattered)`` if they depend on the run's group count or start (RobotSetup.scattered).
     - ``SILENT`` ({}): values of those fields in the row of a neighbour that is not heard.
     - ``SETTLED_STATUSES`` (()): statuses meaning "done, standing still" (metrics count robots
       pushed out of place there; faults fail them last).
@@ -420,8 +421,8 @@ class ControllerClass(Protocol):
       name the same canonical settings share one run id, so a sweep or reproduction makes
       them once (swarmsim.experiments.spec.run_id). It must give {} for a run that is
       canonical already, and the same answer for every run that is the same.
-    - Per-robot controllers only: ``create_robots(setups, params, rngs)``,
-      ``prepare(robots, batch)``, ``decide_batch(robots, batch)``, ``summarize(robots)``.
+    - Per-robot controllers only: ``summarize(robots)`` (the controller's own summary
+      figures from its robots' controllers).
     """
 
     name: ClassVar[str]
@@ -435,5 +436,5 @@ class ControllerClass(Protocol):
 __all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Controller",
            "ControllerClass", "DecideBatch", "NeighbourBatch", "Perception", "RobotSetup",
            "Swarm", "available_controllers", "get_controller", "make_action",
-           "make_perception", "message_dtype", "register", "run_message_fields",
-           "silent_message", "stamp_kernels_by_code"]
+           "make_perception", "message_dtype", "require_non_negative", "require_positive",
+           "run_message_fields", "silent_message", "stamp_kernels_by_code"]

@@ -7,6 +7,7 @@ The engine asks a controller class nothing else: :func:`describe` reads the decl
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from collections.abc import Mapping, Sequence
@@ -161,6 +162,7 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         if unknown:
             raise ConfigError(f"{name}: {attr} names unknown statuses {unknown}",
                               key="controller")
+    _refuse_engine_names(cls, name)
     return ControllerInfo(
         cls=cls, name=name, statuses=statuses,
         settled=tuple(getattr(cls, "SETTLED_STATUSES", ())),
@@ -176,6 +178,22 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
         min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
+
+
+def _refuse_engine_names(cls: type, name: str) -> None:
+    """ConfigError naming the first of the class's Params fields that is named like an engine
+    setting (config.engine_settings): a run's value of that name would set the engine's
+    setting, never the controller's parameter."""
+    from swarmsim.config import engine_settings
+
+    engine = engine_settings()
+    params = cls.Params
+    for field in dataclasses.fields(params) if dataclasses.is_dataclass(params) else ():
+        if field.name in engine:
+            raise ConfigError(f"{name}: Params field {field.name!r} has the name of the engine "
+                              f"setting {engine[field.name]}.{field.name}; a run's "
+                              f"{field.name} would set the engine's, never the controller's: "
+                              "rename the field", key="controller")
 
 
 MAX_STATUSES = 127

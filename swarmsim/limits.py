@@ -100,3 +100,21 @@ def check_count(key: str, value: Any, bound: float, what: str = "") -> None:
 def format_bound(bound: float) -> str:
     """``bound`` with thousands separators (50,000; 1,000,000)."""
     return f"{bound:,.0f}" if float(bound).is_integer() else f"{bound:g}"
+
+
+def require_positive(params: Any, *names: str) -> None:
+    """For a parameter dataclass's ``__post_init__``: ValueError "NAME must be positive, got
+    VALUE" for the first of the fields ``names`` of ``params`` whose value is not > 0 (NaN
+    is not). A run turns it into a ConfigError naming that setting."""
+    for name in names:
+        value = getattr(params, name)
+        if not value > 0:
+            raise ValueError(f"{name} must be positive, got {value!r}")
+
+
+def require_non_negative(params: Any, *names: str) -> None:
+    """As :func:`require_positive`, for fields that must be >= 0 ("NAME must be >= 0")."""
+    for name in names:
+        value = getattr(params, name)
+        if not value >= 0:
+            raise ValueError(f"{name} must be >= 0, got {value!r}")

@@ -29,7 +29,7 @@ import pymunk.batch as pb
 
 from swarmsim import chipmunkcalls, contactrows, interrupts
 from swarmsim.bodysleep import BodyRows, IdTable, Parking
-from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields
+from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields, require_positive
 from swarmsim.world import World
 
 ROBOT_TYPE = 1
@@ -79,10 +79,8 @@ class PhysicsConfig:
     physics_sleep_time: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("radius", "traction", "spin_traction", "collision_slop",
-                     "physics_sleep_time"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)!r}")
+        require_positive(self, "radius", "traction", "spin_traction", "collision_slop",
+                         "physics_sleep_time")
         if self.friction < 0:
             raise ValueError(f"friction must be >= 0, got {self.friction!r}")
         if self.substeps < 1 or self.iterations < 1:

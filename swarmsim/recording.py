@@ -51,13 +51,7 @@ class Recorder:
     @property
     def renderer(self):
         if self._renderer is None:
-            from swarmsim.render import Renderer
-
-            self._renderer = Renderer(self.sim.world, self.sim.grid,
-                                      colourings=self.sim.info.colourings,
-                                      leader_field=self.sim.info.leader_field,
-                                      group_field=self.sim.info.group_field,
-                                      **self._render_kw)
+            self._renderer = self.sim.new_renderer(**self._render_kw)
         return self._renderer
 
     def __enter__(self) -> Self:

@@ -1,11 +1,10 @@
 """Where controllers are found: by registered name or as ``module:Class``.
 
-A controller joins the registry in one of two ways; the engine lists no controller itself:
-
-- an entry point in the ``swarmsim.controllers`` group (``name = "package.module:Class"`` in
-  the installing project's ``pyproject.toml``): found without importing anything else, loaded
-  when first asked for. swarmsim's own controllers are registered so.
-- ``@register`` on the class in a module the user imports (then its ``name`` works too).
+A controller joins the registry one way: an entry point in the ``swarmsim.controllers``
+group (``name = "package.module:Class"`` in the installing project's ``pyproject.toml``),
+found without importing anything else and loaded when first asked for. swarmsim's own
+controllers are registered so; the engine lists no controller itself. A class of one's own
+runs without registering: name it as ``module:Class`` or pass the class.
 """
 
 from __future__ import annotations
@@ -20,13 +19,8 @@ from typing import Any
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, raised, unknown_name
 
 ENTRY_POINT_GROUP = "swarmsim.controllers"
-_REGISTRY: dict[str, type] = {}
-
-
-def register(cls: type) -> type:
-    """Class decorator: make a controller available by its ``name``."""
-    _REGISTRY[cls.name] = cls
-    return cls
+_LOADED: dict[str, type] = {}
+"""Registered classes already loaded, by name."""
 
 
 def _entry_points() -> dict[str, EntryPoint]:
@@ -34,8 +28,8 @@ def _entry_points() -> dict[str, EntryPoint]:
 
 
 def available_controllers() -> list[str]:
-    """Names of the registered controllers (entry points and ``@register``ed classes)."""
-    return sorted(set(_entry_points()) | set(_REGISTRY))
+    """Names of the registered controllers (the entry points of ``swarmsim.controllers``)."""
+    return sorted(_entry_points())
 
 
 def get_controller(name: str | type) -> type:
@@ -45,15 +39,15 @@ def get_controller(name: str | type) -> type:
         return name
     if ":" in name:
         return _from_module(name)
-    if name in _REGISTRY:
-        return _REGISTRY[name]
+    if name in _LOADED:
+        return _LOADED[name]
     point = _entry_points().get(name)
     if point is None:
         raise ConfigError(f"{unknown_name('controller', name, available_controllers())} "
                           "(or give module:Class)", key="controller")
     cls = point.load()
     _check_controller_class(cls, name)
-    _REGISTRY.setdefault(name, cls)
+    _LOADED[name] = cls
     return cls
 
 
@@ -128,5 +122,4 @@ def _check_params_class(params: Any, name: str) -> None:
                           "parameter needs one", key="controller")
 
 
-__all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "register",
-           "resolve_controller"]
+__all__ = ["ENTRY_POINT_GROUP", "available_controllers", "get_controller", "resolve_controller"]

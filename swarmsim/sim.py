@@ -313,13 +313,12 @@ class Simulation:
     def _create_swarm(self, setups: list[RobotSetup], rngs: list[np.random.Generator],
                       order_rng: np.random.Generator) -> Any:
         """The run's Swarm (ControllerError if the controller's class cannot make one)."""
-        cls, cfg = self.controller_cls, self.config
-        call = ("create_swarm()" if self.info.batch else
-                "create_robots()" if hasattr(cls, "create_robots") else "__init__()")
+        cfg = self.config
+        call = "create_swarm()" if self.info.batch else "__init__()"
         with self._controller_call(call):
             swarm = self.info.create_swarm(setups, self.params, rngs,
                                            shuffled=cfg.decide_order == "shuffled",
-                                           order_rng=order_rng, batch=cfg.batch_decide)
+                                           order_rng=order_rng)
         if not all(callable(getattr(swarm, name, None)) for name in ("decide", "summarize")):
             raise ControllerError(f"{call} returned {show(swarm)}; expected a Swarm (with "
                                   "decide and summarize)", controller=self.controller_name)
@@ -697,15 +696,20 @@ class Simulation:
         """
         key = (color_by, width, tuple(sorted(options.items())))
         if getattr(self, "_renderer_key", None) != key:
-            from swarmsim.render import Renderer
-
-            self._renderer = Renderer(self.world, self.grid, width=width, color_by=color_by,
-                                      colourings=self.info.colourings,
-                                      leader_field=self.info.leader_field,
-                                      group_field=self.info.group_field,
-                                      **options)
+            self._renderer = self.new_renderer(width=width, color_by=color_by, **options)
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
+
+    def new_renderer(self, **options: Any) -> Any:
+        """A swarmsim.render.Renderer of this run's world and coverage grid that colours and
+        marks robots as the controller declares (COLOURINGS, LEADER_FIELD, GROUP_FIELD);
+        ``options`` go to the Renderer (width, color_by, ...). Raises ConfigError for an
+        option it refuses."""
+        from swarmsim.render import Renderer
+
+        return Renderer(self.world, self.grid, colourings=self.info.colourings,
+                        leader_field=self.info.leader_field, group_field=self.info.group_field,
+                        **options)
 
 
 def _name_columns(actions: ChunkActions, robots: int, refused: int = -2) -> None:

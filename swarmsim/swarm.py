@@ -1,8 +1,7 @@
 """Per-robot controllers driven as a :class:`~swarmsim.controller.Swarm`.
 
 The engine decides every run through a Swarm. A per-robot controller class is wrapped here:
-one object per robot, each asked ``step(perception)`` (or the class's optional ``prepare``
-before them, or ``decide_batch`` in their place). An exception of the class's own code is
+one object per robot, each asked ``step(perception)``. An exception of the class's own code is
 raised as a ControllerError naming the robot and the tick (the exception its cause).
 """
 
@@ -14,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.controller import Action, ChunkActions, DecideBatch, RobotSetup
+from swarmsim.controller import Action, DecideBatch, RobotSetup
 from swarmsim.errors import ControllerError, raised
 
 
@@ -23,38 +22,24 @@ class RobotSwarm:
 
     Args:
         cls: the controller class.
-        setups, params, rngs: what each robot is made with (``cls.create_robots`` if the
-            class has it, else ``cls(setup, params, rng)`` for each).
+        setups, params, rngs: what each robot is made with (``cls(setup, params, rng)``).
         shuffled: call the robots of a chunk in a random order drawn from ``order_rng``
             (a check: no robot's action may depend on another's call); index order if False.
         order_rng: the Generator of that order.
-        batch: use the class's ``decide_batch`` if it has one.
     """
 
     def __init__(self, cls: type, setups: Sequence[RobotSetup], params: Any,
                  rngs: Sequence[np.random.Generator], shuffled: bool = False,
-                 order_rng: np.random.Generator | None = None, batch: bool = True):
-        create = getattr(cls, "create_robots", None)
-        self.robots = (_created(create, setups, params, rngs) if create is not None else
-                       [_made(cls, s, params, rng) for s, rng in zip(setups, rngs, strict=True)])
+                 order_rng: np.random.Generator | None = None):
+        self.robots = [_made(cls, s, params, rng) for s, rng in zip(setups, rngs, strict=True)]
         self.cls = cls
         self._shuffled = shuffled
         self._order_rng = order_rng if order_rng is not None else np.random.default_rng(0)
-        self._prepare = getattr(cls, "prepare", None)
-        self._decide_batch = (getattr(cls, "decide_batch", None)
-                              if batch and not shuffled else None)
-        self.decider = "decide_batch()" if self._decide_batch is not None else "step()"
+        self.decider = "step()"
         """What this swarm calls its robots' actions by in errors."""
 
-    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions | list[Action]:
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> list[Action]:
         deciding = [self.robots[i] for i in robots.tolist()]
-        if self._decide_batch is not None:
-            return self._decide_batch(deciding, batch)
-        if self._prepare is not None:
-            try:
-                self._prepare(deciding, batch.neighbours)
-            except Exception as exc:
-                raise ControllerError(raised("prepare()", exc), tick=batch.tick) from exc
         perceive = batch.perceive
         actions: list[Action] = [None] * len(deciding)  # type: ignore[list-item]
         k = 0
@@ -85,16 +70,6 @@ class RobotSwarm:
             counts["Failed"] = int(failed.sum())
             summary["status_counts"] = dict(sorted(counts.items()))
         return summary
-
-
-def _created(create: Any, setups: Sequence[RobotSetup], params: Any,
-             rngs: Sequence[np.random.Generator]) -> list:
-    """The robots ``cls.create_robots`` makes, one per setup."""
-    robots = list(create(setups, params, rngs))
-    if len(robots) != len(setups):
-        raise ControllerError(f"create_robots() returned {len(robots)} robots for "
-                              f"{len(setups)} setups")
-    return robots
 
 
 def _made(cls: type, setup: RobotSetup, params: Any, rng: np.random.Generator) -> Any:

@@ -7,8 +7,9 @@ Run one as ``swarmsim run tiny --controller tests.bad_controllers:NanVelocity``.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -71,25 +72,6 @@ class RaisesInInit(Walker):
         super().__init__(setup, params, rng)
         if setup.robot_id == BAD_ROBOT:
             raise RuntimeError("no battery")
-
-
-class RaisesInCreateRobots(Walker):
-    @classmethod
-    def create_robots(cls, setups, params, rngs):
-        raise KeyError("layout")
-
-
-class RaisesInPrepare(Walker):
-    @classmethod
-    def prepare(cls, robots, neighbours):
-        if robots and robots[0].id == 0 and len(neighbours.starts) > 1:
-            raise ValueError("cannot prepare")
-
-
-class RaisesInDecideBatch(Walker):
-    @classmethod
-    def decide_batch(cls, robots, batch: DecideBatch):
-        raise ArithmeticError("batch broke")
 
 
 class RaisesInSummarize(Walker):
@@ -257,6 +239,34 @@ class Spoofer(Walker):
 
 
 # ----------------------------------------------------------------------------- batch
+class PutSwarm:
+    """A batch controller's swarm made of per-robot controllers: each robot's ``step``
+    written row by row into the sparse ChunkActions (``put``). ``edit(robot, tick, action)``,
+    if given, may replace a robot's action."""
+
+    def __init__(self, robots: list, edit: Callable[[Any, int, Action], Action] | None = None):
+        self.robots, self.edit = robots, edit
+
+    @classmethod
+    def of(cls, robot_cls: type, setups: Sequence[RobotSetup], params: Any,
+           rngs: Sequence[np.random.Generator], **options: Any) -> PutSwarm:
+        """``robot_cls(setup, params, rng)`` for each robot, in such a swarm."""
+        return cls([robot_cls(s, params, r) for s, r in zip(setups, rngs, strict=True)],
+                   **options)
+
+    def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
+        columns = ChunkActions.empty(len(robots))
+        for k, i in enumerate(robots.tolist()):
+            action = self.robots[i].step(batch.perceive(k))
+            if self.edit is not None:
+                action = self.edit(self.robots[i], batch.tick, action)
+            columns.put(k, action)
+        return columns
+
+    def summarize(self, failed: np.ndarray) -> dict:
+        return {}
+
+
 class WalkerSwarm:
     """A batch controller's swarm: every robot walks east (dense columns), and robot
     BAD_ROBOT breaks the contract at BAD_TICK as ``breaks`` says."""
@@ -336,3 +346,24 @@ class CreateSwarmReturnsNone(Walker):
     @classmethod
     def create_swarm(cls, setups, params, rngs):
         return None
+
+
+class RaisesInCreateSwarm(Walker):
+    @classmethod
+    def create_swarm(cls, setups, params, rngs):
+        raise KeyError("layout")
+
+
+@dataclass(frozen=True)
+class RadiusParams:
+    """Attributes:
+        v: speed, units per tick.
+        radius: named like the engine's robot radius (PhysicsConfig.radius): refused.
+    """
+
+    v: float = 0.05
+    radius: float = 2.0
+
+
+class ParamNamedRadius(Walker):
+    Params = RadiusParams

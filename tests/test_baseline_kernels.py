@@ -8,13 +8,14 @@ import pytest
 import shapely
 from shapely.geometry import box
 
-from controllers.cellkernel import owned
-from controllers.cvt import CVT, CVTParams, probe_all
-from controllers.dashkernel import spacing_view
-from controllers.mapkernel import lattice_values, window_within
-from controllers.npsum import pairwise_sum
-from controllers.pushkernel import push_away
-from controllers.shiftkernel import explore, interact
+from controllers.common.localmap import probe_all
+from controllers.common.mapkernel import lattice_values, window_within
+from controllers.common.npsum import pairwise_sum
+from controllers.common.push import push_away
+from controllers.cvt import CVT, CVTParams
+from controllers.cvt.kernel import owned
+from controllers.dash.kernel import spacing_view
+from controllers.meanshift.kernel import explore, interact
 from swarmsim.controller import NO_SENDER, RobotSetup
 from swarmsim.sensing import FloorSensor
 
@@ -221,8 +222,8 @@ def test_a_still_cvt_robot_sleeps_once_its_sampling_disc_settles():
 
 def test_formation_kernels_match_the_numpy_formulas():
     """Kilobot's (and FCDFS's) neighbour tests, compiled, against the numpy they replaced."""
-    from controllers import formationkernel as fk
-    from controllers.gradient import INF_GRADIENT
+    from controllers.common import formationkernel as fk
+    from controllers.common.gradient import INF_GRADIENT
     from controllers.kilobot import MESSAGE_FIELDS, TRAVEL, WAIT
     from swarmsim.controller import message_dtype
 

@@ -1,5 +1,7 @@
 """The paper's comparison algorithms (issue 7): each makes real progress on a small world,
-keeps robots apart, is deterministic, and declares itself properly.
+keeps robots apart, is deterministic, and declares itself properly. The checks of a
+controller's declarations and of sleep run for every registered controller
+(``available_controllers()``): a new one is checked without editing a list.
 
 World "tiny": a 36 x 24 rectangle 15 units above a 36 x 8 spawn band, 40 robots; coverage
 starts at 0 (no robot can reach the target from the spawn band). Thresholds are well below
@@ -14,21 +16,33 @@ import numpy as np
 import pytest
 
 from swarmsim import Simulation
-from swarmsim.controller import Action, Perception, get_controller
+from swarmsim.controller import (
+    Action,
+    Perception,
+    available_controllers,
+    get_controller,
+    run_message_fields,
+)
+from swarmsim.controller_info import describe
 from swarmsim.sim import TIMING_FIELDS
 
-BASELINES = ("kilobot", "cvt", "meanshift", "dash", "fcdfs")
+CONTROLLERS = available_controllers()
 
 # controller -> (ticks, coverage it must reach by then). Measured on seed 1 (tick: coverage):
 # cvt 390: 0.99 (complete); meanshift 379: 0.99 (complete); dash 1250: 0.88;
-# kilobot 3760: 0.75; fcdfs 2400: 0.75.
+# kilobot 3760: 0.75; fcdfs 2400: 0.75; dispersion 940: 0.99 (complete).
 PROGRESS = {
+    "dispersion": (1000, 0.9),
     "cvt": (600, 0.9),
     "meanshift": (600, 0.9),
     "dash": (1300, 0.6),
     "kilobot": (4000, 0.5),
     "fcdfs": (2500, 0.5),
 }
+BASELINES = tuple(PROGRESS)
+"""The baselines: the paper's comparison algorithms and dispersion."""
+PROGRESS_ELSEWHERE = {"ggc": "tests/test_ggc.py"}
+"""Registered controllers whose progress is checked in another file."""
 MAX_OVERLAP = 0.05
 
 
@@ -38,18 +52,26 @@ def run(name: str, ticks: int, seed: int = 1, **settings):
     return sim, sim.run()
 
 
-@pytest.mark.parametrize("name", BASELINES)
+@pytest.mark.parametrize("name", CONTROLLERS)
 def test_registered_and_declared(name):
     cls = get_controller(name)
     params = cls.Params()
     assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
     assert cls.sensing_range(params) > 0
-    assert cls.__doc__ and "\n" not in cls.__doc__.strip()
-    assert len(cls.STATUSES) >= 2 and isinstance(cls.MESSAGE_FIELDS, list)
-    module = __import__(cls.__module__, fromlist=["_"])
-    assert "Sensing:" in module.__doc__
+    assert cls.__doc__ and cls.__doc__.strip().splitlines()[0]  # `swarmsim controllers`' line
+    assert len(cls.STATUSES) >= 2
+    describe(cls, name).message_dtype(groups=1, scattered=False)  # its declarations hold
+    if name in BASELINES:
+        module = __import__(cls.__module__, fromlist=["_"])
+        assert "Sensing:" in module.__doc__
     for f in dataclasses.fields(params):  # every parameter is documented
         assert f"{f.name}:" in cls.Params.__doc__, f"{name}: {f.name} undocumented"
+
+
+@pytest.mark.parametrize("name", CONTROLLERS)
+def test_every_controller_has_a_progress_check(name):
+    assert name in PROGRESS or name in PROGRESS_ELSEWHERE, (
+        f"{name}: add its measured (ticks, coverage) on 'tiny' to PROGRESS")
 
 
 @pytest.mark.parametrize("name,bad", [
@@ -114,29 +136,39 @@ def test_controllers_see_only_their_perception():
     """A controller works from a hand-made Perception (no engine state needed)."""
     from swarmsim.controller import RobotSetup, message_dtype, silent_message
 
-    for name in BASELINES:
+    for name in CONTROLLERS:
         cls = get_controller(name)
-        dtype = message_dtype(cls.MESSAGE_FIELDS)
+        if describe(cls, name).batch:
+            continue  # no per-robot step (GGC: tests/ggc_bot.py decides one robot)
+        dtype = message_dtype(run_message_fields(cls, groups=1, scattered=False))
         msgs = np.zeros(1, dtype=dtype)
         msgs[0] = silent_message(dtype)
         ctl = cls(RobotSetup(0, leader=True, group=1), cls.Params(), np.random.default_rng(0))
-        p = Perception(tick=0, offsets=np.array([[3.0, 0.0]]), distances=np.array([3.0]),
-                       messages=msgs, on_target=False, probe=lambda o: bool(o[1] > 1.0),
-                       beacon=np.array([0.0, 1.0]), moved=np.zeros(2))
-        act = ctl.step(p)
+        perception = Perception(tick=0, offsets=np.array([[3.0, 0.0]]),
+                                distances=np.array([3.0]), messages=msgs, on_target=False,
+                                probe=lambda o: bool(o[1] > 1.0), beacon=np.array([0.0, 1.0]),
+                                moved=np.zeros(2))
+        act = ctl.step(perception)
         assert isinstance(act, Action)
         assert np.hypot(*act.velocity) <= 0.1 + 1e-9
         assert act.message is None or len(act.message) == len(dtype.names)
 
 
+SLEEP_CASES = {
+    "fcdfs": [(700, ""),  # a queued robot slept through an entering one (differed at 564)
+              (500, "random")],  # no gradient heard: init_timeout never fired while asleep
+    "kilobot": [(600, "random")],  # the same (differed at 402)
+    "cvt": [(600, "")],  # a resting robot resampled its cell after waking (differed at 429)
+    "meanshift": [(520, "")],  # its robots start to sleep at about tick 450
+}
+"""Controller -> (ticks, start) of the runs that once told sleeping from awake; every other
+controller is checked on DEFAULT_SLEEP_CASE."""
+DEFAULT_SLEEP_CASE = (500, "")
+
+
 @pytest.mark.parametrize("name, ticks, start", [
-    ("fcdfs", 700, ""),  # a queued robot slept through an entering one (differed at 564)
-    ("fcdfs", 500, "random"),  # no gradient heard: init_timeout never fired while asleep
-    ("kilobot", 600, "random"),  # the same (differed at 402)
-    ("cvt", 600, ""),  # a resting robot resampled its cell after waking (differed at 429)
-    ("dash", 500, ""),
-    ("meanshift", 520, ""),  # its robots start to sleep at about tick 450
-])
+    (name, ticks, start) for name in CONTROLLERS
+    for ticks, start in SLEEP_CASES.get(name, [DEFAULT_SLEEP_CASE])])
 def test_sleeping_changes_nothing(name, ticks, start):
     """A sleeping robot must act exactly as if it had been asked every tick."""
     def state(allow_sleep):

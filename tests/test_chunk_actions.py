@@ -6,7 +6,8 @@ import numpy as np
 
 from controllers.dispersion import Dispersion
 from swarmsim import Simulation
-from swarmsim.controller import Action, ChunkActions, DecideBatch
+from swarmsim.controller import Action, ChunkActions
+from tests.bad_controllers import PutSwarm
 
 ACTIONS = [Action((1.0, -2.0), message=(7, 1)), Action(),
            Action(sleep=True, wake_range=2.0, listen=3.0, wake_on_motion=False, wake_tick=9),
@@ -32,20 +33,17 @@ def test_columns_put_row_by_row_equal_the_columns_of_the_list():
 
 
 class ColumnsDispersion(Dispersion):
-    """Dispersion deciding a chunk at a time through columns (each robot's step, put)."""
+    """Dispersion as a batch controller: a chunk's robots decided into columns (each robot's
+    step, put), the path of a batch controller's ChunkActions."""
 
     @classmethod
-    def decide_batch(cls, robots, batch: DecideBatch) -> ChunkActions:
-        columns = ChunkActions.empty(len(robots))
-        for k, robot in enumerate(robots):
-            columns.put(k, robot.step(batch.perceive(k)))
-        return columns
+    def create_swarm(cls, setups, params, rngs) -> PutSwarm:
+        return PutSwarm.of(Dispersion, setups, params, rngs)
 
 
-def run_hash(controller: str, batch_decide: bool) -> tuple[str, int]:
+def run_hash(controller: str) -> tuple[str, int]:
     """Every position and broadcast of a run hashed, and the robot-ticks spent asleep."""
-    sim = Simulation("K", controller=controller, robots=150, seed=3, max_ticks=600,
-                     settings={"batch_decide": batch_decide})
+    sim = Simulation("K", controller=controller, robots=150, seed=3, max_ticks=600)
     digest, asleep = hashlib.sha256(), 0
     for _ in range(600):
         sim.step()
@@ -58,7 +56,6 @@ def run_hash(controller: str, batch_decide: bool) -> tuple[str, int]:
 
 def test_a_run_decided_through_columns_is_the_run_decided_robot_by_robot():
     """Velocities, broadcasts, listening ranges and sleep all go through the columns."""
-    by_columns, asleep = run_hash("tests.test_chunk_actions:ColumnsDispersion", True)
+    by_columns, asleep = run_hash("tests.test_chunk_actions:ColumnsDispersion")
     assert asleep > 500  # the run exercised sleep
-    assert by_columns == run_hash("tests.test_chunk_actions:ColumnsDispersion", False)[0]
-    assert by_columns == run_hash("dispersion", True)[0]
+    assert by_columns == run_hash("dispersion")[0]

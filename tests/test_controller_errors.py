@@ -20,8 +20,9 @@ import pytest
 import tests.bad_controllers as bad
 from swarmsim import Simulation
 from swarmsim.cli import main
-from swarmsim.controller import Action, ChunkActions
-from swarmsim.errors import ControllerError
+from swarmsim.config import engine_settings
+from swarmsim.controller import Action, ChunkActions, available_controllers, get_controller
+from swarmsim.errors import ConfigError, ControllerError
 from swarmsim.experiments import run_sweep
 from swarmsim.experiments.spec import RunSpec
 from tests.errlines import error_lines
@@ -87,11 +88,7 @@ RAISES = [
      "user_helper"),
     ("RaisesInInit", f"robot {bad.BAD_ROBOT}", "__init__() raised RuntimeError: no battery",
      "__init__"),
-    ("RaisesInCreateRobots", None, "create_robots() raised KeyError: 'layout'",
-     "create_robots"),
-    ("RaisesInPrepare", "tick 0", "prepare() raised ValueError: cannot prepare", "prepare"),
-    ("RaisesInDecideBatch", "tick 0", "decide_batch() raised ArithmeticError: batch broke",
-     "decide_batch"),
+    ("RaisesInCreateSwarm", None, "create_swarm() raised KeyError: 'layout'", "create_swarm"),
     ("RaisesInSummarize", "tick 8", ("summarize() raised ZeroDivisionError: float division "
      "by zero"), "summarize"),
     ("RaisesInSensingRange", None, "sensing_range() raised NotImplementedError: which range?",
@@ -100,7 +97,7 @@ RAISES = [
                                              "division"), "decide"),
 ]
 
-SETUP_FAILURES = ("RaisesInInit", "RaisesInCreateRobots", "RaisesInSensingRange",
+SETUP_FAILURES = ("RaisesInInit", "RaisesInCreateSwarm", "RaisesInSensingRange",
                   "CreateSwarmReturnsNone")
 """Controllers that fail before the run's first tick."""
 
@@ -173,20 +170,18 @@ def test_an_interrupt_in_a_controller_is_an_interrupt_not_its_error():
 
 
 def test_a_batch_that_puts_a_bad_action_names_the_robot():
+    def nan_for_the_bad_robot(robot, tick, action):
+        bad_one = robot.id == bad.BAD_ROBOT and tick == bad.BAD_TICK
+        return Action((0.0, float("nan"))) if bad_one else action
+
     class PutsNan(bad.Walker):
         @classmethod
-        def decide_batch(cls, robots, batch):
-            columns = ChunkActions.empty(len(robots))
-            for k, robot in enumerate(robots):
-                action = robot.step(batch.perceive(k))
-                if robot.id == bad.BAD_ROBOT and batch.tick == bad.BAD_TICK:
-                    action = Action((0.0, float("nan")))
-                columns.put(k, action)
-            return columns
+        def create_swarm(cls, setups, params, rngs):
+            return bad.PutSwarm.of(bad.Walker, setups, params, rngs, edit=nan_for_the_bad_robot)
 
     sim = Simulation("tiny", controller=PutsNan, robots=6, max_ticks=8)
     with pytest.raises(ControllerError, match=re.escape(
-            f"{AT}: decide_batch() returned the velocity (0.0, nan); expected finite")):
+            f"{AT}: decide() returned the velocity (0.0, nan); expected finite")):
         sim.run()
 
 
@@ -215,23 +210,28 @@ def test_no_robot_can_broadcast_another_robots_id():
     assert (odd["status"] == 1).all() and (odd["x"] == 1.5).all() and (odd["hops"] == 0).all()
 
 
-class Legacy(bad.Walker):
-    """Broadcasts with the old base fields (id, status, gradient, group, leader, moving, ...)."""
+class OldBaseFields(bad.Walker):
+    """Broadcasts with the base fields of earlier versions (id, status, gradient, group,
+    leader, moving, ...): no longer read as the run's fields, refused."""
 
-    def good(self, p):
+    def good(self, perception):
         return Action((self.v, 0.0), (self.id, 1, 4, 2, False, True, 2.5, 3))
 
 
-@pytest.mark.parametrize("controller", [bad.Walker, bad.Batch_none, Legacy],
-                         ids=["per-robot", "batch", "legacy tuples"])
+@pytest.mark.parametrize("controller", [bad.Walker, bad.Batch_none],
+                         ids=["per-robot", "batch"])
 def test_good_controllers_run_as_before(controller):
     sim = Simulation("tiny", controller=controller, robots=6, max_ticks=8)
     result = sim.run()
     assert result.summary["ticks"] == 8
     assert sim.messages["id"].tolist() == list(range(6))
-    if controller is Legacy:
-        row = sim.messages[0]
-        assert (row["status"], row["moving"], row["x"], row["hops"]) == (1, True, 2.5, 3)
+
+
+def test_a_tuple_with_the_old_base_fields_is_refused():
+    sim = Simulation("tiny", controller=OldBaseFields, robots=6, max_ticks=8)
+    with pytest.raises(ControllerError, match=re.escape(
+            "a broadcast tuple of 8 values; expected 5: (id, status, moving, x, hops)")):
+        sim.run()
 
 
 def test_columns_of_actions_refuse_what_the_engine_would_not_use():
@@ -341,3 +341,41 @@ def test_a_timeout_past_int64_is_never():
     sim = Simulation("tiny", controller=SleepsPastInt64, robots=4, max_ticks=20)
     sim.run()
     assert sim.asleep.all() and (sim.wake_tick == np.iinfo(np.int64).max).all()
+
+
+ENGINE_NAMES = [("radius", "PhysicsConfig"), ("seed", "SimConfig"), ("groups", "SimConfig"),
+                ("probe_range", "SimConfig"), ("start", "SimConfig"), ("max_ticks", "SimConfig"),
+                ("mode", "PhysicsConfig")]
+
+
+@pytest.mark.parametrize("field, section", ENGINE_NAMES, ids=[n for n, _ in ENGINE_NAMES])
+def test_a_parameter_named_like_an_engine_setting_is_refused(field, section):
+    """The engine would take a run's value of that name: the controller never would."""
+    params = dataclasses.make_dataclass("Params", [("v", float, 0.05), (field, int, 1)],
+                                        frozen=True)
+    walker = type("Clash", (bad.Walker,), {"Params": params, "name": "clash"})
+    with pytest.raises(ConfigError, match=re.escape(
+            f"{walker.__module__}:Clash: Params field {field!r} has the name of the engine setting "
+            f"{section}.{field}; a run's {field} would set the engine's, never the "
+            "controller's: rename the field")):
+        Simulation("tiny", controller=walker, robots=6, max_ticks=8)
+
+
+def test_the_refusal_of_an_engine_name_is_one_line(capsys):
+    code, err = run_cli("ParamNamedRadius", capsys)
+    assert code == 2
+    line = (f"swarmsim: error: key 'controller': {MODULE}:ParamNamedRadius: Params field "
+            "'radius' has the name of the engine setting PhysicsConfig.radius; a run's "
+            "radius would set the engine's, never the controller's: rename the field")
+    assert err == [line]
+
+
+def test_no_registered_controller_names_an_engine_setting_and_d_cover_is_the_controllers():
+    """d_cover is a controller parameter (GGC's and the baselines'), routed to the
+    controller's Params: the engine has no setting of that name."""
+    assert "d_cover" not in engine_settings()
+    for name in available_controllers():
+        cls = get_controller(name)
+        assert not {f.name for f in dataclasses.fields(cls.Params)} & set(engine_settings())
+    sim = Simulation("tiny", controller="dispersion", robots=6, d_cover=4.5, max_ticks=8)
+    assert sim.params.d_cover == 4.5

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from controllers.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from controllers.common.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from controllers.common.gradient import INF_GRADIENT
 from controllers.ggc import GGCParams
 from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STATUSES
-from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError, Simulation
 from swarmsim.sim import TIMING_FIELDS
 from swarmsim.world import world_from_dict

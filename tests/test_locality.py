@@ -6,14 +6,17 @@ import dataclasses
 import re
 from pathlib import Path
 
-import numpy as np
 from shapely.geometry import box
 
+from swarmsim import Simulation
 from swarmsim.controller import (
+    Action,
     NeighbourBatch,
     Perception,
     available_controllers,
     get_controller,
+    message_dtype,
+    run_message_fields,
 )
 from swarmsim.sensing import FloorProbe, FloorSensor
 from tests.import_graph import assert_no_circles
@@ -44,6 +47,38 @@ def test_controllers_import_nothing_global():
                 f"{f.name} imports {mod}"
             if mod.startswith("swarmsim"):
                 assert mod == "swarmsim.controller", f"{f.name} imports {mod}"
+
+
+def test_no_controller_imports_another():
+    """A controller imports what it shares only from controllers/common, never another
+    controller's module or package (fcdfs once took kilobot's formation travel)."""
+    for f in sorted(CONTROLLERS.rglob("*.py")):
+        parts = f.relative_to(CONTROLLERS).with_suffix("").parts
+        for mod in absolute_imports(f):
+            if mod.startswith("controllers."):
+                package = mod.split(".")[1]
+                assert package in ("common", parts[0]), f"{'/'.join(parts)} imports {mod}"
+
+
+def absolute_imports(path: Path) -> set[str]:
+    """The modules ``path`` (a file under controllers/) imports, relative imports made
+    absolute (``from .kilobot import x`` in controllers/fcdfs.py: controllers.kilobot)."""
+    package = ["controllers", *path.relative_to(CONTROLLERS).parent.parts]
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        if isinstance(node, ast.Import):
+            names.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package[:len(package) - node.level + 1] if node.level else []
+            module = ".".join([*base, *([node.module] if node.module else [])])
+            names.update([module] if node.module else
+                         [f"{module}.{a.name}" for a in node.names])
+    return names
+
+
+def test_absolute_imports_resolve_relative_ones():
+    assert absolute_imports(CONTROLLERS / "cvt" / "controller.py") >= {
+        "controllers.cvt.kernel", "controllers.common.localmap"}
 
 
 def test_no_controller_module_names_global_state():
@@ -85,7 +120,7 @@ def test_perception_has_no_global_fields():
 
 
 def test_a_neighbour_batch_holds_perception_rows_only():
-    """What ``prepare`` hooks see: the chunk's perceptions end to end, nothing global."""
+    """What a swarm's ``decide`` sees of the neighbours: the chunk's perceptions end to end."""
     names = {f.name for f in dataclasses.fields(NeighbourBatch)}
     assert names == {"messages", "distances", "starts"}
 
@@ -97,8 +132,32 @@ def test_every_controller_is_declared_properly():
         assert cls.sensing_range(params) > 0
         assert len(cls.STATUSES) >= 1
         assert dataclasses.is_dataclass(params) and params.__dataclass_params__.frozen
-        assert isinstance(cls.MESSAGE_FIELDS, list)
-        np.dtype(cls.MESSAGE_FIELDS) if cls.MESSAGE_FIELDS else None
+        fields = run_message_fields(cls, groups=1, scattered=False)  # [] when undeclared
+        assert message_dtype(fields).names[:3] == ("id", "status", "moving")
+
+
+def test_message_fields_are_optional():
+    """A controller that broadcasts nothing of its own declares no MESSAGE_FIELDS."""
+
+    class Quiet:
+        name = "quiet"
+        Params = get_controller("dispersion").Params
+        STATUSES = ("Still",)
+
+        @classmethod
+        def sensing_range(cls, params):
+            return 3.0
+
+        def __init__(self, setup, params, rng):
+            pass
+
+        def step(self, perception):
+            return Action()
+
+    assert not hasattr(Quiet, "MESSAGE_FIELDS")
+    sim = Simulation("tiny", controller=Quiet, robots=4, max_ticks=3)
+    sim.run()
+    assert sim.messages.dtype.names == ("id", "status", "moving")
 
 
 RULE_PARAMETERS = {
@@ -121,7 +180,7 @@ def test_ggc_rules_take_only_local_arguments():
     seen = set()
     for f in rules:
         allowed = {"__future__", "math", "numpy", "numba", "numba.experimental", "collections",
-                   "controllers.gradient", "swarmsim.controller"}
+                   "controllers.common.gradient", "swarmsim.controller"}
         assert imported_modules(f) <= allowed, f.name
         module = importlib.import_module(f"controllers.ggc.rules.{f.stem}")
         for name, fn in vars(module).items():

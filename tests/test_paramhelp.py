@@ -61,7 +61,7 @@ def test_the_six_descriptions_once_cut_are_whole() -> None:
     ggc = get_controller("ggc").Params
     sim, params = attribute_docs(SimConfig), attribute_docs(ggc)
     assert "drawn in index order" in sim["decide_order"][-1]
-    assert "turns it off" in sim["batch_decide"][-1]
+    assert "(at failure_tick)" in sim["failure_phase"][-1]
     for name in ("gradient_reach", "boundary_probe", "surplus_stop", "lattice_stop"):
         text = " ".join(params[name])
         assert text.count("(") == text.count(")"), f"{name}: {text[-80:]!r}"

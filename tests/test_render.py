@@ -11,7 +11,7 @@ import imageio_ffmpeg
 import numpy as np
 import pytest
 
-from controllers.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT
+from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT
 from swarmsim.controller import message_dtype
 from swarmsim.metrics import CoverageGrid
 from swarmsim.plots import plot_timeseries

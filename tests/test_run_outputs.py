@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from controllers.gradient import INF_GRADIENT
+from controllers.common.gradient import INF_GRADIENT
 from swarmsim.cli import main
 from swarmsim.errors import ConfigError
 from swarmsim.metrics import FinalState

@@ -35,8 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from controllers.gradient import COLOURINGS, SILENT
-from swarmsim.controller import RobotSetup, register, stamp_kernels_by_code
+from controllers.common.gradient import COLOURINGS, SILENT
+from swarmsim.controller import RobotSetup, stamp_kernels_by_code
 
 # the driver (decide.py) is compiled with rules from every file here: its kernels are
 # stamped by the code of the whole package, before any of them is decorated
@@ -48,7 +48,6 @@ from .statuses import SETTLED, STATUSES
 from .swarm import GGCSwarm, same_run_ruleset
 
 
-@register
 class GGC:
     """Gradient-and-grouping coverage (the paper's): a gradient, groups, edge-following fill.
 

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 from numba import njit
 
-from controllers.gradient import INF_GRADIENT
+from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER, RobotSetup
 
 from .rules.aggregation import FAR

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit, types
 from numba.experimental import structref
 
-from controllers.gradient import INF_GRADIENT
+from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER
 
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS

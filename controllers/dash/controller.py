@@ -39,12 +39,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
+from controllers.common.push import push_away
+from controllers.common.push import warm_up as _warm_up_push
+from swarmsim.controller import (
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+    require_positive,
+)
 
-from .dashkernel import spacing_view
-from .dashkernel import warm_up as _warm_up_spacing
-from .pushkernel import push_away
-from .pushkernel import warm_up as _warm_up_push
+from .kernel import spacing_view
+from .kernel import warm_up as _warm_up_spacing
 
 SEEKING, SPREADING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Spreading", "Resting")
@@ -84,11 +91,8 @@ class DashParams:
     probe_distance: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "d_cover", "s_start", "adapt_rate", "v", "gain",
-                     "probe_distance", "crowd"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"DASH parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "d_cover", "s_start", "adapt_rate", "v", "gain",
+                         "probe_distance", "crowd")
         if not self.d_safe <= self.s_start <= self.d_cover:
             raise ValueError(f"need d_safe <= s_start <= d_cover, got {self.d_safe}, "
                              f"{self.s_start}, {self.d_cover}")
@@ -101,7 +105,6 @@ class DashParams:
                              "engine's default probe range)")
 
 
-@register
 class Dash:
     """DASH (reconstructed): dispersion whose spacing adapts in real time up to d_cover."""
 
@@ -124,7 +127,7 @@ class Dash:
 
     def __init__(self, setup: RobotSetup, params: DashParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.p = params
+        self.params = params
         self.level = 0
         self.max_level = math.floor((params.d_cover - params.s_start) / params.adapt_rate)
         self.s = params.s_start
@@ -135,61 +138,62 @@ class Dash:
 
     def act(self, v=(0.0, 0.0), moving: bool = False, sleep: bool = False) -> Action:
         """The action, listening only as far as the next decision needs (cheaper)."""
-        listen = 1.5 * self.p.d_cover if self.status != SEEKING else 1.5 * self.p.d_safe
+        listen = 1.5 * self.params.d_cover if self.status != SEEKING else 1.5 * self.params.d_safe
         return make_action((float(v[0]), float(v[1])), self.message(moving), sleep, None, listen)
 
-    def push(self, p: Perception, radius: float) -> np.ndarray:
+    def push(self, perception: Perception, radius: float) -> np.ndarray:
         """Away from the neighbours closer than ``radius`` (units), harder the closer."""
-        return push_away(p.offsets, p.distances, radius, self.p.gain)
+        return push_away(perception.offsets, perception.distances, radius, self.params.gain)
 
-    def adapt(self, p: Perception) -> None:
+    def adapt(self, perception: Perception) -> None:
         """Real-time spacing adjustment, one adapt_rate step per tick at most.
 
         Room (no neighbour too close) -> grow; crowd -> shrink; but stay within
         consensus_band of the on-target neighbours' mean spacing (step toward it otherwise).
         """
-        p_ = self.p
-        m = p.messages
-        mean, too_close = spacing_view(p.distances, m["id"], m["status"], m["spacing"],
-                                       1.5 * p_.d_cover, self.s * (1 - p_.tolerance),
+        params = self.params
+        m = perception.messages
+        mean, too_close = spacing_view(perception.distances, m["id"], m["status"], m["spacing"],
+                                       1.5 * params.d_cover, self.s * (1 - params.tolerance),
                                        NO_SENDER, SEEKING)
         mean = self.s if math.isnan(mean) else mean  # no peer: its own
-        band, rate = p_.consensus_band, p_.adapt_rate
+        band, rate = params.consensus_band, params.adapt_rate
         room = too_close == 0 and self.s + rate <= mean + band
-        packed = too_close >= p_.crowd and self.s - rate >= mean - band
+        packed = too_close >= params.crowd and self.s - rate >= mean - band
         step = 0
         if room or self.s < mean - band:
             step = 1
         elif packed or self.s > mean + band:
             step = -1
         self.level = min(max(self.level + step, 0), self.max_level)
-        self.s = p_.s_start + self.level * p_.adapt_rate
+        self.s = params.s_start + self.level * params.adapt_rate
 
-    def step(self, p: Perception) -> Action:
-        p_ = self.p
+    def step(self, perception: Perception) -> Action:
+        params = self.params
         settled = False
-        if not p.on_target:
+        if not perception.on_target:
             self.status = SEEKING
             self.level = 0
-            self.s = p_.s_start
-            v = self.push(p, p_.d_safe * 1.5)
-            if p.beacon is not None:
-                v = v + p.beacon * p_.v
+            self.s = params.s_start
+            v = self.push(perception, params.d_safe * 1.5)
+            if perception.beacon is not None:
+                v = v + perception.beacon * params.v
         else:
             before = self.level
-            self.adapt(p)
-            v = self.push(p, self.s)
+            self.adapt(perception)
+            v = self.push(perception, self.s)
             self.status = SPREADING
             settled = self.level == before
         speed = math.hypot(float(v[0]), float(v[1]))
-        if speed > p_.v:
-            v *= p_.v / speed
-            speed = p_.v
-        if speed > p_.deadband and p.on_target and not p.probe(v / speed * p_.probe_distance):
+        if speed > params.v:
+            v *= params.v / speed
+            speed = params.v
+        if (speed > params.deadband and perception.on_target
+                and not perception.probe(v / speed * params.probe_distance)):
             v = np.zeros(2)
             speed = 0.0
-        if speed <= p_.deadband:
-            if p.on_target and settled:
+        if speed <= params.deadband:
+            if perception.on_target and settled:
                 self.status = RESTING
                 return self.act(sleep=True)
             return self.act()

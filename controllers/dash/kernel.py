@@ -1,7 +1,7 @@
 """DASH's spacing arithmetic, compiled (numba): the neighbours' mean spacing and the count of
 those too close (:func:`spacing_view`), in one pass where numpy made ~10 calls on a robot's
 neighbours. The same numbers as numpy's, to the bit (float32 spacings summed pairwise, in
-float32, as numpy's ``mean`` does); tests compare both. Its push: controllers/pushkernel.py.
+float32, as numpy's ``mean`` does); tests compare both. Its push: controllers/common/push.py.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .npsum import pairwise_sum
+from controllers.common.npsum import pairwise_sum
 
 
 @njit(cache=True)

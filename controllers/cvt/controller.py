@@ -31,19 +31,18 @@ Table 3 says.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, register
+from controllers.common.localmap import MIN_MAP_CELL, LocalMap, clamp, sq_norms
+from controllers.common.mapkernel import warm_up as _warm_up_map
+from controllers.common.push import push_away
+from controllers.common.push import warm_up as _warm_up_push
+from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
 
-from .cellkernel import owned
-from .cellkernel import warm_up as _warm_up_cell
-from .mapkernel import lattice_values, window_within
-from .mapkernel import warm_up as _warm_up_map
-from .pushkernel import push_away
-from .pushkernel import warm_up as _warm_up_push
+from .kernel import owned
+from .kernel import warm_up as _warm_up_cell
 
 SEEKING, MOVING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Moving", "Resting")
@@ -54,136 +53,9 @@ _g = np.arange(-DISC_STEPS, DISC_STEPS + 1) / DISC_STEPS
 DISC = np.array([(x, y) for x in _g for y in _g if x * x + y * y <= 1.0 + 1e-9])
 
 
-MIN_MAP_CELL = 0.1
-"""Smallest lattice spacing of a LocalMap, units: a robot keeps ~(2 radius / cell + 2 MARGIN)^2
-points and probes those within its radius (11,000 at radius 6); a spacing of 0.001 asked for
-a hundred million per robot."""
-
-
-class LocalMap:
-    """A robot's memory of the floor on a square lattice, in its own odometry frame.
-
-    The robot integrates its own displacement (``Perception.moved``); lattice points are fixed
-    in that frame, so each is probed once (while it is within ``radius``) and remembered. Only a
-    window of lattice points around the robot is kept, so memory stays small.
-
-    Args:
-        radius: points within this distance of the robot are sensed, units (must not exceed
-            the engine's probe range).
-        cell: lattice spacing, units.
-    """
-
-    MARGIN = 8  # lattice cells kept beyond the sensing radius before the window is moved
-
-    def __init__(self, radius: float, cell: float):
-        self.radius = float(radius)
-        self.cell = float(cell)
-        self.odo = np.zeros(2)
-        reach = math.ceil(self.radius / self.cell) + 1
-        ii, jj = np.meshgrid(np.arange(-reach, reach + 1), np.arange(-reach, reach + 1),
-                             indexing="ij")
-        self._stencil = np.column_stack([ii.ravel(), jj.ravel()])
-        self._reach = reach
-        self._size = 2 * (reach + self.MARGIN) + 1
-        self._grid = np.full((self._size, self._size), -1, dtype=np.int8)
-        self._origin = np.array([-(reach + self.MARGIN)] * 2)
-        self._base: tuple[int, int] | None = None  # the lattice cell the window is for
-        self._points = self._local = self._values = np.zeros((0, 2))
-
-    def move(self, moved: np.ndarray) -> None:
-        """Dead reckoning: add the robot's own displacement."""
-        self.odo = self.odo + moved
-
-    def _lattice_cell(self) -> tuple[int, int]:
-        """The lattice cell the robot is in: floor(odo / cell)."""
-        return math.floor(self.odo[0] / self.cell), math.floor(self.odo[1] / self.cell)
-
-    def _recentre(self, base: tuple[int, int]) -> None:
-        """Move the window of remembered points so the stencil round ``base`` fits in it."""
-        reach, (o0, o1) = self._reach, self._origin.tolist()
-        if (base[0] - reach >= o0 and base[1] - reach >= o1
-                and base[0] + reach < o0 + self._size and base[1] + reach < o1 + self._size):
-            return
-        new_origin = np.array(base, dtype=np.int64) - (self._reach + self.MARGIN)
-        grid = np.full_like(self._grid, -1)
-        shift = new_origin - self._origin
-        src_lo = np.maximum(shift, 0)
-        src_hi = np.minimum(shift + self._size, self._size)
-        if (src_hi > src_lo).all():
-            dst_lo = src_lo - shift
-            dst_hi = src_hi - shift
-            grid[dst_lo[0]:dst_hi[0], dst_lo[1]:dst_hi[1]] = \
-                self._grid[src_lo[0]:src_hi[0], src_lo[1]:src_hi[1]]
-        self._grid = grid
-        self._origin = new_origin
-
-    def sense(self, p: Perception, radius: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Lattice points within ``radius`` (default: the map's radius) of the robot.
-
-        Returns their offsets from the robot (k, 2) and whether each is target floor (k,);
-        points not yet known are probed now.
-        """
-        radius = self.radius if radius is None else min(float(radius), self.radius)
-        cell = self._lattice_cell()
-        if self._base != cell:  # a new lattice cell: the window of points around it
-            self._base = cell
-            self._recentre(cell)
-            idx = self._stencil + np.array(cell, dtype=np.int64)
-            self._points = idx * self.cell
-            self._local = idx - self._origin
-            self._values = self._grid[self._local[:, 0], self._local[:, 1]]
-        values = self._values
-        offsets, known, unknown, unknown_at = window_within(self._points, self.odo,
-                                                            radius * radius, values)
-        if len(unknown):
-            known[unknown_at] = values[unknown] = probe_all(p.probe, offsets[unknown_at])
-            loc = self._local[unknown]
-            self._grid[loc[:, 0], loc[:, 1]] = values[unknown]
-        return offsets, known == 1
-
-
-    def lookup(self, p: Perception, offsets: np.ndarray) -> np.ndarray:
-        """Target floor at arbitrary offsets, read from the nearest lattice point.
-
-        Lattice points not yet known are probed (only those within ``radius``); farther ones
-        count as not target.
-        """
-        self._recentre(self._lattice_cell())
-        values, local, unknown, points = lattice_values(self.odo, offsets, self.cell,
-                                                        self._origin, self._grid,
-                                                        self.radius * self.radius)
-        if len(unknown):
-            values[unknown] = probe_all(p.probe, points)
-            self._grid[local[unknown, 0], local[unknown, 1]] = values[unknown]
-            self._base = None  # cached window values are stale
-        return values == 1
-
-
-def probe_all(probe: Callable[[np.ndarray], bool], offsets: np.ndarray) -> np.ndarray:
-    """(k,) bool: the floor probe at each of ``offsets`` (k, 2), units; in one query where the
-    probe can (the engine's ``FloorProbe.many``), else one by one."""
-    many = getattr(probe, "many", None)
-    if many is not None:
-        return many(offsets)
-    return np.array([bool(probe(offset)) for offset in offsets], dtype=bool)
-
-
-def repulsion(p: Perception, radius: float, gain: float) -> np.ndarray:
+def repulsion(perception: Perception, radius: float, gain: float) -> np.ndarray:
     """Push away from neighbours closer than ``radius`` (grows as they get closer)."""
-    return push_away(p.offsets, p.distances, radius, gain)
-
-
-def sq_norms(v: np.ndarray) -> np.ndarray:
-    """Squared length (units^2) of each row of ``v`` (k, 2): the same sums, to the bit, as
-    ``(v * v).sum(axis=1)``, without the slow reduction over an axis of length 2."""
-    x, y = v[:, 0], v[:, 1]
-    return x * x + y * y
-
-
-def clamp(v: np.ndarray, limit: float) -> np.ndarray:
-    """``v`` shortened to at most ``limit``."""
-    n = math.hypot(float(v[0]), float(v[1]))
-    return v * (limit / n) if n > limit else v
+    return push_away(perception.offsets, perception.distances, radius, gain)
 
 
 @dataclass(frozen=True)
@@ -214,10 +86,7 @@ class CVTParams:
     tolerance: float = 0.01
 
     def __post_init__(self) -> None:
-        for name in ("d_safe", "cell_radius", "map_cell", "v", "gain", "tolerance"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"CVT parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_safe", "cell_radius", "map_cell", "v", "gain", "tolerance")
         if self.repulsion_gain < 0:
             raise ValueError(f"repulsion_gain must be >= 0, got {self.repulsion_gain!r}")
         if self.cell_radius > MIN_PROBE_RANGE:
@@ -230,7 +99,6 @@ class CVTParams:
             raise ValueError(f"tolerance must be < 1, got {self.tolerance!r}")
 
 
-@register
 class CVT:
     """Limited-range Lloyd: move to the centroid of your Voronoi cell in the sensed target."""
 
@@ -257,7 +125,7 @@ class CVT:
 
     def __init__(self, setup: RobotSetup, params: CVTParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.p = params
+        self.params = params
         self.map = LocalMap(params.cell_radius, params.map_cell)
         self.status = SEEKING
         self.heard = 2 * params.cell_radius  # how far it listened for this tick's perception
@@ -270,7 +138,7 @@ class CVT:
     def message(self, moving: bool) -> tuple:
         return (self.id, self.status, moving)
 
-    def cell(self, p: Perception) -> np.ndarray:
+    def cell(self, perception: Perception) -> np.ndarray:
         """Sample points of this robot's cell: target floor nearer to it than to any neighbour.
 
         The cell is sampled on a fine grid (``DISC`` points) over a disc of radius R, sized to
@@ -280,22 +148,22 @@ class CVT:
         farther than 2 R cannot own a point within R. When the cell reaches the edge of the
         disc, the next tick uses the full cell_radius.
         """
-        full = self.p.cell_radius
+        full = self.params.cell_radius
         radius = self.disc_radius()
-        self.map.sense(p)
+        self.map.sense(perception)
         h = radius / DISC_STEPS
         q = self.disc * radius
-        q = q[self.map.lookup(p, q)]
+        q = q[self.map.lookup(perception, q)]
         if len(q):
-            q = q[owned(q, p.offsets[p.distances <= 2 * radius])]
+            q = q[owned(q, perception.offsets[perception.distances <= 2 * radius])]
         if len(q) == 0:
             self.extent = full
             self.reach = 0.0
-            target_near = bool(self.map.lookup(p, self.disc * full).any())
-            self.heard = 2 * full if target_near else max(2 * self.p.d_safe, 1.0)
+            target_near = bool(self.map.lookup(perception, self.disc * full).any())
+            self.heard = 2 * full if target_near else max(2 * self.params.d_safe, 1.0)
             return q
         self.reach = math.sqrt(float(sq_norms(q).max()))
-        margin = 2 * h + 2 * self.p.v
+        margin = 2 * h + 2 * self.params.v
         self.extent = full if self.reach >= radius - 1.5 * h else min(full, self.reach + margin)
         self.heard = 2 * self.extent
         return q
@@ -312,7 +180,7 @@ class CVT:
         """Radius (units) of the disc (extent, heard) a cell is sampled in (default: the
         next cell's)."""
         extent, heard = (self.extent, self.heard) if disc is None else disc
-        return min(self.p.cell_radius, heard / 2, extent)
+        return min(self.params.cell_radius, heard / 2, extent)
 
     def settle_disc(self, sampled_with: tuple[float, float]) -> bool:
         """Whether a robot standing still may sleep; it then keeps the disc (extent, heard)
@@ -335,37 +203,38 @@ class CVT:
         self.still_disc = sampled_with
         return False
 
-    def step(self, p: Perception) -> Action:
-        self.map.move(p.moved)
+    def step(self, perception: Perception) -> Action:
+        self.map.move(perception.moved)
         sampled_with = (self.extent, self.heard)
-        mine = self.cell(p)
+        mine = self.cell(perception)
         rest = False
         if len(mine):
             c = mine.mean(axis=0)
             nearest = mine[np.argmin(sq_norms(mine - c))]
             if math.hypot(*(nearest - c)) > 1.5 * self.extent / DISC_STEPS:
                 c = nearest  # the centroid fell outside the (non-convex) cell: project it
-            v = self.p.gain * c
-            rest = (math.hypot(float(c[0]), float(c[1])) < self.p.tolerance * self.reach
-                    and p.on_target)
-            self.status = MOVING if p.on_target else SEEKING
-        elif not p.on_target and p.beacon is not None:
-            v = p.beacon * self.p.v
+            v = self.params.gain * c
+            rest = (math.hypot(float(c[0]), float(c[1])) < self.params.tolerance * self.reach
+                    and perception.on_target)
+            self.status = MOVING if perception.on_target else SEEKING
+        elif not perception.on_target and perception.beacon is not None:
+            v = perception.beacon * self.params.v
             self.status = SEEKING
         else:
             v = np.zeros(2)
             rest = True
         if rest:
             v = np.zeros(2)
-        v = clamp(v + repulsion(p, self.p.d_safe, self.p.repulsion_gain), self.p.v)
+        push = repulsion(perception, self.params.d_safe, self.params.repulsion_gain)
+        v = clamp(v + push, self.params.v)
         moving = bool(v.any())
         settled = False
         if not moving:
-            self.status = RESTING if p.on_target else SEEKING
+            self.status = RESTING if perception.on_target else SEEKING
             settled = self.settle_disc(sampled_with)
         else:
             self.still_disc = None
         return self.act(v, moving, settled)
 
 
-__all__ = ["CVT", "CVTParams", "LocalMap"]
+__all__ = ["CVT", "CVTParams"]

@@ -28,10 +28,10 @@ class CirclingWatch:
     circled: float
     last_bearing: float | None
 
-    def circling(self, p: Perception, nearest: int) -> bool:
+    def circling(self, perception: Perception, nearest: int) -> bool:
         """True once the robot has gone all the way round the same neighbour."""
-        sender = int(p.messages["id"][nearest])
-        offset = p.offsets[nearest]
+        sender = int(perception.messages["id"][nearest])
+        offset = perception.offsets[nearest]
         bearing = math.atan2(-float(offset[1]), -float(offset[0]))
         if sender != self.circling_id or sender == NO_SENDER or self.last_bearing is None:
             self.circling_id, self.circled, self.last_bearing = sender, 0.0, bearing
@@ -42,20 +42,20 @@ class CirclingWatch:
 
 
 class ProgressWatch:
-    """Mixin: samples a robot's displacement every ``p.T_r`` ticks (Equation 3).
+    """Mixin: samples a robot's displacement every ``params.T_r`` ticks (Equation 3).
 
-    Needs ``p.T_r``, ``odometer`` (a 2-vector the robot adds its motion to each tick) and
+    Needs ``params.T_r``, ``odometer`` (a 2-vector the robot adds its motion to each tick) and
     ``progress_tick`` (the tick of the last sample).
     """
 
     odometer: np.ndarray
     progress_tick: int
 
-    def sample_progress(self, p: Perception) -> float | None:
+    def sample_progress(self, perception: Perception) -> float | None:
         """Displacement since the last sample (units) once T_r ticks have passed, else None."""
-        if p.tick - self.progress_tick < self.p.T_r:
+        if perception.tick - self.progress_tick < self.params.T_r:
             return None
         moved = math.hypot(*self.odometer)
         self.odometer[:] = 0.0
-        self.progress_tick = p.tick
+        self.progress_tick = perception.tick
         return moved

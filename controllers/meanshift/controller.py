@@ -39,12 +39,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action, register
+from controllers.common.localmap import MIN_MAP_CELL, LocalMap, clamp, sq_norms
+from controllers.common.mapkernel import warm_up as _warm_up_map
+from swarmsim.controller import (
+    NO_SENDER,
+    Action,
+    Perception,
+    RobotSetup,
+    make_action,
+    require_non_negative,
+    require_positive,
+)
 
-from .cvt import MIN_MAP_CELL, LocalMap, clamp, sq_norms
-from .mapkernel import warm_up as _warm_up_map
-from .shiftkernel import explore, interact
-from .shiftkernel import warm_up as _warm_up_kernels
+from .kernel import explore, interact
+from .kernel import warm_up as _warm_up_kernels
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
@@ -88,14 +96,9 @@ class MeanShiftParams:
     deadband: float = 0.004
 
     def __post_init__(self) -> None:
-        for name in ("d_cover", "r_sense", "r_occupied", "map_cell", "v", "kappa_enter"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"mean-shift parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
-        for name in ("kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons", "deadband"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"mean-shift parameter {name} must be >= 0, got "
-                                 f"{getattr(self, name)!r}")
+        require_positive(self, "d_cover", "r_sense", "r_occupied", "map_cell", "v", "kappa_enter")
+        require_non_negative(self, "kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons",
+                             "deadband")
         if not 0 <= self.inertia < 1:
             raise ValueError(f"inertia must be in [0, 1), got {self.inertia!r}")
         if self.r_sense > MIN_PROBE_RANGE:
@@ -106,7 +109,6 @@ class MeanShiftParams:
                              "floor points a robot senses) and at most r_sense / 4")
 
 
-@register
 class MeanShift:
     """Sun et al. 2023: enter, explore free target floor by mean shift, avoid, agree."""
 
@@ -130,7 +132,7 @@ class MeanShift:
 
     def __init__(self, setup: RobotSetup, params: MeanShiftParams, rng: np.random.Generator):
         self.id = setup.robot_id
-        self.p = params
+        self.params = params
         self.map = LocalMap(params.r_sense, params.map_cell)
         self.velocity = np.zeros(2)
         self.status = SEEKING
@@ -139,45 +141,49 @@ class MeanShift:
         return (self.id, self.status, self.status != RESTING, float(self.velocity[0]),
                 float(self.velocity[1]))
 
-    def entering(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
-        if p.on_target:
+    def entering(self, perception: Perception, points: np.ndarray, target: np.ndarray
+                 ) -> np.ndarray:
+        if perception.on_target:
             return np.zeros(2)
         if target.any():
             q = points[target]
             goal = q[np.argmin(sq_norms(q))]
             n = math.hypot(float(goal[0]), float(goal[1]))
             if n > 1e-9:
-                return self.p.kappa_enter * goal / n
-        if p.beacon is not None:
-            return self.p.kappa_enter * p.beacon
+                return self.params.kappa_enter * goal / n
+        if perception.beacon is not None:
+            return self.params.kappa_enter * perception.beacon
         return np.zeros(2)
 
-    def exploring(self, p: Perception, points: np.ndarray, target: np.ndarray) -> np.ndarray:
+    def exploring(self, perception: Perception, points: np.ndarray, target: np.ndarray
+                  ) -> np.ndarray:
         """The mean-shift command toward sensed target floor, free floor most (kernel)."""
-        return explore(points, target, p.offsets, p.distances, self.p.r_sense,
-                       self.p.r_occupied, self.p.kappa_fill, self.p.kappa_expl)
+        params = self.params
+        return explore(points, target, perception.offsets, perception.distances, params.r_sense,
+                       params.r_occupied, params.kappa_fill, params.kappa_expl)
 
-    def interaction(self, p: Perception) -> np.ndarray:
+    def interaction(self, perception: Perception) -> np.ndarray:
         """Repulsion within d_cover and velocity consensus with the neighbours heard."""
-        m = p.messages
-        return interact(p.offsets, p.distances, m["id"], m["vx"], m["vy"], self.velocity,
-                        self.p.d_cover, self.p.r_sense, self.p.kappa_avoid, self.p.kappa_cons,
-                        NO_SENDER)
+        m, params = perception.messages, self.params
+        return interact(perception.offsets, perception.distances, m["id"], m["vx"], m["vy"],
+                        self.velocity, params.d_cover, params.r_sense, params.kappa_avoid,
+                        params.kappa_cons, NO_SENDER)
 
-    def step(self, p: Perception) -> Action:
-        self.map.move(p.moved)
-        points, target = self.map.sense(p)
-        cmd = self.entering(p, points, target) + self.exploring(p, points, target)
-        cmd = cmd + self.interaction(p)
-        cmd = clamp(cmd, self.p.v)
-        v = clamp((1 - self.p.inertia) * cmd + self.p.inertia * self.velocity, self.p.v)
+    def step(self, perception: Perception) -> Action:
+        self.map.move(perception.moved)
+        points, target = self.map.sense(perception)
+        cmd = self.entering(perception, points, target) + self.exploring(perception, points, target)
+        cmd = cmd + self.interaction(perception)
+        cmd = clamp(cmd, self.params.v)
+        inertia = self.params.inertia
+        v = clamp((1 - inertia) * cmd + inertia * self.velocity, self.params.v)
         speed = math.hypot(float(v[0]), float(v[1]))
-        if speed < self.p.deadband and math.hypot(*cmd) < self.p.deadband:
+        if speed < self.params.deadband and math.hypot(*cmd) < self.params.deadband:
             self.velocity = np.zeros(2)
-            self.status = RESTING if p.on_target else SEEKING
+            self.status = RESTING if perception.on_target else SEEKING
             return make_action((0.0, 0.0), self.message(), sleep=True)
         self.velocity = v
-        self.status = EXPLORING if p.on_target else SEEKING
+        self.status = EXPLORING if perception.on_target else SEEKING
         return make_action((float(v[0]), float(v[1])), self.message())
 
 

@@ -1,9 +1,9 @@
 """Mean-shift's per-tick arithmetic, compiled (numba): the exploring and interaction commands
-of :class:`~controllers.meanshift.MeanShift` in one pass each, where numpy made ~30 calls on
+of :class:`~controllers.meanshift.controller.MeanShift` in one pass each, where numpy made ~30 calls on
 arrays of a few hundred points (~60 us a robot, most of a mean-shift tick).
 
 The same sums as numpy's, to the bit: a 1-D ``sum()`` is numpy's pairwise summation
-(:func:`~controllers.npsum.pairwise_sum`), ``(k, 2).sum(axis=0)`` and ``mean(axis=0)`` add rows in order. The
+(:func:`~controllers.common.npsum.pairwise_sum`), ``(k, 2).sum(axis=0)`` and ``mean(axis=0)`` add rows in order. The
 tests compare both ways on random inputs.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .npsum import pairwise_sum
+from controllers.common.npsum import pairwise_sum
 
 
 @njit(cache=True)

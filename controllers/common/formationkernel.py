@@ -1,7 +1,7 @@
 """The formation's neighbour tests, compiled (numba): one pass over a robot's heard
 neighbours where numpy made a dozen calls on arrays of a few dozen rows (most of a Kilobot
 robot's tick). Comparisons only, so the same answers as the numpy formulas in
-:mod:`controllers.kilobot`; the tests compare both ways.
+:mod:`controllers.kilobot` and :mod:`controllers.common.formation`; the tests compare both ways.
 
 Each takes the robot's neighbour ``distances`` (k,), units, and their broadcasts ``messages``
 (k,) (a record array with at least ``id``, ``moving`` and ``gradient``; ``status`` for
