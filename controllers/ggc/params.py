@@ -25,7 +25,6 @@ class GGCParams:
         gradient_reach: robots sense at least gradient_reach * d_cover (the sensing range is
             the largest of R_c, this and d_cover + 2).
         radial_gain: edge following: radial correction per unit of distance error.
-        edge_gain: demo: a factor on radial_gain while edge following.
         arrive_tolerance: a robot beside an arrived robot stops once it is at least
             d_cover - arrive_tolerance from it.
         probe_distance: the floor probe looks this far ahead (Algorithm 2: one unit).
@@ -126,7 +125,6 @@ class GGCParams:
     v: float = 0.1
     gradient_reach: float = 1.3
     radial_gain: float = 1.0
-    edge_gain: float = 1.0
     arrive_tolerance: float = 0.3
     probe_distance: float = 1.0
     yield_distance: float = 2.0

@@ -71,7 +71,7 @@ def edge_follow(ox, oy, d, sense, P):  # pragma: no cover - compiled
     """Rotate around the neighbour at (ox, oy), d away, keeping d_cover from it."""
     scale = max(d, 1e-9)
     rx, ry = ox / scale, oy / scale
-    error = clip1((d - P.d_cover) * P.radial_gain * P.edge_gain)
+    error = clip1((d - P.d_cover) * P.radial_gain)
     return scaled(ry * sense + error * rx, -rx * sense + error * ry, P.v)
 
 
