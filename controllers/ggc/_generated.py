@@ -32,7 +32,6 @@ def borrow_heard(heard):  # pragma: no cover - compiled
         borrowed(heard.stepped),
         borrowed(heard.enclosed),
         borrowed(heard.blocked),
-        borrowed(heard.relays),
         borrowed(heard.h),
         borrowed(heard.handover),
         borrowed(heard.quiet),
@@ -63,7 +62,6 @@ def empty_view(heard):  # pragma: no cover - compiled
         heard.stepped[:0],
         heard.enclosed[:0],
         heard.blocked[:0],
-        heard.relays[:0],
         heard.h[:0],
         heard.handover[:0],
         heard.quiet[:0],
@@ -93,7 +91,6 @@ def point_view(view, heard, a, b):  # pragma: no cover - compiled
     view.stepped = heard.stepped[a:b]
     view.enclosed = heard.enclosed[a:b]
     view.blocked = heard.blocked[a:b]
-    view.relays = heard.relays[a:b]
     view.h = heard.h[a:b]
     view.handover = heard.handover[a:b]
     view.quiet = heard.quiet[a:b]
@@ -120,7 +117,6 @@ def copy_broadcast(me, msg):  # pragma: no cover - compiled
     msg.stepped = me.stepped
     msg.enclosed = me.enclosed
     msg.blocked = me.blocked
-    msg.relays = me.relays
     msg.h = me.h
     msg.handover = me.handover
     msg.quiet = me.quiet

@@ -93,7 +93,6 @@ DATA: tuple[Datum, ...] = (
     D("stepped", "?", "I stepped onto the target", "?"),
     D("enclosed", "?", "waiting robots round me leave no way out", "?"),
     D("blocked", "i1", "the side my formation turns aside to (0: none; rules/aside.py)", "i1"),
-    D("relays", "i2", "demo: robots my gradient passed through", "i2"),
     # travel: the route my formation took (it decides my group's orbit sense)
     D("route_x", "f8", "the route my formation took, x"),
     D("route_y", "f8", "the route my formation took, y"),

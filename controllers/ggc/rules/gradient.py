@@ -48,4 +48,3 @@ def follow_gradient(view, me, nearest, P):  # pragma: no cover - compiled
             return
     if view.id[source] != NO and view.gradient[source] < INF:
         me.gradient = view.gradient[source] + 1
-        me.relays = view.relays[source] + 1
