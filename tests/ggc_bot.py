@@ -7,8 +7,8 @@ import numpy as np
 
 from controllers.ggc import GGC, GGCParams, GGCSwarm
 from controllers.ggc.rules.common import View
+from controllers.ggc.schema import BROADCAST_NAMES
 from controllers.ggc.statuses import COVERAGE
-from controllers.ggc.swarm import COLUMNS
 from swarmsim.controller import (
     ChunkActions,
     DecideBatch,
@@ -73,7 +73,8 @@ def view(rows, groups: int = 3, scattered: bool = False, **fields) -> View:
     """A rule's view of these neighbours (see :func:`messages`), for calling a rule alone."""
     offsets, m = messages(rows, groups, scattered, **fields)
     m.flags.writeable = False  # as the driver passes them: read-only strided columns
-    return View(offsets, np.hypot(offsets[:, 0], offsets[:, 1]), *(m[name] for name in COLUMNS))
+    return View(offsets, np.hypot(offsets[:, 0], offsets[:, 1]),
+                *(m[name] for name in BROADCAST_NAMES))
 
 
 def ggc_state(sim) -> np.ndarray:

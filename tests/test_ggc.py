@@ -67,7 +67,7 @@ def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
     arrived = (state["status"] == ARRIVE) & ~state["leader"]
     on = sim.floor.on_target(sim.positions)
     assert on[arrived].mean() > 0.95
-    assert not ((state["status"] == ARRIVE) & (state["grad"] == INF_GRADIENT)).any()
+    assert not ((state["status"] == ARRIVE) & (state["gradient"] == INF_GRADIENT)).any()
     # spacing: each arrived robot's nearest arrived neighbour about d_cover (6) away (rule b
     # stops at d_cover - arrive_tolerance or more; a deadlocked mover may stop a little closer)
     settled = sim.positions[state["status"] == ARRIVE]
@@ -86,7 +86,7 @@ def test_gradient_grows_outward_from_the_leader():
     state = ggc_state(sim)
     leader = int(np.flatnonzero(state["leader"])[0])
     d = np.hypot(*(sim.positions - sim.positions[leader]).T)
-    grads = state["grad"]
+    grads = state["gradient"]
     assert grads[leader] == 0
     assert (grads < INF_GRADIENT).all()
     assert np.corrcoef(d, grads)[0, 1] > 0.9  # hop count follows distance
@@ -139,8 +139,8 @@ def test_ggc_needs_a_beacon():
 
 
 def test_params_defaults_follow_table_2():
-    p = GGCParams()
-    assert (p.d_safe, p.d_cover, p.v, p.R_c) == (1.0, 6.0, 0.1, 15.0)
+    params = GGCParams()
+    assert (params.d_safe, params.d_cover, params.v, params.R_c) == (1.0, 6.0, 0.1, 15.0)
 
 
 @pytest.fixture(scope="module")

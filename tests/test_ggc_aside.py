@@ -32,7 +32,8 @@ def _travel(bot: Bot, others, **fields) -> int:
     broadcasts' columns, the parent's first); the side it says."""
     parent = ((0.0, -1.0), 0, 1, INITIAL)
     rows = [parent, *others]
-    bot.step(rows, gradient=[0] + [0] * len(others), cmd=CMD_TRAVEL, vx=0.0, vy=V, **fields)
+    bot.step(rows, gradient=[0] + [0] * len(others), cmd=CMD_TRAVEL, travel_x=0.0, travel_y=V,
+             **fields)
     return int(bot.me["blocked"])
 
 
@@ -48,7 +49,7 @@ def test_the_default_rules_and_one_group_never_turn():
         assert _travel(_follower(ruleset), [((0.0, 1.0), 7, 2, DETECTION)]) == 0
     lone = Bot(groups=1, status=INITIAL, ruleset=ASIDE)
     lone.step([((0.0, -1.0), 0, 1, INITIAL), ((0.2, 1.0), 7, 1, DETECTION)],
-              gradient=[0, 0], cmd=CMD_TRAVEL, vx=0.0, vy=V)
+              gradient=[0, 0], cmd=CMD_TRAVEL, travel_x=0.0, travel_y=V)
     assert lone.me["blocked"] == 0
 
 
@@ -64,12 +65,12 @@ def test_the_word_runs_inward_to_the_leader_which_turns_and_then_heads_on():
     # a robot nearer the leader than me (gradient 0 < mine 1) is not heard
     mid = _follower()
     _travel(mid, [])
-    assert mid.me["grad"] == 1
+    assert mid.me["gradient"] == 1
     mid.step([((0.0, -1.0), 0, 1, INITIAL), ((1.0, 0.0), 3, 1, INITIAL)],
-             gradient=[0, 0], cmd=CMD_TRAVEL, vx=0.0, vy=V, blocked=[0, 1])
+             gradient=[0, 0], cmd=CMD_TRAVEL, travel_x=0.0, travel_y=V, blocked=[0, 1])
     assert mid.me["blocked"] == 0
     mid.step([((0.0, -1.0), 0, 1, INITIAL), ((1.0, 0.0), 3, 1, INITIAL)],
-             gradient=[0, 2], cmd=CMD_TRAVEL, vx=0.0, vy=V, blocked=[0, 1])
+             gradient=[0, 2], cmd=CMD_TRAVEL, travel_x=0.0, travel_y=V, blocked=[0, 1])
     assert mid.me["blocked"] == 1
 
 

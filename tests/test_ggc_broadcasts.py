@@ -9,9 +9,6 @@ from controllers.ggc.state import STATE_DTYPE, broadcast_rows, message_fields
 from controllers.ggc.statuses import MOVING_STATUSES, STATUSES
 from swarmsim.controller import message_dtype
 
-SOURCE = {"gradient": "grad", "vx": "travel_x", "vy": "travel_y", "hx": "hole_x",
-          "hy": "hole_y"}
-
 
 def _random_state(rng: np.random.Generator, n: int) -> np.ndarray:
     """Rows whose every byte is random, then valid statuses, booleans and finite floats."""
@@ -43,7 +40,7 @@ def test_broadcast_rows_equal_a_field_by_field_numpy_gather(groups, scattered):
         elif name in ("ldist", "lepoch"):
             expected[name] = state[name][rows, :groups if scattered else 0]
         else:
-            expected[name] = state[SOURCE.get(name, name)][rows]
+            expected[name] = state[name][rows]  # one name in state and broadcast
     assert got.tobytes() == expected.tobytes()
     assert got["moving"].any() and not got["moving"].all()
 

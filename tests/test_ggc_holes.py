@@ -53,7 +53,7 @@ def test_an_arrived_robot_inside_a_lattice_too_wide_reports_the_hole_between_thr
     assert wide.me["hole"] == 0  # the same hole for HOLE_AGE ticks: sealed in
     # the circumcentre of (me, two neighbours 8 apart at 60 degrees): 8 / sqrt(3) away
     assert math.hypot(wide.me["hole_x"], wide.me["hole_y"]) == pytest.approx(8 / math.sqrt(3))
-    assert wide.swarm.rules.ruleset & HOLES
+    assert wide.swarm.rules.flags & HOLES
 
 
 EDGE = ring(8.0, skip=(3, 4))  # arrived robots at 0, 60, 120 and 300 degrees: open at 210
@@ -101,13 +101,13 @@ def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
     relay = arrived_bot()
     rows = ring(6.0)
     relay.step(rows, on_target=True, hole=[0, NO_HOLE, 3, NO_HOLE, NO_HOLE, NO_HOLE],
-               hx=[2.0, 0, 0, 0, 0, 0], hy=[5.0, 0, 0, 0, 0, 0])
+               hole_x=[2.0, 0, 0, 0, 0, 0], hole_y=[5.0, 0, 0, 0, 0, 0])
     assert relay.me["hole"] == 1  # a neighbour at (6, 0) has a hole at (2, 5) from it
     assert (relay.me["hole_x"], relay.me["hole_y"]) == pytest.approx((8.0, 5.0))
     covered = arrived_bot()
     covered.step(rows + [((8.0, 4.0), 30, 1, ARRIVE)], on_target=True,
                  hole=[0, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE, NO_HOLE],
-                 hx=[2.0, 0, 0, 0, 0, 0, 0], hy=[5.0, 0, 0, 0, 0, 0, 0])
+                 hole_x=[2.0, 0, 0, 0, 0, 0, 0], hole_y=[5.0, 0, 0, 0, 0, 0, 0])
     assert covered.me["hole"] == NO_HOLE  # a robot 1 unit from that hole covers it
     far = arrived_bot()
     far.step(rows, on_target=True, hole=[HOLE_HOPS] + [NO_HOLE] * 5)
@@ -115,7 +115,8 @@ def test_news_of_a_hole_is_passed_on_unless_i_see_it_covered():
 
 
 WALL = [((3.0, 3.0), 20, 1, ARRIVE), ((3.0, -3.0), 21, 1, ARRIVE)]
-HOLE_AT_8_0 = {"hole": [2, NO_HOLE], "hx": [5.0, 0.0], "hy": [-3.0, 0.0]}  # news of a hole at (8, 0)
+# news of a hole at (8, 0)
+HOLE_AT_8_0 = {"hole": [2, NO_HOLE], "hole_x": [5.0, 0.0], "hole_y": [-3.0, 0.0]}
 
 
 def heads_for_8_0(v) -> bool:
@@ -127,7 +128,7 @@ def test_a_mover_that_hears_of_a_hole_goes_for_it_and_arrives_on_it():
     assert heads_for_8_0(bot.step(WALL, on_target=True, **HOLE_AT_8_0).velocities[0])
     assert bot.me["status"] == COVERAGE
     near = [((2.6, 3.0), 20, 1, ARRIVE), ((0.0, -3.0), 21, 1, ARRIVE)]
-    bot.step(near, on_target=True, hole=[0, NO_HOLE], hx=[-2.3, 0.0], hy=[-3.0, 0.0])
+    bot.step(near, on_target=True, hole=[0, NO_HOLE], hole_x=[-2.3, 0.0], hole_y=[-3.0, 0.0])
     assert bot.me["status"] == ARRIVE  # 0.3 from the hole
 
 
@@ -140,12 +141,13 @@ def test_a_mover_fresh_from_its_formation_keeps_to_the_edge():
 def test_only_the_mover_nearest_to_a_hole_goes_for_it_and_a_stuck_one_rests_from_holes():
     bot = mover()
     rows = [((3.0, 3.0), 20, 1, ARRIVE), ((6.0, 0.5), 30, 2, COVERAGE)]
-    fields = {"hole": [0, NO_HOLE], "hx": [5.0, 0.0], "hy": [-3.0, 0.0]}  # the hole at (8, 0)
+    fields = {"hole": [0, NO_HOLE], "hole_x": [5.0, 0.0], "hole_y": [-3.0, 0.0]}  # at (8, 0)
     v = bot.step(rows, on_target=True, **fields).velocities[0]
     assert not heads_for_8_0(v)  # the mover at (6, 0.5) is nearer: not mine
     alone = mover()
     alone.me["progress_tick"] = 0
-    alone.step(rows[:1], on_target=True, tick=500, hole=[0], hx=[5.0], hy=[-3.0])  # no progress over T_r ticks
+    # no progress over T_r ticks
+    alone.step(rows[:1], on_target=True, tick=500, hole=[0], hole_x=[5.0], hole_y=[-3.0])
     assert alone.me["hole_rest"] > 500
 
 
@@ -153,11 +155,11 @@ def test_a_mover_arrives_short_of_a_hole_its_probe_finds_off_the_target():
     bot = mover()
     rows = [((3.0, 3.0), 20, 1, ARRIVE)]
     bot.step(rows, on_target=True, probe=lambda offset: False,
-             hole=[0], hx=[-1.5], hy=[-3.0])  # the hole 1.5 units ahead, off the target
+             hole=[0], hole_x=[-1.5], hole_y=[-3.0])  # the hole 1.5 units ahead, off the target
     assert bot.me["status"] == ARRIVE
     outside = mover()
     outside.step(rows, on_target=False, probe=lambda offset: False, tick=300,
-                 hole=[0], hx=[-1.5], hy=[-3.0])  # off the target myself: not mine to fill
+                 hole=[0], hole_x=[-1.5], hole_y=[-3.0])  # off the target myself: not mine to fill
     assert outside.me["status"] == COVERAGE and outside.me["hole_rest"] > 300
 
 
@@ -173,6 +175,6 @@ def test_without_hole_filling_arrived_robots_sleep_for_good_and_movers_follow_th
 
 def test_holes_are_filled_only_where_the_lattice_covers():
     """At d_cover 8 a lattice leaves holes by design (8 > r sqrt(3)): nobody reports them."""
-    assert Bot(ruleset="yield-holes").swarm.rules.ruleset & HOLES
+    assert Bot(ruleset="yield-holes").swarm.rules.flags & HOLES
     wide = Bot(ruleset="yield-holes", d_cover=8.0)
-    assert not wide.swarm.rules.ruleset & HOLES and wide.swarm.rules.ruleset & YIELD
+    assert not wide.swarm.rules.flags & HOLES and wide.swarm.rules.flags & YIELD

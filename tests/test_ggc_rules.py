@@ -164,7 +164,7 @@ def test_with_groups_a_robot_in_stop_does_not_hold_its_formation_back():
     rows = [((3.0, 0.0), 9, 1, STOP)]
     for groups, expected in ((3, NOT_BLOCKED), (1, BY_WAITING)):
         bot = Bot(groups=groups, status=DETECTION)
-        bot.me["grad"] = 5
+        bot.me["gradient"] = 5
         assert blocked(view(rows, groups, gradient=7), bot.me, bot.swarm.rules) == expected
 
 
@@ -297,7 +297,7 @@ def _travel_then_leave(bot: Bot, vx: float, vy: float) -> None:
     bot.me["status"] = INITIAL
     group = int(bot.me["group"])
     for cmd in (CMD_TRAVEL, CMD_HALT):
-        bot.step([((1.0, 0.0), 0, group, INITIAL)], gradient=0, cmd=cmd, vx=vx, vy=vy)
+        bot.step([((1.0, 0.0), 0, group, INITIAL)], gradient=0, cmd=cmd, travel_x=vx, travel_y=vy)
     assert bot.me["status"] == DETECTION
     bot.step([((8.0, 0.0), 0, group, ARRIVE)])
     assert bot.me["status"] == COVERAGE
@@ -306,8 +306,8 @@ def _travel_then_leave(bot: Bot, vx: float, vy: float) -> None:
 def test_a_formation_robot_copies_its_parents_travel_and_halts_with_it():
     bot = Bot(groups=1, status=INITIAL)
     d = bot.step([((1.0, 0.0), 0, 1, INITIAL), ((2.0, 0.0), 3, 1, INITIAL)],
-                 gradient=[0, 1], cmd=CMD_TRAVEL, vx=0.05, vy=0.08)
-    assert bot.me["grad"] == 1 and d.velocities[0].tolist() == [np.float32(0.05),
+                 gradient=[0, 1], cmd=CMD_TRAVEL, travel_x=0.05, travel_y=0.08)
+    assert bot.me["gradient"] == 1 and d.velocities[0].tolist() == [np.float32(0.05),
                                                                 np.float32(0.08)]
     d = bot.step([((1.0, 0.0), 0, 1, INITIAL)], gradient=0, cmd=CMD_HALT)
     assert bot.me["status"] == DETECTION and d.velocities[0].tolist() == [0.0, 0.0]
@@ -362,12 +362,12 @@ def _beside_other_groups_robots(second: bool):
 def test_rule_b_beside_another_groups_arrived_robot_needs_a_triangle():
     for second, arrives in ((False, False), (True, True)):
         bot = Bot()
-        bot.me["grad"] = 40
+        bot.me["gradient"] = 40
         bot.step(_beside_other_groups_robots(second), on_target=True,
                  probe=lambda offset: True, gradient=3)
         assert (bot.me["status"] == ARRIVE) == arrives, second
     own = Bot()  # my own group's robot: the gradient rule
-    own.me["grad"] = 2
+    own.me["gradient"] = 2
     own.step([((6.0, 0.0), 8, 1, ARRIVE)], on_target=True, probe=lambda offset: True,
              gradient=3)
     assert own.me["status"] == ARRIVE

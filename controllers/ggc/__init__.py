@@ -1,9 +1,10 @@
 """GGC: gradient-and-grouping self-organising coverage (the paper's controller).
 
 ``--controller ggc``. The class here only declares: its parameters (params.py), statuses
-(statuses.py), broadcast fields (state.py). The run's robots are one :class:`GGCSwarm`
-(swarm.py): their state rows (state.py) and the compiled driver (decide.py) that decides each
-robot by the rules in rules/, one module per rule family:
+(statuses.py), broadcast fields (schema.py: one row per datum of a robot's state and
+broadcast). The run's robots are one :class:`GGCSwarm` (swarm.py): their state rows
+(state.py) and the compiled driver (decide.py) that decides each robot by the rules in
+rules/, one module per rule family:
 
 =============================  =============================================================
 rule                           where
@@ -35,7 +36,7 @@ from typing import Any
 
 import numpy as np
 
-from controllers.common.gradient import COLOURINGS, SILENT
+from controllers.common.gradient import COLOURINGS
 from swarmsim.controller import RobotSetup, stamp_kernels_by_code
 
 # the driver (decide.py) is compiled with rules from every file here: its kernels are
@@ -43,6 +44,7 @@ from swarmsim.controller import RobotSetup, stamp_kernels_by_code
 stamp_kernels_by_code(Path(__file__).parent, whole=True)
 
 from .params import GGCParams
+from .schema import SILENT
 from .state import MAX_GROUPS, message_fields
 from .statuses import SETTLED, STATUSES
 from .swarm import GGCSwarm, same_run_ruleset

@@ -1,9 +1,9 @@
 """Borrowed array views for compiled code: the same array, not reference-counted.
 
 numba counts a reference to every array it passes to a compiled function up and down on each
-call (atomic operations). A GGC rule is given the robot's view, 22 array slices, and a
-decision makes dozens of rule calls (the view is one struct passed by pointer, rules/common.py,
-whose fields are these slices). The driver's arrays are its arguments, which the caller holds
+call (atomic operations). A GGC rule is given the robot's view, one array slice per field of
+schema.VIEW_FIELDS, and a decision makes dozens of rule calls (the view is one struct passed
+by pointer, rules/common.py, whose fields are these slices). The driver's arrays are its arguments, which the caller holds
 for the whole call, so it hands the rules borrowed views of them: the same data, shape and
 strides, and no reference count (a null meminfo, which numba's counting skips).
 

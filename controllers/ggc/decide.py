@@ -11,14 +11,17 @@ from __future__ import annotations
 
 import inspect
 from collections import namedtuple
+from dataclasses import fields
 
 import numba
-from numba import njit, types
+from numba import njit
 from numba.extending import overload
 
+from ._generated import borrow_heard, empty_view, point_view
 from .borrow import borrowed
+from .params import GGCParams
 from .rules.aggregation import gather, select_leaders
-from .rules.common import Probe, Sense, View
+from .rules.common import Probe, Sense
 from .rules.coverage import coverage, stopped
 from .rules.detection import detection
 from .rules.holes import cover_radius, settled
@@ -36,17 +39,30 @@ from .statuses import (
     STOP,
 )
 
-RuleParams = namedtuple("RuleParams", [
-    "d_safe", "d_cover", "d_min", "R_c", "v", "radial_gain", "arrive_tolerance",
-    "probe_distance", "yield_distance", "orbit", "T_r", "theta", "T_s", "init_timeout",
-    "T_settle", "T_quiet", "handover_reach", "join_tolerance", "boundary_probe",
-    "surplus_frontier", "surplus_winding", "surplus_spread", "yield_release", "lattice_stop",
-    "lattice_reach", "groups", "scattered", "surplus_rule", "boundary_fill",
-    "selection_ticks", "gather_deadline", "ruleset", "confined_ticks", "confined_reach",
-    "confined_walk"])
-"""The run's parameters as the rules read them (GGCParams' plus the run's: groups, start,
-which of our additions apply; surplus_winding in radians; confined_reach and confined_walk in
-units)."""
+RULE_CASTS = {"float": float, "int": int, "bool": bool}
+"""The GGCParams fields the rules read: those of these types (annotations), cast so; the rule
+set's name is not one of them (the rules read its flags, ``flags``)."""
+PARAM_NAMES = tuple(f.name for f in fields(GGCParams) if f.type in RULE_CASTS)
+"""The GGCParams fields in RuleParams, by the same names."""
+DERIVED = {
+    "groups": "the run's number of groups",
+    "scattered": "the robots start scattered (start \"random\")",
+    "flags": "the rule set's flags as they apply at this d_cover (swarm.rule_flags)",
+    "surplus_rule": "surplus movers stop (rules/surplus.py; swarm.rule_params)",
+    "boundary_fill": "edge-followers step in onto the target's boundary (one group)",
+    "selection_ticks": "scattered start: ticks of leader selection",
+    "gather_deadline": "scattered start: the tick a robot not in its formation covers alone",
+    "surplus_turn": "surplus_winding in radians",
+    "confined_span": "confined_ticks at this d_cover (ticks; swarm.confined_span)",
+    "confined_radius": "confined_reach in units (confined_reach * d_cover)",
+    "confined_path": "confined_walk at this d_cover (units; swarm.confined_path)",
+}
+"""The values the rules read that are not GGCParams fields: computed for each run
+(swarm.rule_params), each with its meaning."""
+
+RuleParams = namedtuple("RuleParams", [*PARAM_NAMES, *DERIVED])
+"""The run's parameters as the rules read them: GGCParams' fields (:data:`PARAM_NAMES`)
+and the run's :data:`DERIVED` values."""
 
 
 ScatteredRuleParams = namedtuple("ScatteredRuleParams", RuleParams._fields)
@@ -97,7 +113,7 @@ def status_rule(view, me, sense, pb, P):  # pragma: no cover - compiled
         return detection(view, me, sense, pb, P)
     if s == STOP:
         return stopped(view, me, sense, pb, P)
-    if s == ARRIVE and P.ruleset & HOLES:
+    if s == ARRIVE and P.flags & HOLES:
         return settled(view, me, sense, pb, P)
     return 0.0, 0.0, True, 0.0, True, -1  # Arrive, Surplus
 
@@ -113,50 +129,56 @@ def listen_range(status, P):  # pragma: no cover - compiled
         return 1.5 * P.d_min
     if status == DETECTION:
         return max(P.d_cover, 1.5 * P.d_min)
-    if status == ARRIVE and P.ruleset & HOLES:
+    if status == ARRIVE and P.flags & HOLES:
         return P.d_cover + cover_radius(P)
     return P.d_safe  # Arrive, Surplus
 
 
+Chunk = namedtuple("Chunk", ["todo", "rows", "state", "saved", "again"])
+"""Which robots a pass decides: indices j into the chunk (``todo``); robot j's state row is
+``state[rows[j]]``, kept in ``saved[j]`` before its decision (put back first when
+``again``)."""
+Sensors = namedtuple("Sensors", ["tick", "on_target", "moved", "beacons", "has_beacon"])
+"""The chunk's robots' own sensors, row j robot j's: the tick, floor sensor (n,),
+displacement over the last tick (n, 2), unit bearing to the beacon (n, 2), if the world has
+one (``has_beacon``)."""
+Probes = namedtuple("Probes", ["req", "ans", "calls", "pending"])
+"""Each robot's floor-probe questions (n, MAX_PROBES, 2), their answers (n, MAX_PROBES; -1:
+none yet), how many it asked (n,), and whether it waits for an answer (n,)."""
+Actions = namedtuple("Actions", ["velocity", "sleep", "wake_range", "wake_on_motion",
+                                 "wake_tick", "listen"])
+"""The chunk's actions, row j robot j's (swarmsim.controller.ChunkActions' columns)."""
+
+
 @njit(cache=True)
-def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, beacons,
-                 has_beacon, req, ans, calls, pending, P, velocity, sleep, wake_range,
-                 wake_on_motion, wake_tick, listen):  # pragma: no cover - compiled
-    """Decide the chunk's robots ``todo`` (indices j into the chunk: robot j's state row is
-    ``state[rows[j]]``, its sensors row j of the sensor arrays, its neighbours rows
-    ``c[0][j]:c[0][j+1]`` of the chunk's columns ``c``: starts, then View's fields) into row
-    j of the action arrays. ``pending[j]``: decide it again (``again``: its row is put back
-    from ``saved[j]`` first) once its probe questions ``req[j, :calls[j]]`` are answered in
-    ``ans``."""
-    starts = c[0]
-    c = (starts, borrowed(c[1]), borrowed(c[2]), borrowed(c[3]), borrowed(c[4]),
-         borrowed(c[5]), borrowed(c[6]), borrowed(c[7]), borrowed(c[8]), borrowed(c[9]),
-         borrowed(c[10]), borrowed(c[11]), borrowed(c[12]), borrowed(c[13]), borrowed(c[14]),
-         borrowed(c[15]), borrowed(c[16]), borrowed(c[17]), borrowed(c[18]), borrowed(c[19]),
-         borrowed(c[20]), borrowed(c[21]), borrowed(c[22]), borrowed(c[23]))
-    req, ans, calls, pending = borrowed(req), borrowed(ans), borrowed(calls), borrowed(pending)
-    view = View(c[1][:0], c[2][:0], c[3][:0], c[4][:0], c[5][:0], c[6][:0], c[7][:0],
-                c[8][:0], c[9][:0], c[10][:0], c[11][:0], c[12][:0], c[13][:0], c[14][:0],
-                c[15][:0], c[16][:0], c[17][:0], c[18][:0], c[19][:0], c[20][:0], c[21][:0],
-                c[22][:0], c[23][:0])
+def decide_chunk(chunk, heard, sensors, probes, P, actions):  # pragma: no cover - compiled
+    """Decide the chunk's robots ``chunk.todo`` (see :data:`Chunk`) into row j of
+    ``actions``; robot j hears rows ``heard.starts[j]:heard.starts[j+1]`` of the chunk's
+    columns ``heard`` (a rules.common.Heard). ``probes.pending[j]``: decide it again (with
+    ``chunk.again``) once its probe questions are answered."""
+    starts = heard.starts
+    heard = borrow_heard(heard)
+    req, ans = borrowed(probes.req), borrowed(probes.ans)
+    calls, pending = borrowed(probes.calls), borrowed(probes.pending)
+    state, saved, rows, again = chunk.state, chunk.saved, chunk.rows, chunk.again
+    tick, on_target, moved = sensors.tick, sensors.on_target, sensors.moved
+    has_beacon, beacons = sensors.has_beacon, sensors.beacons
+    velocity, sleep, listen = actions.velocity, actions.sleep, actions.listen
+    wake_range, wake_on_motion, wake_tick = (actions.wake_range, actions.wake_on_motion,
+                                             actions.wake_tick)
+    view = empty_view(heard)
     pb = Probe(req[0], ans[0], calls[0:1], pending[0:1])
-    for j in todo:
+    for j in chunk.todo:
         i = rows[j]
         if again:
             state[i] = saved[j]
         else:
             saved[j] = state[i]
-        a, b = starts[j], starts[j + 1]
         # the view is one struct, pointed at robot j's rows (each rule call passes a pointer)
-        view.off, view.dist, view.id, view.status = c[1][a:b], c[2][a:b], c[3][a:b], c[4][a:b]
-        view.grad, view.group, view.leader = c[5][a:b], c[6][a:b], c[7][a:b]
-        view.moving, view.cmd, view.vx, view.vy = c[8][a:b], c[9][a:b], c[10][a:b], c[11][a:b]
-        view.touch, view.stepped, view.enclosed = c[12][a:b], c[13][a:b], c[14][a:b]
-        view.h, view.handover, view.quiet = c[15][a:b], c[16][a:b], c[17][a:b]
-        view.ldist, view.lepoch, view.hole = c[18][a:b], c[19][a:b], c[20][a:b]
-        view.hx, view.hy, view.blocked = c[21][a:b], c[22][a:b], c[23][a:b]
-        sense = Sense(tick, on_target[j], moved[j, 0], moved[j, 1], has_beacon,
-                      beacons[j, 0], beacons[j, 1])
+        point_view(view, heard, starts[j], starts[j + 1])
+        sense = Sense(tick=tick, on_target=on_target[j], moved_x=moved[j, 0],
+                      moved_y=moved[j, 1], has_beacon=has_beacon, beacon_x=beacons[j, 0],
+                      beacon_y=beacons[j, 1])
         calls[j] = 0
         pending[j] = False
         pb.req, pb.ans, pb.calls, pb.pending = req[j], ans[j], calls[j:j + 1], pending[j:j + 1]
@@ -170,38 +192,25 @@ def decide_chunk(todo, rows, state, saved, again, c, tick, on_target, moved, bea
 
 
 ChunkArgs = namedtuple("ChunkArgs", inspect.signature(decide_chunk.py_func).parameters)
-"""decide_chunk's arguments, by name."""
+"""decide_chunk's arguments, by name (its parameters')."""
 
 _DRIVERS: set[type] = set()
 """The RuleParams types (one per start) whose driver :func:`ensure_driver` compiled (or
 loaded) in this process."""
 
 
-def driver_types(args: ChunkArgs) -> tuple:
-    """numba's types of :func:`decide_chunk`'s arguments ``args``, with every broadcast column
-    (``c[3:]``, views of the heard messages' fields) typed as strided ('A').
-
-    numba types an array C-contiguous when numpy flags it so, as it does every array of 0 or
-    1 rows: a chunk that heard one message (a lone awake robot) would then need a driver
-    compiled anew for its types, mid-run (about a minute). Typed 'A', one compiled driver
-    takes every chunk (numba converts a C-contiguous column to 'A' on the call)."""
-    typed = args._replace(**{name: numba.typeof(value) for name, value in args._asdict().items()})
-    columns = typed.c
-    return tuple(typed._replace(c=types.Tuple([*columns[:3],
-                                               *(t.copy(layout="A") for t in columns[3:])])))
-
-
 def ensure_driver(args: ChunkArgs) -> None:
-    """Compile (or load from the cache) the driver for ``args``' types (as
-    :func:`driver_types` gives them) unless this process has it for their start (the type of
-    ``args.P``); numba compiles nothing else: a call whose types no driver can take fails
-    loudly (TypeError) instead of compiling for a minute mid-run."""
+    """Compile (or load from the cache) the driver for ``args``' types unless this process
+    has it for their start (the type of ``args.P``); numba compiles nothing else: a call
+    whose types no driver can take fails loudly (TypeError) instead of compiling for a
+    minute mid-run. Every broadcast column is typed strided (rules.common.Heard), so one
+    driver takes every chunk."""
     start = type(args.P)
     if start in _DRIVERS:
         return
     decide_chunk.disable_compile(False)
     try:
-        decide_chunk.compile(driver_types(args))
+        decide_chunk.compile(tuple(numba.typeof(value) for value in args))
     finally:
         decide_chunk.disable_compile()
     _DRIVERS.add(start)

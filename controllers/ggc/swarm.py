@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import fields, replace
 
 import numpy as np
 from numba import njit
@@ -25,55 +25,63 @@ from swarmsim.controller import (
     message_dtype,
 )
 
-from .decide import ChunkArgs, RuleParams, ScatteredRuleParams, decide_chunk, ensure_driver
+from .decide import (
+    PARAM_NAMES,
+    RULE_CASTS,
+    Actions,
+    Chunk,
+    ChunkArgs,
+    Probes,
+    RuleParams,
+    ScatteredRuleParams,
+    Sensors,
+    decide_chunk,
+    ensure_driver,
+)
+from .heard import Heard
 from .params import GGCParams
 from .rules.common import MAX_PROBES
-from .rules.rulesets import ASIDE, BESIDE, HOLES, RULESETS, SURPLUS, YIELD
+from .rules.rulesets import ANY_GROUPS, BETWEEN_GROUPS, FLAG_SCOPE, HOLES, RULESETS, SURPLUS
+from .schema import BROADCAST_NAMES
 from .state import broadcast_rows, message_fields, new_state
 from .statuses import STATUSES
 
-COLUMNS = ("id", "status", "gradient", "group", "leader", "moving", "cmd", "vx", "vy", "touch",
-           "stepped", "enclosed", "h", "handover", "quiet", "ldist", "lepoch", "hole", "hx", "hy",
-           "blocked")
-"""The broadcast columns a rule's view holds, in View's order (after off, dist)."""
 
-
-def rule_params(p: GGCParams, groups: int, scattered: bool) -> RuleParams:
+def rule_params(params: GGCParams, groups: int, scattered: bool) -> RuleParams:
     """The rules' parameters for a run with ``groups`` groups (``scattered``: start
-    "random")."""
-    selection = (p.h_max + 1) * p.T_settle
+    "random"): ``params``' fields (decide.PARAM_NAMES, cast by their types) and the run's
+    derived values (decide.DERIVED)."""
+    selection = (params.h_max + 1) * params.T_settle
     one = groups == 1
-    flags = rule_flags(p)
-    return (ScatteredRuleParams if scattered else RuleParams)(
-        d_safe=float(p.d_safe), d_cover=float(p.d_cover), d_min=float(p.d_min),
-        R_c=float(p.R_c), v=float(p.v), radial_gain=float(p.radial_gain),
-        arrive_tolerance=float(p.arrive_tolerance), probe_distance=float(p.probe_distance),
-        yield_distance=float(p.yield_distance), orbit=float(p.orbit), T_r=int(p.T_r),
-        theta=float(p.theta), T_s=int(p.T_s), init_timeout=int(p.init_timeout),
-        T_settle=int(p.T_settle), T_quiet=int(p.T_quiet),
-        handover_reach=float(p.handover_reach), join_tolerance=float(p.join_tolerance),
-        boundary_probe=float(p.boundary_probe), surplus_frontier=float(p.surplus_frontier),
-        surplus_winding=math.radians(p.surplus_winding), surplus_spread=bool(p.surplus_spread),
-        yield_release=float(p.yield_release), lattice_stop=bool(p.lattice_stop),
-        lattice_reach=float(p.lattice_reach), groups=int(groups), scattered=bool(scattered),
-        surplus_rule=bool(p.surplus_stop and p.d_cover > p.yield_release
-                          and (one or surplus_between_groups(flags))),
-        boundary_fill=one, selection_ticks=int(selection),
-        gather_deadline=int(selection + p.aggregation_timeout + 1),
-        ruleset=flags, confined_ticks=confined_ticks(p),
-        confined_reach=float(p.confined_reach * p.d_cover), confined_walk=confined_walk(p))
+    flags = rule_flags(params)
+    derived = {
+        "groups": int(groups), "scattered": bool(scattered), "flags": flags,
+        "surplus_rule": bool(params.surplus_stop and params.d_cover > params.yield_release
+                             and (one or surplus_between_groups(flags))),
+        "boundary_fill": one, "selection_ticks": int(selection),
+        "gather_deadline": int(selection + params.aggregation_timeout + 1),
+        "surplus_turn": math.radians(params.surplus_winding),
+        "confined_span": confined_span(params),
+        "confined_radius": float(params.confined_reach * params.d_cover),
+        "confined_path": confined_path(params),
+    }
+    own = {f.name: RULE_CASTS[f.type](getattr(params, f.name)) for f in fields(params)
+           if f.name in PARAM_NAMES}
+    return (ScatteredRuleParams if scattered else RuleParams)(**own, **derived)
 
 
-def confined_ticks(p: GGCParams) -> int:
+def confined_span(params: GGCParams) -> int:
     """How long a mover may stay within its reach before it gives up (rules/confined.py):
-    p.confined_ticks at d_cover = d_safe, in proportion to d_safe + d_cover (ticks)."""
-    return round(p.confined_ticks * (p.d_safe + p.d_cover) / (2 * p.d_safe))
+    params.confined_ticks at d_cover = d_safe, in proportion to d_safe + d_cover (ticks)."""
+    return round(params.confined_ticks * (params.d_safe + params.d_cover) / (2 * params.d_safe))
 
 
-def confined_walk(p: GGCParams) -> float:
+def confined_path(params: GGCParams) -> float:
     """How far a mover may walk in Coverage since leaving its formation before it gives up
-    (rules/confined.py): p.confined_walk * d_cover * max(d_cover, 2 d_safe) / d_safe (units)."""
-    return float(p.confined_walk * p.d_cover * max(p.d_cover, 2 * p.d_safe) / p.d_safe)
+    (rules/confined.py): params.confined_walk * d_cover * max(d_cover, 2 d_safe) / d_safe
+    (units)."""
+    return float(params.confined_walk * params.d_cover * max(params.d_cover, 2 * params.d_safe)
+                 / params.d_safe)
 
 
 def surplus_between_groups(flags: int) -> bool:
@@ -85,45 +93,41 @@ def surplus_between_groups(flags: int) -> bool:
     return bool(flags & SURPLUS) and not flags & HOLES
 
 
-def rule_flags(p: GGCParams) -> int:
+def rule_flags(params: GGCParams) -> int:
     """The rule set's flags (rules/rulesets.py) as they apply at this d_cover: holes are filled
     only while d_cover + arrive_tolerance <= lattice_reach (a wider lattice leaves holes by
     design, as the paper's d_cover 8 and 10 do)."""
-    flags = RULESETS[p.ruleset]
-    if p.d_cover + p.arrive_tolerance > p.lattice_reach:
+    flags = RULESETS[params.ruleset]
+    if params.d_cover + params.arrive_tolerance > params.lattice_reach:
         flags &= ~HOLES
     return int(flags)
 
 
-def acting_flags(p: GGCParams, groups: int) -> int:
-    """The flags of :func:`rule_flags` that can change a run with ``groups`` groups: two rule
-    sets with the same acting flags make the same run, tick for tick. With one group, YIELD
-    acts nowhere (rules/intergroup.py answers as the paper's rule does when P.groups == 1,
-    deadlock.wedged reads YIELD only when P.groups > 1), nor does SURPLUS while d_cover >
-    yield_release (there it is read only by :func:`surplus_between_groups`, for runs with
-    groups; at d_cover <= yield_release it is kept, for rules of one group there), nor do
-    ASIDE and BESIDE (each acts on another group's robots only; aside.blocked_side returns
-    at once when P.groups == 1). Every other flag is taken to act: a rule that reads YIELD,
-    ASIDE or BESIDE, or SURPLUS at d_cover > yield_release, with one group must change this
-    function."""
-    flags = rule_flags(p)
+def acting_flags(params: GGCParams, groups: int) -> int:
+    """The flags of :func:`rule_flags` that can act in a run with ``groups`` groups, as
+    rulesets.FLAG_SCOPE declares them: with one group, none whose scope is BETWEEN_GROUPS,
+    nor one whose scope is a length that d_cover exceeds. Two rule sets with the same
+    acting flags make the same run, tick for tick."""
+    flags = rule_flags(params)
     if groups == 1:
-        flags &= ~(YIELD | ASIDE | BESIDE)
-        if p.d_cover > p.yield_release:
-            flags &= ~SURPLUS
+        for flag, scope in FLAG_SCOPE.items():
+            if scope == BETWEEN_GROUPS or (scope != ANY_GROUPS
+                                           and params.d_cover > getattr(params, scope)):
+                flags &= ~flag
     return int(flags)
 
 
-def same_run_ruleset(p: GGCParams, groups: int) -> str:
-    """The rule set that names the run of ``p`` with ``groups`` groups canonically: the first
-    of "paper", then RULESETS in order, with the same :func:`acting_flags` as ``p.ruleset``
-    (``p.ruleset`` itself when no earlier one has them). The experiments give runs of rule sets
-    that name the same canonical one a single run id (GGC.same_run_settings)."""
-    mine = acting_flags(p, groups)
+def same_run_ruleset(params: GGCParams, groups: int) -> str:
+    """The rule set that names the run of ``params`` with ``groups`` groups canonically: the
+    first of "paper", then RULESETS in order, with the same :func:`acting_flags` as
+    ``params.ruleset`` (``params.ruleset`` itself when no earlier one has them). The
+    experiments give runs of rule sets that name the same canonical one a single run id
+    (GGC.same_run_settings)."""
+    mine = acting_flags(params, groups)
     for name in dict.fromkeys(("paper", *RULESETS)):
-        if acting_flags(replace(p, ruleset=name), groups) == mine:
+        if acting_flags(replace(params, ruleset=name), groups) == mine:
             return name
-    return p.ruleset
+    return params.ruleset
 
 
 class GGCSwarm:
@@ -164,24 +168,29 @@ class GGCSwarm:
         m.flags.writeable = False  # the rules read it (one compiled signature: read-only)
         # each column a strided view of the heard rows, not a copy: the rules read a
         # neighbour's fields from its one record
-        columns = (np.ascontiguousarray(batch.neighbours.starts, dtype=np.int64),
-                   np.ascontiguousarray(batch.offsets, dtype=np.float64),
-                   np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
-                   *(m[name] for name in COLUMNS))
+        heard = Heard(starts=np.ascontiguousarray(batch.neighbours.starts, dtype=np.int64),
+                      off=np.ascontiguousarray(batch.offsets, dtype=np.float64),
+                      dist=np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
+                      **{name: m[name] for name in BROADCAST_NAMES})
         has_beacon = batch.beacons is not None
         return ChunkArgs(
-            todo=np.arange(n), rows=robots, state=self.state,
-            saved=np.empty(n, dtype=self.state.dtype), again=False, c=columns,
-            tick=int(batch.tick), on_target=np.ascontiguousarray(batch.on_target, dtype=bool),
-            moved=np.ascontiguousarray(batch.moved, dtype=np.float64),
-            beacons=(np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
-                     else np.zeros((n, 2))),
-            has_beacon=has_beacon, req=np.zeros((n, MAX_PROBES, 2)),
-            ans=np.full((n, MAX_PROBES), -1, dtype=np.int8), calls=np.zeros(n, dtype=np.int64),
-            pending=np.zeros(n, dtype=bool), P=self.rules, velocity=np.zeros((n, 2)),
-            sleep=np.zeros(n, dtype=bool), wake_range=np.full(n, np.nan),
-            wake_on_motion=np.ones(n, dtype=bool), wake_tick=np.full(n, -1, dtype=np.int64),
-            listen=np.zeros(n))
+            chunk=Chunk(todo=np.arange(n), rows=robots, state=self.state,
+                        saved=np.empty(n, dtype=self.state.dtype), again=False),
+            heard=heard,
+            sensors=Sensors(
+                tick=int(batch.tick), on_target=np.ascontiguousarray(batch.on_target, dtype=bool),
+                moved=np.ascontiguousarray(batch.moved, dtype=np.float64),
+                beacons=(np.ascontiguousarray(batch.beacons, dtype=np.float64) if has_beacon
+                         else np.zeros((n, 2))),
+                has_beacon=has_beacon),
+            probes=Probes(req=np.zeros((n, MAX_PROBES, 2)),
+                          ans=np.full((n, MAX_PROBES), -1, dtype=np.int8),
+                          calls=np.zeros(n, dtype=np.int64), pending=np.zeros(n, dtype=bool)),
+            P=self.rules,
+            actions=Actions(velocity=np.zeros((n, 2)), sleep=np.zeros(n, dtype=bool),
+                            wake_range=np.full(n, np.nan),
+                            wake_on_motion=np.ones(n, dtype=bool),
+                            wake_tick=np.full(n, -1, dtype=np.int64), listen=np.zeros(n)))
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions:
         """The actions of the chunk's robots (``robots``: their rows, in the batch's order),
@@ -189,20 +198,24 @@ class GGCSwarm:
         robots = np.ascontiguousarray(robots, dtype=np.intp)
         a = self._chunk_args(robots, batch)
         ensure_driver(a)  # one compiled signature per start, whatever the chunk's sizes
-        while len(a.todo):
+        chunk, probes, actions = a.chunk, a.probes, a.actions
+        while len(chunk.todo):
             decide_chunk(*a)
-            a = a._replace(todo=np.flatnonzero(a.pending), again=True)
-            if len(a.todo):
-                self._answer(batch, a.todo, a.req, a.ans, a.calls)
+            chunk = chunk._replace(todo=np.flatnonzero(probes.pending), again=True)
+            a = a._replace(chunk=chunk)
+            if len(chunk.todo):
+                self._answer(batch, chunk.todo, probes)
         broadcast = broadcast_rows(self.state, robots, batch.neighbours.messages.dtype)
-        return ChunkActions.columns(a.velocity, a.listen, broadcast, a.sleep, a.wake_range,
-                                    a.wake_on_motion, a.wake_tick)
+        return ChunkActions.columns(
+            velocities=actions.velocity, listen=actions.listen, broadcast=broadcast,
+            sleep=actions.sleep, wake_range=actions.wake_range,
+            wake_on_motion=actions.wake_on_motion, wake_tick=actions.wake_tick)
 
     @staticmethod
-    def _answer(batch: DecideBatch, todo: np.ndarray, req: np.ndarray, ans: np.ndarray,
-                calls: np.ndarray) -> None:
-        """Answer the open probe questions of the robots ``todo`` (in place, in ``ans``)."""
-        k, c, offsets = open_probes(todo, calls, ans, req)
+    def _answer(batch: DecideBatch, todo: np.ndarray, probes: Probes) -> None:
+        """Answer the open probe questions of the robots ``todo`` (in place, in
+        ``probes.ans``)."""
+        k, c, offsets = open_probes(todo, probes.calls, probes.ans, probes.req)
         if len(k) == 0:
             return
         if batch.probe_many is not None:
@@ -210,7 +223,7 @@ class GGCSwarm:
         else:
             answers = [batch.probe(j)(offset) for j, offset in zip(k.tolist(), offsets,
                                                                      strict=True)]
-        ans[k, c] = answers
+        probes.ans[k, c] = answers
 
     def summarize(self, failed: np.ndarray | None = None) -> dict:
         """Per-run GGC figures: final statuses (failed robots as "Failed"), deadlocks (every

@@ -23,13 +23,12 @@ import math
 
 from numba import njit
 
+from ..schema import FAR
 from ..statuses import APPROACH, DETECTION, FORMED, INITIAL, JOIN, PEND
 from .common import NO, clip1, move, rest, scaled, set_status, still, within
 from .detection import detection
 from .travel import initial
 
-FAR = 1e9
-"""Field distance of a leader not heard of yet (units)."""
 QUIET_CAP = 10_000
 
 
@@ -239,7 +238,7 @@ def formed(view, me, sense, pb, P):  # pragma: no cover - compiled
         set_status(me, INITIAL)
         me.initial_since = sense.tick
         if me.leader:
-            me.grad = 0
+            me.gradient = 0
         return initial(view, me, sense, P)
     return still()
 

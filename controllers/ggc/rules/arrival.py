@@ -28,7 +28,7 @@ def two_arrived(view, reach):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def should_arrive(view, me, nearest, sense, pb, P):  # pragma: no cover - compiled
-    """Stop here (see the module docstring)? ``me.grad`` is the gradient before this tick's
+    """Stop here (see the module docstring)? ``me.gradient`` is the gradient before this tick's
     update."""
     if not sense.on_target:
         return False
@@ -48,4 +48,4 @@ def should_arrive(view, me, nearest, sense, pb, P):  # pragma: no cover - compil
         return False
     if view.group[nearest] != me.group:  # where the groups meet: close triangles only
         return two_arrived(view, reach)
-    return view.grad[nearest] >= me.grad
+    return view.gradient[nearest] >= me.gradient

@@ -49,7 +49,7 @@ def heard_side(view, me, P):  # pragma: no cover - compiled
     """The side a robot of my group in Initial one hop farther from the leader says; 0:
     none says one."""
     for r in range(within(view.dist, 1.5 * P.d_min)):
-        if (view.group[r] == me.group and view.grad[r] == me.grad + 1
+        if (view.group[r] == me.group and view.gradient[r] == me.gradient + 1
                 and view.status[r] == INITIAL and view.blocked[r] != 0):
             return view.blocked[r]
     return 0
@@ -58,7 +58,7 @@ def heard_side(view, me, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def blocked_side(view, me, P):  # pragma: no cover - compiled
     """The side my formation should turn to now (0: none), mine or heard from farther out."""
-    if not P.ruleset & ASIDE or P.groups == 1:
+    if not P.flags & ASIDE or P.groups == 1:
         return 0
     side = side_ahead(view, me, P)
     if side == 0:
@@ -77,7 +77,7 @@ def turned(bx, by, side):  # pragma: no cover - compiled
 @njit(cache=True)
 def lost(me, grad, P):  # pragma: no cover - compiled
     """Has my formation gradient, now ``grad``, risen LOST_HOPS above the lowest I held?"""
-    if not P.ruleset & ASIDE:
+    if not P.flags & ASIDE:
         return False
-    me.grad_low = min(me.grad_low, grad)
-    return grad > me.grad_low + LOST_HOPS
+    me.gradient_low = min(me.gradient_low, grad)
+    return grad > me.gradient_low + LOST_HOPS

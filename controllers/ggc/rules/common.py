@@ -17,11 +17,8 @@ from numba.experimental import structref
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER
 
+from ..schema import VIEW_FIELDS
 from ..statuses import ARRIVE, DETECTION, INITIAL, SURPLUS
-
-VIEW_FIELDS = ("off", "dist", "id", "status", "grad", "group", "leader", "moving", "cmd", "vx",
-               "vy", "touch", "stepped", "enclosed", "h", "handover", "quiet", "ldist",
-               "lepoch", "hole", "hx", "hy", "blocked")
 
 
 # Each struct type subclasses types.StructRef itself. A shared base class with the one
@@ -36,10 +33,11 @@ class ViewType(types.StructRef):
 
 
 class View(structref.StructRefProxy):
-    """One robot's neighbours, nearest first: offsets (k, 2) relative to it and distances (k,),
-    units, then the columns of their last broadcasts (k,) ((k, groups) for ldist and lepoch).
+    """One robot's neighbours, nearest first: offsets ``off`` (k, 2) relative to it and
+    distances ``dist`` (k,), units, then the columns of their last broadcasts (k,) ((k,
+    groups) for the per-group fields), each named as its datum (schema.VIEW_FIELDS).
 
-    Passed by reference (one pointer), not as a tuple of 22 arrays: a compiled call with a
+    Passed by reference (one pointer), not as a tuple of arrays: a compiled call with a
     tuple of arrays copies and counts each one, and a decision makes dozens of rule calls."""
 
     def __new__(cls, *columns):

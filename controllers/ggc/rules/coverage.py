@@ -20,6 +20,7 @@ import math
 
 from numba import njit
 
+from ..schema import NO_WAY_SLOTS
 from ..statuses import ARRIVE, COVERAGE, DETECTION, STOP, SURPLUS
 from .arrival import should_arrive
 from .common import (
@@ -43,9 +44,6 @@ from .intergroup import keeps_waiting, stops
 from .island import leave_island, on_island_watch, restart_turn
 from .rulesets import HOLES
 from .surplus import give_up, is_surplus, restart_lap, track_winding
-
-NO_WAY_SLOTS = 8
-"""How many arrived robots a mover remembers having found no way in beside (state.py)."""
 
 
 @njit(cache=True)
@@ -136,7 +134,7 @@ def fills_boundary(me, P):  # pragma: no cover - compiled
     """Boundary fill applies: with one group, or with HOLES once I have walked HOLE_PATH (with
     groups an early step-in seals off a part of the target the structure has not reached;
     late, the structure has reached it)."""
-    return P.boundary_fill or (P.ruleset & HOLES and me.path >= HOLE_PATH)
+    return P.boundary_fill or (P.flags & HOLES and me.path >= HOLE_PATH)
 
 
 @njit(cache=True)
@@ -188,7 +186,7 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
     me.path += math.hypot(sense.moved_x, sense.moved_y)
     if confined(view, me, sense, P):
         return give_up(me, sense)
-    if P.ruleset & HOLES:
+    if P.flags & HOLES:
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:
             return fill_hole(view, me, sense, pb, hx, hy, P)

@@ -61,7 +61,7 @@ def end_cross(me):  # pragma: no cover - compiled
 @njit(cache=True)
 def cross(view, me, sense, P):  # pragma: no cover - compiled
     """(crossing, vx, vy): this tick of my crossing, if I cross (see the module docstring)."""
-    if not (P.ruleset & CROSS) or not sense.has_beacon:
+    if not (P.flags & CROSS) or not sense.has_beacon:
         return False, 0.0, 0.0
     if not me.crossing:
         if sense.on_target or me.path < max(me.cross_after, CROSS_PATH):

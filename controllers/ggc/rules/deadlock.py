@@ -74,7 +74,7 @@ def wedged(view, me, P):  # pragma: no cover - compiled
         reach = 1.5 * P.d_min
     if group_status_heard(view, me, DETECTION, reach):
         return True
-    return (P.groups > 1 and P.ruleset & YIELD and status_heard(view, DETECTION, reach)
+    return (P.groups > 1 and P.flags & YIELD and status_heard(view, DETECTION, reach)
             and group_status_heard(view, me, DETECTION, P.d_cover))
 
 

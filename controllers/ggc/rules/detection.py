@@ -45,8 +45,8 @@ def blocked(view, me, P):  # pragma: no cover - compiled
         if (view.group[r] != me.group or view.id[r] == NO or s == ARRIVE or s == SURPLUS
                 or view.enclosed[r] or (P.groups > 1 and s == STOP)):
             continue
-        g = view.grad[r]
-        if g > me.grad or (g == me.grad and view.id[r] > me.id):
+        g = view.gradient[r]
+        if g > me.gradient or (g == me.gradient and view.id[r] > me.id):
             if not view.moving[r]:
                 return BY_WAITING
             by_mover = True
@@ -113,7 +113,7 @@ def detection(view, me, sense, pb, P):  # pragma: no cover - compiled
         return rest(0.0, True, -1)
     grad = formation_gradient(view, me, 1.5 * P.d_min)
     if grad >= 0:
-        me.grad = grad
+        me.gradient = grad
     blocker = blocked(view, me, P)
     if me.yield_count and waiting_near(view, P) < me.yield_count:
         me.yield_count = 0  # a robot around me has left: try again

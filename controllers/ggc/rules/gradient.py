@@ -16,8 +16,8 @@ def formation_gradient(view, me, reach):  # pragma: no cover - compiled
     best = INF
     for r in range(within(view.dist, reach)):
         if (view.group[r] == me.group and not view.moving[r] and view.id[r] != NO
-                and view.status[r] != COVERAGE and view.grad[r] < best):
-            best = view.grad[r]
+                and view.status[r] != COVERAGE and view.gradient[r] < best):
+            best = view.gradient[r]
     return -1 if best == INF else best + 1
 
 
@@ -26,7 +26,7 @@ def parent_row(view, me, reach):  # pragma: no cover - compiled
     """The nearest of my group's stationary neighbours within ``reach`` holding the gradient
     below mine (my gradient parent), -1: none."""
     for r in range(within(view.dist, reach)):
-        if (view.group[r] == me.group and view.id[r] != NO and view.grad[r] == me.grad - 1
+        if (view.group[r] == me.group and view.id[r] != NO and view.gradient[r] == me.gradient - 1
                 and not view.moving[r]):
             return r
     return -1
@@ -46,5 +46,5 @@ def follow_gradient(view, me, nearest, P):  # pragma: no cover - compiled
                 break
         if source < 0:
             return
-    if view.id[source] != NO and view.grad[source] < INF:
-        me.grad = view.grad[source] + 1
+    if view.id[source] != NO and view.gradient[source] < INF:
+        me.gradient = view.gradient[source] + 1

@@ -39,11 +39,10 @@ import math
 import numpy as np
 from numba import njit
 
+from ..schema import NO_HOLE
 from ..statuses import ARRIVE
 from .common import probe, rest, scaled, set_status, within
 
-NO_HOLE = 127
-"""Hops broadcast by a robot that knows of no hole."""
 HOLE_HOPS = 12
 """How far (hops through arrived robots) news of a hole travels."""
 HOLE_PERIOD = 50
@@ -178,7 +177,7 @@ def relay(view, P):  # pragma: no cover - compiled
         h = int(view.hole[j]) + 1
         if view.status[j] != ARRIVE or view.moving[j] or h >= hops or h > HOLE_HOPS:
             continue
-        px, py = view.off[j, 0] + view.hx[j], view.off[j, 1] + view.hy[j]
+        px, py = view.off[j, 0] + view.hole_x[j], view.off[j, 1] + view.hole_y[j]
         if covered(view, px, py, r):
             continue
         hops, hx, hy = h, px, py
@@ -224,7 +223,7 @@ def hole_heard(view, me, sense, P):  # pragma: no cover - compiled
         h = int(view.hole[j])
         if view.status[j] != ARRIVE or view.moving[j] or h > hops or h >= NO_HOLE:
             continue
-        px, py = view.off[j, 0] + view.hx[j], view.off[j, 1] + view.hy[j]
+        px, py = view.off[j, 0] + view.hole_x[j], view.off[j, 1] + view.hole_y[j]
         d = math.hypot(px, py)
         if (h == hops and d >= best) or covered(view, px, py, 0.75 * r):
             continue

@@ -32,7 +32,7 @@ def other_group_mover(view, me, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def stops(view, me, sense, P):  # pragma: no cover - compiled
     """Does a mover in Coverage Stop now, for another group's movers?"""
-    if P.ruleset & YIELD:
+    if P.flags & YIELD:
         return False
     return other_group_mover(view, me, P)
 
@@ -40,7 +40,7 @@ def stops(view, me, sense, P):  # pragma: no cover - compiled
 @njit(cache=True)
 def keeps_waiting(view, me, sense, P):  # pragma: no cover - compiled
     """Does a robot in Stop (not waiting out a deadlock) wait on?"""
-    if P.ruleset & YIELD:
+    if P.flags & YIELD:
         return False
     return other_group_mover(view, me, P)
 

@@ -1,6 +1,6 @@
 """Rule sets: which of our rules beyond the paper's a GGC run uses (``GGCParams.ruleset``).
 
-A rule set is a name for a set of flags, the bits of one integer (``RuleParams.ruleset``);
+A rule set is a name for a set of flags, the bits of one integer (``RuleParams.flags``);
 each flag switches on the functions of one module:
 
 * YIELD (rules/intergroup.py): no Section 4.3 Stop between groups. Movers of every group
@@ -36,8 +36,9 @@ each flag switches on the functions of one module:
   floor beyond it. Experimental: "yield-holes-cross" is not the default
   (docs/reports/ggc-findings-journal.md, "The large K at 40,000 ticks").
 
-Adding a rule set is an entry in RULESETS; adding a flag is a bit here and a branch where its
-rule applies. docs/reports/ggc-findings-journal.md has each rule set's measurements.
+Adding a rule set is an entry in RULESETS; adding a flag is a bit here, its scope in
+FLAG_SCOPE and a branch where its rule applies. docs/reports/ggc-findings-journal.md has each
+rule set's measurements.
 """
 
 from __future__ import annotations
@@ -57,3 +58,24 @@ RULESETS = {
 groups, nothing reported about holes)."""
 DEFAULT_RULESET = "yield-holes"
 """GGC's default rule set."""
+
+ANY_GROUPS = "any groups"
+"""A flag's scope: its rules act in a run of one group as in a run of several."""
+BETWEEN_GROUPS = "between groups"
+"""A flag's scope: its rules act only on another group's robots, so a run of one group is the
+same run without the flag."""
+FLAG_SCOPE = {
+    YIELD: BETWEEN_GROUPS,  # intergroup.py answers as the paper does with one group;
+    #                         deadlock.wedged reads YIELD only with groups
+    HOLES: ANY_GROUPS,
+    CROSS: ANY_GROUPS,
+    SURPLUS: "yield_release",  # with one group the surplus lap follows surplus_stop alone;
+    #                            the flag's confined movers act at d_cover <= yield_release
+    ASIDE: BETWEEN_GROUPS,  # aside.blocked_side returns at once with one group
+    BESIDE: BETWEEN_GROUPS,  # travel.touching halts only beside another group's formation
+}
+"""Where each flag's rules act: :data:`ANY_GROUPS`, :data:`BETWEEN_GROUPS`, or the name of a
+GGCParams length L: between groups only while d_cover > L (with one group too at d_cover <=
+L). Two rule sets whose flags differ only by flags that do not act in a run make the same
+run, and share its run id (swarm.acting_flags): a rule that makes a flag act with one group
+must change its scope here."""

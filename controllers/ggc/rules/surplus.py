@@ -107,7 +107,7 @@ def is_surplus(view, me, nearest, sense, pb, P):  # pragma: no cover - compiled
         return False
     if view.dist[nearest] > P.d_cover + P.arrive_tolerance:
         return False
-    went_round = (math.isnan(me.beacon_angle) or abs(me.winding) >= P.surplus_winding)
+    went_round = (math.isnan(me.beacon_angle) or abs(me.winding) >= P.surplus_turn)
     if me.lap_whole and me.frontier <= P.surplus_frontier and went_round:
         return True
     restart_lap(me, True)  # free floor passed, or I turned round: go round again

@@ -28,7 +28,7 @@ def touching(view, me, sense, P):  # pragma: no cover - compiled
         return True
     for r in range(within(view.dist, 1.5 * P.d_min)):
         if view.touch[r] and (view.group[r] == me.group or (
-                P.ruleset & BESIDE and view.status[r] == DETECTION)):
+                P.flags & BESIDE and view.status[r] == DETECTION)):
             return True
     return False
 
@@ -73,13 +73,13 @@ def initial(view, me, sense, P):  # pragma: no cover - compiled
         return rest(reach, True, me.initial_since + P.init_timeout)
     if lost(me, grad, P):  # start alone, as one that heard no gradient does
         set_status(me, DETECTION)
-        me.grad, me.cmd, me.travel_x, me.travel_y, me.blocked = INF, CMD_NONE, 0.0, 0.0, 0
+        me.gradient, me.cmd, me.travel_x, me.travel_y, me.blocked = INF, CMD_NONE, 0.0, 0.0, 0
         return still()
-    me.grad = grad
+    me.gradient = grad
     me.touch = touching(view, me, sense, P)
     parent = parent_row(view, me, reach)
     me.cmd = view.cmd[parent]
-    me.travel_x, me.travel_y = float(view.vx[parent]), float(view.vy[parent])
+    me.travel_x, me.travel_y = float(view.travel_x[parent]), float(view.travel_y[parent])
     remember_route(me)
     me.blocked = blocked_side(view, me, P) if me.cmd == CMD_TRAVEL else 0
     if me.cmd == CMD_HALT:
