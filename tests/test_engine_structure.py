@@ -61,6 +61,22 @@ def test_the_engine_has_no_import_circles():
                        for m, deps in graph.items()})
 
 
+def test_the_public_names_are_typed_as_they_are_loaded():
+    """swarmsim/__init__.py loads its names on first use (_LAZY) and imports them again under
+    TYPE_CHECKING, so that a type checker sees their types: the two agree, name for name and
+    module for module, and __all__ lists them."""
+    import swarmsim
+
+    typed: dict[str, str | None] = {}
+    for node in ast.walk(ast.parse((ENGINE / "__init__.py").read_text())):
+        if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING":
+            for imported in node.body:
+                assert isinstance(imported, ast.ImportFrom)
+                typed.update({a.name: imported.module for a in imported.names})
+    assert typed == swarmsim._LAZY
+    assert sorted(swarmsim.__all__) == sorted(typed)
+
+
 def test_importing_the_controller_api_loads_no_physics_or_drawing():
     code = ("import sys, controllers.ggc, controllers.kilobot, swarmsim.controller; "
             "print(sorted(m for m in ('pymunk', 'pygame') if m in sys.modules))")
