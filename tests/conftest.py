@@ -73,6 +73,17 @@ def square_world(size: float = 40.0, spawn: float = 20.0, gap: float = 10.0,
     return world_from_dict(data)
 
 
+def small_world(width: float = 30.0, height: float = 24.0) -> World:
+    """A small rectangular target with a spawn band below it and a beacon inside."""
+    return world_from_dict({
+        "name": "small",
+        "target": {"outline": [[0, 0], [width, 0], [width, height], [0, height]]},
+        "spawn": [{"outline": [[-5, -30], [width + 5, -30], [width + 5, -12], [-5, -12]]}],
+        "beacon": {"position": [width / 2, height / 2]},
+        "arena": {"margin": 15.0},
+    })
+
+
 @pytest.fixture
 def square() -> World:
     return square_world()

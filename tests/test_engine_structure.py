@@ -135,3 +135,22 @@ def test_summary_sources_refuse_a_field_written_twice():
     c.add("b", lambda: {"x": 2})
     with pytest.raises(ValueError, match="'x' written by both 'a' and 'b'"):
         c.collect()
+
+
+def test_no_test_file_imports_another():
+    """Shared helpers live in tests/conftest.py or a helper module (tests/ggc_bot.py, ...),
+    never in a test file that others import: a test file is collected, not imported."""
+    offenders = {}
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        imported: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imported.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                module = node.module or ""
+                imported.add(module)
+                imported.update(f"{module}.{a.name}" for a in node.names)
+        tests = sorted(m for m in imported if any(p.startswith("test_") for p in m.split(".")))
+        if tests:
+            offenders[str(path.relative_to(ROOT))] = tests
+    assert not offenders

@@ -9,19 +9,9 @@ from controllers.gradient import INF_GRADIENT
 from swarmsim import ConfigError, Simulation
 from swarmsim.sim import TIMING_FIELDS
 from swarmsim.world import world_from_dict
+from tests.conftest import small_world
 
 from .ggc_bot import ggc_state
-
-
-def small_world(width=30.0, height=24.0):
-    """A small rectangular target with a spawn band below it and a beacon inside."""
-    return world_from_dict({
-        "name": "small",
-        "target": {"outline": [[0, 0], [width, 0], [width, height], [0, height]]},
-        "spawn": [{"outline": [[-5, -30], [width + 5, -30], [width + 5, -12], [-5, -12]]}],
-        "beacon": {"position": [width / 2, height / 2]},
-        "arena": {"margin": 15.0},
-    })
 
 
 def run_small(seed=1, robots=60, max_ticks=12000, **settings):

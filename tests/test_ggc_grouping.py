@@ -20,9 +20,9 @@ from controllers.ggc.statuses import (
 )
 from swarmsim import Simulation
 from swarmsim.world import world_from_dict
+from tests.conftest import small_world
 
 from .ggc_bot import Bot, ggc_state
-from .test_ggc import small_world
 
 SELECTION = (GGCParams().h_max + 1) * GGCParams().T_settle
 """Ticks of leader selection (Algorithm 3) with the default parameters."""

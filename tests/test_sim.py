@@ -345,7 +345,7 @@ def test_wake_near_wakes_exactly_the_sleepers_in_range():
     sleeper."""
     from swarmsim import wakes
 
-    from .test_ggc import small_world
+    from .conftest import small_world
 
     sim = Simulation(small_world(40, 30), controller="ggc", robots=120, groups=3, seed=1,
                      max_ticks=2000)
