@@ -21,6 +21,7 @@ def test_the_two_commands_are_there_as_ci_runs_them() -> None:
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     test_command = ".venv/bin/python -m pytest -q -n auto --dist loadfile"
     assert test_command in README and ci.rstrip().endswith(test_command)
+    assert '`-m "not slow"`' in README  # the fast subset ([tool.pytest.ini_options] markers)
     checks = [".venv/bin/ruff check .", ".venv/bin/mypy"]  # before the tests, in this order
     assert [ci.index(line) for line in checks] < [ci.index(test_command)] * 2
     assert ci.index(checks[0]) < ci.index(checks[1])
