@@ -73,6 +73,7 @@ def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
     assert bot.me["status"] == COVERAGE
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ruleset", ["yield", "yield-holes"])
 def test_under_the_yield_rule_sets_another_groups_mover_parks_no_one(ruleset):
     """The YIELD flag: no Stop between groups; a larger-id mover close ahead of any group is
@@ -133,6 +134,7 @@ def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_
     assert not is_wedged([((1.2, 0.0), 7, 2, DETECTION)], 3, 6.0)  # only my own formation
 
 
+@pytest.mark.slow
 def test_a_mover_jammed_against_another_formation_beside_its_own_waits_with_its_own():
     """L-hole seed 1: two formations side by side, a mover of each pressed into the other's;
     each formation waited for its own mover, and nothing moved (a stall at 0.692)."""

@@ -91,6 +91,7 @@ def test_a_run_folder_holds_one_run(tmp_path, monkeypatch):
     assert '"ticks": 30' in (tmp_path / "o" / "summary.json").read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("existed", [False, True], ids=["new folder", "existing folder"])
 def test_writing_that_fails_leaves_no_half_run(tmp_path, monkeypatch, existed):
     """Writing the outputs fails half-way: none of the run's files stay (nor a folder made for

@@ -115,6 +115,7 @@ def test_runs_that_share_an_id_are_the_same_tick_for_tick():
     assert paper == ours
 
 
+@pytest.mark.slow
 def test_a_sweep_makes_a_shared_run_once_and_shows_it_for_each_grid_point(tmp_path):
     from swarmsim.cli import main
     from swarmsim.experiments.table import read_table
