@@ -82,9 +82,9 @@ def report(sim: Simulation, ledger: Ledger, summary: dict) -> None:
     for k in np.flatnonzero(ledger.driven + ledger.pushed).tolist():
         print(f"  {names[k]:<10} driven {ledger.driven[k]:10.0f}  pushed {ledger.pushed[k]:8.0f}")
     print(f"settled after tick {ledger.late_from}: {len(ledger.late)}")
-    names = sim.messages.dtype.names or ()
+    fields = sim.messages.dtype.names or ()
     for tick, i, (x, y), coverage in ledger.late:
-        group = f" group {int(sim.messages['group'][i])}" if "group" in names else ""
+        group = f" group {int(sim.messages['group'][i])}" if "group" in fields else ""
         print(f"  tick {tick:6d}  robot {i:4d}{group}  at ({x:6.1f}, {y:6.1f})  "
               f"coverage {coverage:.4f}")
 

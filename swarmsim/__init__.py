@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import importlib
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from swarmsim import kernelcache
 
@@ -25,6 +25,11 @@ kernelcache.install()  # before any kernel is decorated
 _LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.sim",
          "Simulation": "swarmsim.sim", "World": "swarmsim.world",
          "available_worlds": "swarmsim.world", "load_world": "swarmsim.world"}
+
+if TYPE_CHECKING:  # _LAZY's names for a type checker (tests/test_engine_structure.py: equal)
+    from swarmsim.errors import ConfigError
+    from swarmsim.sim import RunResult, Simulation
+    from swarmsim.world import World, available_worlds, load_world
 
 __all__ = ["ConfigError", "RunResult", "Simulation", "World", "available_worlds", "load_world"]
 __version__ = "0.1.0"

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, ClassVar, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, TypeAlias, cast, runtime_checkable
 
 import numpy as np
 
@@ -50,6 +50,11 @@ BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
 ]
 """Fields every broadcast carries; the engine and its observers (metrics, faults, render) read
 only these. A controller declares any other field it broadcasts in ``MESSAGE_FIELDS``."""
+
+
+Broadcast: TypeAlias = "tuple[Any, ...] | Mapping[str, Any] | np.void"
+"""What an Action may broadcast: a tuple in the order of the run's message dtype, a dict by
+field name (fields it leaves out are zero) or a row of that dtype."""
 
 
 NO_SENDER = -1
@@ -82,7 +87,7 @@ def silent_message(dtype: np.dtype, values: Mapping[str, Any] | None = None) -> 
     row["status"] = -1
     for name, value in (values or {}).items():
         row[name] = value
-    return row[()]
+    return cast(np.void, row[()])  # numpy's stubs type a 0-d structured item as an ndarray
 
 
 @dataclass(frozen=True, slots=True)
@@ -224,7 +229,7 @@ class Action:
     """
 
     velocity: tuple[float, float] = (0.0, 0.0)
-    message: tuple | None = None
+    message: Broadcast | None = None
     sleep: bool = False
     wake_range: float | None = None
     listen: float | None = None
@@ -253,7 +258,7 @@ class ChunkActions:
     Attributes:
         velocities: (R, 2) desired velocities, units per tick (float or integer).
         listen: (R,) how far each robot senses next tick, units (NaN: its full range).
-        messages: {k: robot k's new broadcast tuple} (the others repeat theirs).
+        messages: {k: robot k's new broadcast} (the others repeat theirs).
         sleepers: {k: Action} the robots that ask to sleep, with their promises
             (``Action.sleep`` and its fields; honoured only where the velocity is zero).
         broadcast: (R,) structured rows in the run's message dtype, or None (sparse form).
@@ -267,13 +272,16 @@ class ChunkActions:
                  "wake_on_motion", "wake_range", "wake_tick")
 
     def __init__(self, velocities: np.ndarray, listen: np.ndarray,
-                 messages: dict[int, tuple] | None = None,
+                 messages: dict[int, Broadcast] | None = None,
                  sleepers: dict[int, Action] | None = None):
         self.velocities, self.listen = velocities, listen
         self.messages = {} if messages is None else messages
         self.sleepers = {} if sleepers is None else sleepers
-        self.broadcast = self.sleep = self.wake_range = None
-        self.wake_on_motion = self.wake_tick = None
+        self.broadcast: np.ndarray | None = None
+        self.sleep: np.ndarray | None = None
+        self.wake_range: np.ndarray | None = None
+        self.wake_on_motion: np.ndarray | None = None
+        self.wake_tick: np.ndarray | None = None
 
     @classmethod
     def empty(cls, robots: int) -> ChunkActions:
@@ -340,7 +348,7 @@ def make_perception(tick: int, offsets: np.ndarray, distances: np.ndarray,
     return p
 
 
-def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: tuple | None = None,
+def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: Broadcast | None = None,
                 sleep: bool = False, wake_range: float | None = None,
                 listen: float | None = None, wake_on_motion: bool = True,
                 wake_tick: int | None = None) -> Action:

@@ -98,7 +98,7 @@ def file_digest(path: Path) -> str:
     memo = _memo(path.parent)
     known = memo.get(path.name)
     if known is not None and known[:2] == [st.st_mtime_ns, st.st_size]:
-        return known[2]
+        return str(known[2])
     digest = code_digest(path.read_text(encoding="utf-8"))
     memo[path.name] = [st.st_mtime_ns, st.st_size, digest]
     _save_memo(path.parent)
@@ -146,8 +146,11 @@ def _code_stamped(base: type) -> type:
     it declines (None) every other file."""
 
     class Locator(base):
+        _code_stamp: str
+        _disambiguator: str
+
         @classmethod
-        def from_function(cls, py_func, py_file):
+        def from_function(cls, py_func: Any, py_file: str) -> Any:
             stamp = source_stamp(Path(py_file)) if os.path.isfile(py_file) else None
             if stamp is None:
                 return None
@@ -157,10 +160,10 @@ def _code_stamped(base: type) -> type:
                 self._disambiguator = function_digest(py_func)
             return self
 
-        def get_source_stamp(self):
+        def get_source_stamp(self) -> str:
             return self._code_stamp
 
-        def get_disambiguator(self):
+        def get_disambiguator(self) -> str:
             return self._disambiguator
 
     Locator.__name__ = Locator.__qualname__ = f"CodeStamped{base.__name__}"
@@ -202,7 +205,8 @@ class _PatchWhenLoaded(importlib.abc.MetaPathFinder):
                 run(module)
                 _patch(module)
 
-            spec.loader.exec_module = exec_module
+            # this one loader object runs our exec_module (mypy refuses assigning a method)
+            spec.loader.exec_module = exec_module  # type: ignore[method-assign]
         return spec
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import subprocess
+from importlib.metadata import version
 from pathlib import Path
 
 GIT_TIMEOUT_S = 5.0
@@ -17,9 +18,9 @@ GIT_TIMEOUT_S = 5.0
 @functools.cache
 def code_version() -> str:
     """``"0.1.0"``, or ``"0.1.0+g1a2b3c4"`` in a git checkout (``".dirty"`` appended when
-    tracked files under the checkout differ from that commit)."""
-    from swarmsim import __version__
-
+    tracked files under the checkout differ from that commit). The version is the installed
+    package's (pyproject.toml): read here, not from the package above (no arrow back up)."""
+    __version__ = version("swarmsim")
     commit = _git("rev-parse", "--short", "HEAD")
     if not commit:
         return __version__

@@ -19,7 +19,7 @@ from typing import Any
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, raised, unknown_name
 
 ENTRY_POINT_GROUP = "swarmsim.controllers"
-_LOADED: dict[str, type] = {}
+_LOADED: dict[str, type[Any]] = {}
 """Registered classes already loaded, by name."""
 
 
@@ -32,7 +32,7 @@ def available_controllers() -> list[str]:
     return sorted(_entry_points())
 
 
-def get_controller(name: str | type) -> type:
+def get_controller(name: str | type[Any]) -> type[Any]:
     """A controller class by registered name, ``module:Class``, or the class itself."""
     if isinstance(name, type):
         _check_controller_class(name, getattr(name, "__name__", repr(name)))
@@ -45,13 +45,12 @@ def get_controller(name: str | type) -> type:
     if point is None:
         raise ConfigError(f"{unknown_name('controller', name, available_controllers())} "
                           "(or give module:Class)", key="controller")
-    cls = point.load()
-    _check_controller_class(cls, name)
+    cls = _check_controller_class(point.load(), name)
     _LOADED[name] = cls
     return cls
 
 
-def resolve_controller(controller: str | type) -> tuple[type, str]:
+def resolve_controller(controller: str | type[Any]) -> tuple[type[Any], str]:
     """A run's controller class and the name its summary reports, from a registered name, a
     ``"module:Class"`` string or a class. A class is reported by its registered name if it is
     the class registered under its ``name``, else as ``"module:Class"``."""
@@ -60,16 +59,17 @@ def resolve_controller(controller: str | type) -> tuple[type, str]:
     if not isinstance(controller, type):
         raise ConfigError(f"expected a controller name, 'module:Class' or a controller class, "
                           f"got {controller!r}", key="controller")
-    name = getattr(controller, "name", None)
-    registered = (isinstance(name, str) and name in available_controllers()
-                  and get_controller(name) is controller)
-    if not registered:
+    declared = getattr(controller, "name", None)
+    if (isinstance(declared, str) and declared in available_controllers()
+            and get_controller(declared) is controller):
+        name = declared
+    else:
         name = f"{controller.__module__}:{controller.__qualname__}"
     _check_controller_class(controller, name)
     return controller, name
 
 
-def _from_module(name: str) -> type:
+def _from_module(name: str) -> type[Any]:
     mod_name, _, cls_name = name.partition(":")
     _importable_from_here()
     try:
@@ -84,8 +84,7 @@ def _from_module(name: str) -> type:
         classes = [k for k, v in vars(mod).items() if isinstance(v, type)]
         raise ConfigError(f"module {mod_name!r} has no {cls_name!r}"
                           f"{did_you_mean(cls_name, classes)}", key="controller")
-    _check_controller_class(cls, name)
-    return cls
+    return _check_controller_class(cls, name)
 
 
 def _importable_from_here() -> None:
@@ -97,16 +96,19 @@ def _importable_from_here() -> None:
         sys.path.append(here)
 
 
-def _check_controller_class(cls: Any, name: str) -> None:
+def _check_controller_class(cls: Any, name: str) -> type[Any]:
+    """``cls``, once checked to be a controller class (ConfigError naming ``name`` if not)."""
     if not isinstance(cls, type):
         raise ConfigError(f"{name!r} is not a class", key="controller")
+    checked: type[Any] = cls
     missing = [a for a in ("name", "Params", "STATUSES", "sensing_range") if not hasattr(cls, a)]
     if not (hasattr(cls, "step") or hasattr(cls, "create_swarm")):
         missing.append("step or create_swarm")
     if missing:
         raise ConfigError(f"{name!r} is not a controller class (missing {missing})",
                           key="controller")
-    _check_params_class(cls.Params, name)
+    _check_params_class(checked.Params, name)
+    return checked
 
 
 def _check_params_class(params: Any, name: str) -> None:

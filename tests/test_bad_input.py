@@ -259,6 +259,7 @@ def test_a_video_that_is_not_mp4_is_refused_before_the_run(tmp_path, capsys, not
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_valid_run_makes_its_folders(tmp_path, capsys):
     out = tmp_path / "o" / "p"
     assert main(["run", "tiny", "--quiet", "--max-ticks", "3", "--out", str(out)]) == 0

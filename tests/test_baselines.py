@@ -86,6 +86,7 @@ def test_params_are_validated(name, bad):
         get_controller(name).Params(**bad)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", BASELINES)
 def test_makes_progress_without_overlap(name):
     ticks, threshold = PROGRESS[name]
@@ -97,6 +98,7 @@ def test_makes_progress_without_overlap(name):
     assert s["robots_on_target"] >= 10
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", BASELINES)
 def test_same_seed_same_run(name):
     ticks = 400 if name in ("kilobot", "fcdfs") else 250
@@ -108,6 +110,7 @@ def test_same_seed_same_run(name):
     assert sa["total_distance"] > 0
 
 
+@pytest.mark.slow
 def test_robots_sleep_once_settled():
     """Idle robots sleep, so big runs stay cheap (dash settles completely on tiny)."""
     _, res = run("dash", 4000, stop_on_complete=False)
@@ -115,6 +118,7 @@ def test_robots_sleep_once_settled():
     assert res.timeseries[-1]["awake"] == 0
 
 
+@pytest.mark.slow
 def test_formation_controllers_wait_in_formation():
     """Kilobot and FCDFS start as a formation that travels first; most robots sleep."""
     for name in ("kilobot", "fcdfs"):
@@ -122,6 +126,7 @@ def test_formation_controllers_wait_in_formation():
         assert min(r["awake"] for r in res.timeseries[5:]) < 20, name
 
 
+@pytest.mark.slow
 def test_fcdfs_settles_on_a_lattice():
     """Settled FCDFS robots sit on a square lattice of spacing d_cover (intervals)."""
     sim, _ = run("fcdfs", 2500)
@@ -166,6 +171,7 @@ controller is checked on DEFAULT_SLEEP_CASE."""
 DEFAULT_SLEEP_CASE = (500, "")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name, ticks, start", [
     (name, ticks, start) for name in CONTROLLERS
     for ticks, start in SLEEP_CASES.get(name, [DEFAULT_SLEEP_CASE])])
@@ -230,6 +236,7 @@ margin = 15.0
 """
 
 
+@pytest.mark.slow
 def test_cvt_spreads_a_crowd_all_the_way(tmp_path):
     """Robots that rest must not stop Lloyd short. Entering a long strip at one end, the
     crowd thins out toward the far end; with the old tolerance (0.04) it rested there, the

@@ -49,6 +49,7 @@ def end_state(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> bytes:
     return sim.positions.tobytes() + sim.messages.tobytes()
 
 
+@pytest.mark.slow
 def test_a_run_is_the_same_with_compiled_calls_and_with_pymunks(monkeypatch):
     assert end_state(monkeypatch, True) == end_state(monkeypatch, False)
 

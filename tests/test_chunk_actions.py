@@ -3,6 +3,7 @@
 import hashlib
 
 import numpy as np
+import pytest
 
 from controllers.dispersion import Dispersion
 from swarmsim import Simulation
@@ -54,6 +55,7 @@ def run_hash(controller: str) -> tuple[str, int]:
     return digest.hexdigest(), asleep
 
 
+@pytest.mark.slow
 def test_a_run_decided_through_columns_is_the_run_decided_robot_by_robot():
     """Velocities, broadcasts, listening ranges and sleep all go through the columns."""
     by_columns, asleep = run_hash("tests.test_chunk_actions:ColumnsDispersion")

@@ -37,6 +37,7 @@ def rows_of(path):
         return list(csv.DictReader(f))
 
 
+@pytest.mark.slow
 def test_study_runs_both_modes_and_counts_contacts_only_when_rigid(study):
     _, out, result = study
     assert result.failed == 0
@@ -53,6 +54,7 @@ def test_study_runs_both_modes_and_counts_contacts_only_when_rigid(study):
         assert len(rows_of(run_dir / "robots.csv")) == 60
 
 
+@pytest.mark.slow
 def test_study_writes_report_and_plot_and_resumes(study):
     setup, out, _ = study
     report = (out / "REPORT.md").read_text()

@@ -185,6 +185,7 @@ def test_a_batch_that_puts_a_bad_action_names_the_robot():
         sim.run()
 
 
+@pytest.mark.slow
 def test_a_sweep_records_a_failing_controller_with_its_line(tmp_path):
     runs = [RunSpec("tiny", f"{MODULE}:RaisesInStep", {"robots": 6, "max_ticks": 8}, 0),
             RunSpec("tiny", f"{MODULE}:Walker", {"robots": 6, "max_ticks": 8}, 0)]

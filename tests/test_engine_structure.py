@@ -61,6 +61,22 @@ def test_the_engine_has_no_import_circles():
                        for m, deps in graph.items()})
 
 
+def test_the_public_names_are_typed_as_they_are_loaded():
+    """swarmsim/__init__.py loads its names on first use (_LAZY) and imports them again under
+    TYPE_CHECKING, so that a type checker sees their types: the two agree, name for name and
+    module for module, and __all__ lists them."""
+    import swarmsim
+
+    typed: dict[str, str | None] = {}
+    for node in ast.walk(ast.parse((ENGINE / "__init__.py").read_text())):
+        if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING":
+            for imported in node.body:
+                assert isinstance(imported, ast.ImportFrom)
+                typed.update({a.name: imported.module for a in imported.names})
+    assert typed == swarmsim._LAZY
+    assert sorted(swarmsim.__all__) == sorted(typed)
+
+
 def test_importing_the_controller_api_loads_no_physics_or_drawing():
     code = ("import sys, controllers.ggc, controllers.kilobot, swarmsim.controller; "
             "print(sorted(m for m in ('pymunk', 'pygame') if m in sys.modules))")
@@ -119,3 +135,22 @@ def test_summary_sources_refuse_a_field_written_twice():
     c.add("b", lambda: {"x": 2})
     with pytest.raises(ValueError, match="'x' written by both 'a' and 'b'"):
         c.collect()
+
+
+def test_no_test_file_imports_another():
+    """Shared helpers live in tests/conftest.py or a helper module (tests/ggc_bot.py, ...),
+    never in a test file that others import: a test file is collected, not imported."""
+    offenders = {}
+    for path in sorted((ROOT / "tests").rglob("test_*.py")):
+        imported: set[str] = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                imported.update(a.name for a in node.names)
+            elif isinstance(node, ast.ImportFrom):
+                module = node.module or ""
+                imported.add(module)
+                imported.update(f"{module}.{a.name}" for a in node.names)
+        tests = sorted(m for m in imported if any(p.startswith("test_") for p in m.split(".")))
+        if tests:
+            offenders[str(path.relative_to(ROOT))] = tests
+    assert not offenders

@@ -4,6 +4,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from swarmsim import Simulation
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -16,6 +18,7 @@ def test_custom_controller_by_module_and_class():
     assert res.summary["robots_on_target"] == 10
 
 
+@pytest.mark.slow
 def test_run_ggc_example(tmp_path):
     out = subprocess.run([sys.executable, str(ROOT / "examples" / "run_ggc.py")], cwd=tmp_path,
                          capture_output=True, text=True, timeout=600, check=False)
@@ -24,6 +27,7 @@ def test_run_ggc_example(tmp_path):
     assert (tmp_path / "tiny-last.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_where_distance_goes_ledger_adds_up_to_the_runs_distance():
     from examples.where_distance_goes import Ledger
 
@@ -43,6 +47,7 @@ def test_where_distance_goes_ledger_adds_up_to_the_runs_distance():
     assert ledger.driven[sim.statuses.index("Arrive")] == 0  # arrived robots are never driven
 
 
+@pytest.mark.slow
 def test_the_swarmsim_command_finds_a_controller_module_in_the_current_folder():
     """The command in examples/my_controller.py's docstring, run as a user would from the
     repository (the installed script does not put the current folder on sys.path)."""

@@ -122,6 +122,7 @@ def test_cli_sweep_bad_spec_is_one_line_exit_2(tmp_path, capsys):
 
 
 # ----------------------------------------------------------------------------- sweeps
+@pytest.mark.slow
 def test_interrupted_sweep_resumes_without_redoing_runs(tmp_path):
     runs = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [4, 5, 6]}}).runs()
     out = tmp_path / "out"
@@ -166,6 +167,7 @@ def test_a_table_before_any_run_finished_has_the_runs_columns(tmp_path):
     assert len(text) == 2
 
 
+@pytest.mark.slow
 def test_failing_run_is_recorded_and_others_finish(tmp_path):
     # tiny's spawn band holds at most ~150 robots: 500 makes that run fail (a checked spec
     # refuses it before any run: see test_bad_input)
@@ -189,6 +191,7 @@ def _claim_held_by(pid: int) -> str:
                        "process": claims._process_key(pid)})
 
 
+@pytest.mark.slow
 def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
     runs = spec_from_dict({**TINY, "grid": {"robots": [20, 25]}}).runs()
     out = tmp_path / "out"
@@ -210,6 +213,7 @@ def test_runs_another_live_process_has_claimed_are_left_to_it(tmp_path):
     assert not list(out.glob("runs/*/claim.json")) and not list(out.glob("runs/*/.claim*"))
 
 
+@pytest.mark.slow
 def test_two_processes_taking_over_one_stale_claim_do_not_both_win(tmp_path, monkeypatch):
     """While this process judges a stale claim, another process tries to take it over too:
     exactly one of them may win (the second used to delete the first one's fresh claim)."""
@@ -289,6 +293,7 @@ def _alive(pid: int) -> bool:
         return False
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 def test_sigterm_stops_a_sweep_and_its_worker_processes(tmp_path):
     """`kill` of a sweep (a batch system's time limit) must not leave its workers running."""
@@ -324,6 +329,7 @@ def test_sigterm_stops_a_sweep_and_its_worker_processes(tmp_path):
                 os.kill(pid, signal.SIGKILL)
 
 
+@pytest.mark.slow
 def test_two_sweep_processes_on_one_folder_never_run_a_run_twice(tmp_path):
     path = write_spec(tmp_path, 'world = "tiny"\ncontroller = "dispersion"\nreps = 6\n'
                                 "[params]\nmax_ticks = 150\n")
@@ -339,6 +345,7 @@ def test_two_sweep_processes_on_one_folder_never_run_a_run_twice(tmp_path):
     assert not list(out.glob("runs/*/claim.json"))
 
 
+@pytest.mark.slow
 def test_a_claim_is_exclusive_and_a_reused_pid_does_not_hold_it(tmp_path):
     run_dir = tmp_path / "run"
     assert claims.claim(run_dir) and not claims.claim(run_dir)  # held, by this process too
@@ -371,6 +378,7 @@ def test_cli_sweep_writes_runs_and_table(tmp_path, capsys):
         assert summary["ticks"] == 20 and (run_dir / "timeseries.csv").is_file()
 
 
+@pytest.mark.slow
 def test_a_table_mixing_code_versions_says_so(tmp_path):
     import swarmsim
 
@@ -401,12 +409,14 @@ def _local_results(runs, out, **kw):
             for r in runs}
 
 
+@pytest.mark.slow
 def test_process_pool_gives_the_same_results_as_in_process(tmp_path):
     runs = spec_from_dict({**TINY, "reps": 2}).runs()
     assert (_local_results(runs, tmp_path / "a", workers=2)
             == _local_results(runs, tmp_path / "b", workers=1))
 
 
+@pytest.mark.slow
 def test_dask_cluster_runs_the_same_sweep(tmp_path):
     distributed = pytest.importorskip("dask.distributed")
     runs = spec_from_dict({**TINY, "reps": 2, "grid": {"d_cover": [5, 6]}}).runs()
@@ -632,6 +642,7 @@ def test_reproduce_dry_run_lists_runs(capsys):
     assert "fig17: 12 runs" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_small_reproduction_writes_tables_plots_and_report(tmp_path):
     setup = rp.PaperSetup(world="tiny", controller="dispersion", d_cover_values=(4, 6),
                           failure_counts=(0, 3), comparison=("dispersion", "no-such-ctrl"))
@@ -790,6 +801,7 @@ def test_a_spec_that_is_not_utf8_is_one_clear_error(tmp_path):
         load_spec(path)
 
 
+@pytest.mark.slow
 def test_a_report_over_several_invocations_names_every_code_version(tmp_path):
     """REPORT.md collects every figure reproduced in the folder: its code line counts all
     their runs (it counted only the last invocation's), and each section names its setup."""
@@ -810,6 +822,7 @@ def test_a_report_over_several_invocations_names_every_code_version(tmp_path):
     assert "robots 30" in (out / "fig23" / "REPORT.md").read_text()
 
 
+@pytest.mark.slow
 def test_a_second_spec_in_the_same_folder_says_the_first_ones_runs_are_not_in_its_table(
         tmp_path):
     out = tmp_path / "out"
@@ -837,6 +850,7 @@ def test_an_interrupt_inside_compiled_code_is_not_recorded_as_a_failed_run(monke
         execute_run(run)
 
 
+@pytest.mark.slow
 def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
     setup = rp.PaperSetup(world="tiny", d_cover_values=(6,), groups=1)
     out = tmp_path / "repro"
@@ -860,6 +874,7 @@ def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
     assert iio.imread(out / "fig17" / "fig17.png").shape[0] >= 2 * 450  # one row per rule set
 
 
+@pytest.mark.slow
 def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_path):
     """One group at d_cover 8 (no holes filled there; the default rule set's other rules act
     only between groups): the paper's run, made once, reported in both columns. At d_cover 6

@@ -9,19 +9,9 @@ from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STATU
 from swarmsim import ConfigError, Simulation
 from swarmsim.sim import TIMING_FIELDS
 from swarmsim.world import world_from_dict
+from tests.conftest import small_world
 
 from .ggc_bot import ggc_state
-
-
-def small_world(width=30.0, height=24.0):
-    """A small rectangular target with a spawn band below it and a beacon inside."""
-    return world_from_dict({
-        "name": "small",
-        "target": {"outline": [[0, 0], [width, 0], [width, height], [0, height]]},
-        "spawn": [{"outline": [[-5, -30], [width + 5, -30], [width + 5, -12], [-5, -12]]}],
-        "beacon": {"position": [width / 2, height / 2]},
-        "arena": {"margin": 15.0},
-    })
 
 
 def run_small(seed=1, robots=60, max_ticks=12000, **settings):
@@ -35,6 +25,7 @@ def small_run():
     return run_small()
 
 
+@pytest.mark.slow
 def test_small_world_is_covered_fully(small_run):
     _, res = small_run
     s = res.summary
@@ -47,6 +38,7 @@ def bits(*statuses: int) -> int:
     return sum(1 << s for s in statuses)
 
 
+@pytest.mark.slow
 def test_status_sequences_follow_figure_3(small_run):
     """Every robot's statuses were a prefix of Initial -> Detection -> Coverage -> Arrive
     (the leader: Initial -> Arrive), by the statuses each robot has had."""
@@ -61,6 +53,7 @@ def test_status_sequences_follow_figure_3(small_run):
     assert (others["visited"] == bits(*full)).sum() >= 20
 
 
+@pytest.mark.slow
 def test_arrived_robots_stay_on_target_and_keep_their_spacing(small_run):
     sim, _ = small_run
     state = ggc_state(sim)
@@ -92,6 +85,7 @@ def test_gradient_grows_outward_from_the_leader():
     assert np.corrcoef(d, grads)[0, 1] > 0.9  # hop count follows distance
 
 
+@pytest.mark.slow
 def test_same_seed_same_run_and_sleep_changes_nothing():
     a = run_small(seed=3, max_ticks=1500)[1]
     b = run_small(seed=3, max_ticks=1500, allow_sleep=False)[1]
@@ -105,6 +99,7 @@ def test_same_seed_same_run_and_sleep_changes_nothing():
     assert min(x["awake"] for x in b.timeseries) == 60
 
 
+@pytest.mark.slow
 def test_sleep_changes_nothing_at_d_cover_1_where_movers_push_the_formation():
     """A waiting robot blocked by a waiting neighbour sleeps until a broadcast changes; when
     movers push that neighbour out of d_cover it must wake too (it slept on: coverage 0.159
@@ -150,11 +145,13 @@ def d_cover_runs():
             for d in (1, 2, 4, 6, 8, 10)}
 
 
+@pytest.mark.slow
 def test_every_d_cover_run_terminates_by_a_stop_rule(d_cover_runs):
     for d, s in d_cover_runs.items():
         assert s["stop_reason"] in ("complete", "plateau", "stalled"), (d, s["stop_reason"])
 
 
+@pytest.mark.slow
 def test_coverage_follows_the_lattice_bound(d_cover_runs):
     cov = {d: s["coverage"] for d, s in d_cover_runs.items()}
     # 60 robots fill a lattice of 720 units^2 for d_cover 4 and 6 (capacity 52 and 23)
@@ -165,6 +162,7 @@ def test_coverage_follows_the_lattice_bound(d_cover_runs):
     assert cov[10] < cov[8] < 0.95 and cov[10] < 0.7
 
 
+@pytest.mark.slow
 def test_larger_d_cover_uses_fewer_robots_and_less_distance(d_cover_runs):
     on = [d_cover_runs[d]["robots_on_target"] for d in (2, 4, 6, 8, 10)]
     assert on == sorted(on, reverse=True) and on[0] > 2 * on[-1]
@@ -172,6 +170,7 @@ def test_larger_d_cover_uses_fewer_robots_and_less_distance(d_cover_runs):
     assert dist[1] < dist[0] and dist[3] < dist[1], dist
 
 
+@pytest.mark.slow
 def test_surplus_robots_stop_once_the_target_is_full(d_cover_runs):
     # 60 robots, room for ~15 at d_cover 8 and ~10 at 10: the rest stop as Surplus (off the
     # target) instead of circling, and the run ends with every robot standing still
@@ -181,12 +180,14 @@ def test_surplus_robots_stop_once_the_target_is_full(d_cover_runs):
         assert s["stop_reason"] == "stalled" and s["surplus_stops"] > 0, (d, s)
 
 
+@pytest.mark.slow
 def test_lattice_stop_still_covers_the_small_world():
     s = run_small(seed=3, lattice_stop=True)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s
     assert abs(s["spacing_mean"] - 6.0) < 0.6  # robots stop on lattice sites, ~d_cover apart
 
 
+@pytest.mark.slow
 def test_without_lattice_stop_the_small_world_is_covered_too():
     s = run_small(seed=3, lattice_stop=False)[1].summary
     assert s["stop_reason"] == "complete" and s["coverage"] >= 0.99, s

@@ -106,6 +106,7 @@ def _touching_when_halted(ruleset: str, seed: int) -> tuple[int, int]:
     return int(np.count_nonzero(mixed)), int(np.count_nonzero(~mixed))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 3])
 def test_the_formation_behind_goes_round_the_one_ahead_instead_of_through_it(seed):
     """Seed 3 sheds two robots at the rim, which count each other's gradients up: they start

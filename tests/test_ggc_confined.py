@@ -101,6 +101,7 @@ def _walled_off_world():
     })
 
 
+@pytest.mark.slow
 def test_movers_with_no_place_they_can_reach_end_standing():
     """d_cover 2: the reachable half holds fewer than the 30 robots; the surplus lap does not
     apply at this d_cover, so without the rule the other movers walk on to the tick limit

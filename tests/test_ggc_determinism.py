@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from swarmsim.sim import TIMING_FIELDS
 
 
@@ -23,6 +25,7 @@ def run_in_process(out: Path, *args: str) -> tuple[dict, list[dict]]:
     return summary, rows
 
 
+@pytest.mark.slow
 def test_same_seed_same_run_in_two_processes(tmp_path):
     args = ("--controller", "ggc", "--groups", "3", "--seed", "3", "--max-ticks", "1500",
             "--set", "start=random")

@@ -20,9 +20,9 @@ from controllers.ggc.statuses import (
 )
 from swarmsim import Simulation
 from swarmsim.world import world_from_dict
+from tests.conftest import small_world
 
 from .ggc_bot import Bot, ggc_state
-from .test_ggc import small_world
 
 SELECTION = (GGCParams().h_max + 1) * GGCParams().T_settle
 """Ticks of leader selection (Algorithm 3) with the default parameters."""
@@ -62,6 +62,7 @@ def test_grouping_gives_k_non_empty_groups_of_every_robot(seed):
     assert min(sizes.values()) >= 8 and max(sizes.values()) <= 0.6 * 120, sizes
 
 
+@pytest.mark.slow
 def test_leaders_end_farther_apart_than_they_started():
     before, after = [], []
     for seed in range(4):
@@ -86,6 +87,7 @@ def two_group_run():
     return sim, sim.run(on_tick=watch), statuses_seen
 
 
+@pytest.mark.slow
 def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     sim, res, seen = two_group_run
     s = res.summary
@@ -98,6 +100,7 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
     assert formed >= 0.9 * len(visited)
 
 
+@pytest.mark.slow
 def test_under_yield_holes_two_groups_meeting_head_on_park_no_one():
     """The default rule set on the corridor: no Stop between groups, yet no deadlock."""
     from swarmsim.world import load_world
@@ -110,6 +113,7 @@ def test_under_yield_holes_two_groups_meeting_head_on_park_no_one():
     assert s["collision_stops"] == 0 and s["deadlocks_open"] == 0, s
 
 
+@pytest.mark.slow
 def test_two_groups_meeting_head_on_resolve_without_deadlock():
     """The corridor world: two formations enter a band from its two ends and meet (the
     paper's rule set: Section 4.3's Stop between groups)."""
@@ -204,6 +208,7 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
     assert np.hypot(*(sim.positions[0] - start)) > 5  # on its way to the beacon
 
 
+@pytest.mark.slow
 def test_where_the_target_is_full_every_robot_of_every_group_ends_standing():
     """d_cover 8 on the corridor holds 23 of 60 robots: the default's surplus movers of both
     groups stop (SURPLUS flag), so the run ends stalled, not on the plateau rule."""

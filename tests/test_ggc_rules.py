@@ -36,6 +36,7 @@ NEIGHBOURS = [((1.0, 0.0), 7, 2, DETECTION),   # another group's formation
               ((3.0, 0.0), 9, 3, ARRIVE)]      # another group's arrived robot
 
 
+@pytest.mark.slow
 def test_other_groups_formations_are_not_edges():
     bot = Bot()
     assert edge_rows(view(NEIGHBOURS), bot.me, bot.swarm.rules) == (1, 2)
@@ -43,6 +44,7 @@ def test_other_groups_formations_are_not_edges():
     assert edge_rows(view(NEIGHBOURS, groups=1), one.me, one.swarm.rules) == (0, 1)
 
 
+@pytest.mark.slow
 def test_another_groups_mover_with_priority_makes_a_mover_stop():
     bot = Bot(ruleset="paper")
     sense = None  # the paper's rule reads no sensor
@@ -59,6 +61,7 @@ def test_another_groups_mover_with_priority_makes_a_mover_stop():
                      one.swarm.rules)
 
 
+@pytest.mark.slow
 def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
     bot = Bot(ruleset="paper")
     rows = [((2.0, 0.5), 9, 2, COVERAGE), ((6.0, 0.0), 8, 1, ARRIVE)]
@@ -70,6 +73,7 @@ def test_a_mover_stops_for_another_groups_mover_and_resumes_when_it_has_gone():
     assert bot.me["status"] == COVERAGE
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ruleset", ["yield", "yield-holes"])
 def test_under_the_yield_rule_sets_another_groups_mover_parks_no_one(ruleset):
     """The YIELD flag: no Stop between groups; a larger-id mover close ahead of any group is
@@ -116,6 +120,7 @@ def test_yield_release_is_off_above_its_d_cover_bound():
     assert bot.me["yield_count"] == 4
 
 
+@pytest.mark.slow
 def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_groups():
     def is_wedged(rows, groups, d_cover):
         bot = Bot(groups=groups, d_cover=d_cover)
@@ -129,6 +134,7 @@ def test_a_stuck_mover_beside_its_formation_rejoins_it_at_small_d_cover_or_with_
     assert not is_wedged([((1.2, 0.0), 7, 2, DETECTION)], 3, 6.0)  # only my own formation
 
 
+@pytest.mark.slow
 def test_a_mover_jammed_against_another_formation_beside_its_own_waits_with_its_own():
     """L-hole seed 1: two formations side by side, a mover of each pressed into the other's;
     each formation waited for its own mover, and nothing moved (a stall at 0.692)."""

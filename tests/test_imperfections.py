@@ -102,6 +102,7 @@ def run_ggc(**settings) -> dict:
     return summary
 
 
+@pytest.mark.slow
 def test_noise_changes_results_only_when_set():
     ideal = run_ggc()
     zeros = run_ggc(speed_noise=0.0, heading_noise=0.0, distance_noise=0.0, bearing_noise=0.0,

@@ -199,6 +199,7 @@ def test_a_setting_given_twice_in_the_python_api():
 
 
 # ----------------------------------------------------------------------------- scheduler
+@pytest.mark.slow
 def test_a_refused_scheduler_port_is_refused_at_once(tmp_path):
     pytest.importorskip("dask.distributed")
     with socket.socket() as s:

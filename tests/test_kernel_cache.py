@@ -99,6 +99,7 @@ def _run(tmp_path: Path, cache: Path) -> tuple[str, str, str]:
     return value, names, done.stderr
 
 
+@pytest.mark.slow
 def test_a_docstring_edit_keeps_the_compiled_kernels_and_a_code_edit_recompiles(tmp_path):
     pkg = tmp_path / "pkg"
     pkg.mkdir()

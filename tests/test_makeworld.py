@@ -22,6 +22,7 @@ def _make(tmp_path: Path, *args: str, name: str = "w.toml") -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_text_l_world_is_valid_and_its_first_run_covers_the_target(tmp_path: Path) -> None:
     world = load_world(_make(tmp_path, "--text", "L", "--size", "40"))
     _x0, y0, _x1, y1 = world.target.bounds

@@ -61,6 +61,7 @@ def test_a_run_that_ends_early_leaves_no_folder_it_made(tmp_path, monkeypatch, e
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ending", list(ENDINGS))
 def test_a_run_that_ends_early_keeps_the_folders_that_were_there(tmp_path, monkeypatch,
                                                                   ending):
@@ -74,6 +75,7 @@ def test_a_run_that_ends_early_keeps_the_folders_that_were_there(tmp_path, monke
     assert _tree(tmp_path) == before
 
 
+@pytest.mark.slow
 def test_a_run_folder_holds_one_run(tmp_path, monkeypatch):
     """A re-run removes what the earlier run wrote and it does not (its trajectories, the
     temporary file of a killed write), and keeps the user's files."""
@@ -89,6 +91,7 @@ def test_a_run_folder_holds_one_run(tmp_path, monkeypatch):
     assert '"ticks": 30' in (tmp_path / "o" / "summary.json").read_text()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("existed", [False, True], ids=["new folder", "existing folder"])
 def test_writing_that_fails_leaves_no_half_run(tmp_path, monkeypatch, existed):
     """Writing the outputs fails half-way: none of the run's files stay (nor a folder made for
@@ -138,6 +141,7 @@ def test_a_lock_file_left_by_a_killed_run_does_not_hold_the_folder(tmp_path, mon
 
 
 # ------------------------------------------------------------------- interrupts in pymunk
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_inside_a_pymunk_callback_stops_the_run_at_the_end_of_the_tick(
         monkeypatch, signum):
@@ -194,6 +198,7 @@ def _then(first, second):
     return both
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_a_signal_while_pymunk_is_busy_stops_swarmsim_run(tmp_path, signum):
     """``swarmsim run`` whose time goes into pymunk's collision callbacks (made slow by

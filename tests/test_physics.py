@@ -27,6 +27,7 @@ def test_unobstructed_robot_tracks_command():
     assert abs(vel[0, 0] - 0.1) < 1e-6
 
 
+@pytest.mark.slow
 def test_pushed_crowd_overlap_below_5_percent_of_radius():
     cfg = PhysicsConfig()
     pos = hex_offsets(200, 1.0) + np.array([20.0, 20.0])
@@ -42,6 +43,7 @@ def test_pushed_crowd_overlap_below_5_percent_of_radius():
     assert 0 < worst < 0.05 * cfg.radius
 
 
+@pytest.mark.slow
 def test_robots_never_leave_the_arena():
     world = square_world()
     pos = hex_offsets(50, 1.0) + np.array([20.0, 20.0])

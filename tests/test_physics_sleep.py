@@ -194,6 +194,7 @@ def run_digest(settings: dict) -> tuple[str, int]:
     return hashlib.sha256(state).hexdigest(), slept
 
 
+@pytest.mark.slow
 def test_runs_with_sleeping_repeat_exactly():
     first, slept = run_digest({"physics_sleep": True})
     again, _ = run_digest({"physics_sleep": True})

@@ -35,6 +35,7 @@ def corridor_run(tmp_path_factory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_robots_csv_has_final_state_distance_and_contacts(corridor_run):
     summary = json.loads((corridor_run / "summary.json").read_text())
     rows = rows_of(corridor_run / "robots.csv")
@@ -123,6 +124,7 @@ def test_robot_columns_follow_the_message_fields_a_controller_has():
     assert [c["gradient"] for c in cols] == [3, ""] and "status" not in cols[0]
 
 
+@pytest.mark.slow
 def test_moving_counts_robots_that_travel_in_formation(tmp_path):
     """GGC's formations travel without broadcasting ``moving`` (the flag means a robot walks
     on its own): the column counts robots whose position changed."""
@@ -171,6 +173,7 @@ def test_failed_robots_read_failed_and_stop_adding_distance():
         assert (row["x"], row["y"]) == pytest.approx(tuple(path[-1]), abs=1e-3)
 
 
+@pytest.mark.slow
 def test_robots_csv_agrees_with_the_distance_ledger_of_the_examples():
     """examples/where_distance_goes.py keeps its own per-robot distance and settle tick (first
     entry; GGC's settled statuses are for good, so the same as the last)."""

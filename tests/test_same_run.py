@@ -99,6 +99,7 @@ def test_the_world_defaults_count_and_a_run_that_does_not_check_keeps_its_settin
     assert len(runs) == 1 and runs[0].settings["ruleset"] == "paper"
 
 
+@pytest.mark.slow
 def test_runs_that_share_an_id_are_the_same_tick_for_tick():
     """What the shared id claims, on whole runs: under the paper's rules and the default
     ones, one group at d_cover 8 makes the same run (at d_cover 6, where holes are filled,
@@ -114,6 +115,7 @@ def test_runs_that_share_an_id_are_the_same_tick_for_tick():
     assert paper == ours
 
 
+@pytest.mark.slow
 def test_a_sweep_makes_a_shared_run_once_and_shows_it_for_each_grid_point(tmp_path):
     from swarmsim.cli import main
     from swarmsim.experiments.table import read_table

@@ -29,6 +29,7 @@ def run(seed=3, **kw):
     return summary, res.timeseries, sim
 
 
+@pytest.mark.slow
 def test_same_seed_same_run_bit_for_bit():
     a, ta, sa = run()
     b, tb, sb = run()
@@ -37,12 +38,14 @@ def test_same_seed_same_run_bit_for_bit():
     assert a["total_distance"] > 0
 
 
+@pytest.mark.slow
 def test_different_seed_different_run():
     a, _, _ = run(seed=3)
     b, _, _ = run(seed=4)
     assert a != b
 
 
+@pytest.mark.slow
 def test_shuffled_decision_order_changes_nothing():
     a, ta, sa = run()
     b, tb, sb = run(settings={"decide_order": "shuffled"})
@@ -57,6 +60,7 @@ def test_failed_robots_are_counted_as_failed_in_the_status_counts():
     assert counts["Failed"] == 3 and sum(counts.values()) == 40
 
 
+@pytest.mark.slow
 def test_shuffled_decision_order_changes_nothing_with_noise_and_message_loss_either():
     """Noise and message loss are drawn in index order, whatever order controllers are
     called in (they were drawn in the calling order: a shuffled run differed from tick 2)."""
@@ -67,6 +71,7 @@ def test_shuffled_decision_order_changes_nothing_with_noise_and_message_loss_eit
     assert np.array_equal(sa.positions, sb.positions)
 
 
+@pytest.mark.slow
 def test_deciding_in_chunks_changes_nothing(monkeypatch):
     """Sensing and deciding a few awake robots at a time (to bound memory) is the same run,
     with sensing noise and message loss drawn in pieces."""
@@ -88,6 +93,7 @@ def test_deciding_in_chunks_changes_nothing(monkeypatch):
     assert whole[2] == chunked[2] and whole[2]["awake"] > 7  # several chunks were decided
 
 
+@pytest.mark.slow
 def test_sleeping_changes_nothing_but_saves_work():
     """Robots that sleep must act exactly as if they had been asked every tick."""
     def settle(allow_sleep):
@@ -104,6 +110,7 @@ def test_sleeping_changes_nothing_but_saves_work():
     assert min(r["awake"] for r in tb[5:]) == 40
 
 
+@pytest.mark.slow
 def test_sleeping_changes_nothing_when_robots_fail_either():
     """A robot that fails falls silent: that wakes its sleeping neighbours as any changed
     broadcast does (it did not, and failure runs depended on allow_sleep)."""
@@ -121,6 +128,7 @@ def test_sleeping_changes_nothing_when_robots_fail_either():
     assert fewest < len(pa) - 5  # robots really slept
 
 
+@pytest.mark.slow
 def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
     seen = []
     sim = Simulation(square_world(), controller="dispersion", robots=10, seed=1, max_ticks=20)
@@ -244,6 +252,7 @@ def test_a_users_hook_can_stop_a_run():
     assert res.timeseries[-1]["tick"] == tick  # the last row is the tick the hook stopped
 
 
+@pytest.mark.slow
 def test_completion_tick_when_target_covered():
     sim = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
                      seed=2, max_ticks=3000, settings={"d_cover": 3.0})
@@ -306,6 +315,7 @@ def test_unknown_controller_is_named():
         Simulation(square_world(), controller="no.module:Thing", robots=5)
 
 
+@pytest.mark.slow
 def test_cli_run_writes_outputs(tmp_path, capsys):
     out = tmp_path / "run"
     code = main(["run", "tiny", "--controller", "dispersion", "--max-ticks", "120", "--seed",
@@ -431,13 +441,14 @@ def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta(
     assert "%|" not in text and "<" not in text  # no bar, no time left: runs stop early
 
 
+@pytest.mark.slow
 def test_wake_near_wakes_exactly_the_sleepers_in_range():
     """wakes.wake_near, on a run's own sleepers, looks only in the cells round a changed
     robot: it must wake the same robots as checking every changed robot against every
     sleeper."""
     from swarmsim import wakes
 
-    from .test_ggc import small_world
+    from .conftest import small_world
 
     sim = Simulation(small_world(40, 30), controller="ggc", robots=120, groups=3, seed=1,
                      max_ticks=2000)
@@ -463,6 +474,7 @@ def test_wake_near_wakes_exactly_the_sleepers_in_range():
     assert checked > 50  # sleepers were woken, with their different wake ranges
 
 
+@pytest.mark.slow
 def test_floor_sensors_follow_every_robot_that_moved():
     """The floor sensors are asked again only for robots that moved: they must read what
     asking every robot reads, every tick."""
@@ -477,6 +489,7 @@ def test_floor_sensors_follow_every_robot_that_moved():
     assert flips > 10  # robots crossed the target's edge
 
 
+@pytest.mark.slow
 def test_the_summary_gives_the_distance_per_placed_robot():
     """robots_placed: robots in a settled status (GGC: Arrive) on the target at the end."""
     sim = Simulation("tiny", seed=1, max_ticks=1500)

@@ -26,6 +26,7 @@ def summaries_by_d_cover(out) -> dict[str, list[dict]]:
     return found
 
 
+@pytest.mark.slow
 def test_an_interrupted_sweep_aggregates_every_run_once_resumed(tmp_path):
     runs = spec_from_dict({**TINY, "reps": 3, "grid": {"d_cover": [4, 6]}}).runs()
     out = tmp_path / "out"
@@ -69,6 +70,7 @@ def test_an_interrupted_sweep_aggregates_every_run_once_resumed(tmp_path):
     assert (out / "aggregate" / "coverage.png").stat().st_size > 5000
 
 
+@pytest.mark.slow
 def test_every_finished_sweep_run_keeps_its_coverage_grid(tmp_path):
     runs = spec_from_dict({**TINY, "params": {"max_ticks": 150}, "reps": 2}).runs()
     run_sweep(runs, tmp_path, workers=1, progress=False)

@@ -6,12 +6,14 @@ import subprocess
 import imageio.v3 as iio
 import imageio_ffmpeg
 import numpy as np
+import pytest
 
 from swarmsim import Simulation
 from swarmsim.cli import main
 from swarmsim.sim import TIMING_FIELDS
 
 
+@pytest.mark.slow
 def test_run_video_reads_back_and_summary_unchanged(tmp_path):
     common = ["run", "tiny", "--controller", "dispersion", "--max-ticks", "60", "--seed", "4",
               "--quiet"]
@@ -52,6 +54,7 @@ def test_sim_render_shows_robots_where_they_are():
     np.testing.assert_array_equal(before, sim.positions)  # drawing moved nothing
 
 
+@pytest.mark.slow
 def test_sigterm_during_a_video_run_ends_like_ctrl_c_and_leaves_no_partial_file(tmp_path):
     """`kill` (or a batch system's time limit) during `swarmsim run --video` removes the hidden
     partial video and exits 130, as Ctrl-C does (SIGTERM's default would leave the file)."""
