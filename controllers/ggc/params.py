@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from swarmsim.controller import require_non_negative, require_positive
+
 from .rules.rulesets import DEFAULT_RULESET, RULESETS
 
 
@@ -153,14 +155,10 @@ class GGCParams:
     ruleset: str = DEFAULT_RULESET
 
     def __post_init__(self) -> None:
-        positive = ("d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
+        require_positive(self, "d_safe", "d_cover", "d_min", "R_c", "v", "gradient_reach", "radial_gain",
                     "probe_distance", "yield_distance", "T_r", "T_s", "init_timeout", "T_settle",
                     "T_quiet", "aggregation_timeout", "join_tolerance", "handover_reach",
                     "boundary_probe", "confined_ticks", "confined_reach", "confined_walk")
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"GGC parameter {name} must be positive, got "
-                                 f"{getattr(self, name)!r}")
         if self.d_cover < self.d_safe:
             raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
         if self.orbit not in (1, -1):
@@ -168,12 +166,8 @@ class GGCParams:
         if self.ruleset not in RULESETS:
             raise ValueError(f"ruleset must be one of {', '.join(RULESETS)}, got "
                              f"{self.ruleset!r}")
-        nonnegative = ("theta", "arrive_tolerance", "h_max", "yield_release", "surplus_frontier",
-                       "surplus_winding")
-        for name in nonnegative:
-            if getattr(self, name) < 0:
-                raise ValueError(f"GGC parameter {name} must be >= 0, got "
-                                 f"{getattr(self, name)!r}")
+        require_non_negative(self, "theta", "arrive_tolerance", "h_max", "yield_release",
+                             "surplus_frontier", "surplus_winding")
         if self.h_max > 127:  # broadcast as int8
             raise ValueError(f"GGC parameter h_max must be <= 127, got {self.h_max!r}")
         if self.theta > 2 * self.d_cover:
