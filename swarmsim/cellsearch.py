@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit
 
 from swarmsim.carrays import c_array
+from swarmsim.warmup import kernel_warm_up
 
 MAX_CELLS_PER_ROBOT = 4
 """The grid has at most this many cells per robot: a tiny radius over a wide swarm gets
@@ -69,6 +70,7 @@ def _all_finite(values):  # pragma: no cover - compiled
     return True
 
 
+@kernel_warm_up("neighbour views")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now, so that a
     run's clock does not count it."""

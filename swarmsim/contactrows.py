@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from swarmsim.bodysleep import IdTable, lookup_ids
+from swarmsim.warmup import kernel_warm_up
 
 
 @njit(cache=True)
@@ -88,6 +89,7 @@ def tally(robots, depth, n):  # pragma: no cover - compiled
     return in_contact, pair, deepest
 
 
+@kernel_warm_up("contacts")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     robots, one, flag = np.zeros((1, 2), dtype=np.intp), np.zeros(1), np.zeros(1, np.bool_)

@@ -17,16 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from swarmsim import (
-    cellsearch,
-    contactrows,
-    interrupts,
-    kernelbuild,
-    spawn,
-    tallies,
-    tickrows,
-    wakes,
-)
+from swarmsim import interrupts, kernelbuild, spawn, tickrows, wakes
 from swarmsim.actioncheck import Broadcasts, blame, check_columns, column_problems, columns_of
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.carrays import as_records
@@ -53,6 +44,7 @@ from swarmsim.registry import resolve_controller
 from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.snapshot import Snapshot
 from swarmsim.summary import SummaryCollector
+from swarmsim.warmup import registered_warm_ups
 from swarmsim.world import World, load_world
 
 if TYPE_CHECKING:
@@ -281,9 +273,7 @@ class Simulation:
         injector, the metrics, the stop rules; a user's hook is appended."""
         for hook in self.hooks:
             hook.start(self)
-        warm_ups = [("neighbour views", cellsearch.warm_up), ("wakes", wakes.warm_up),
-                    ("tallies", tallies.warm_up), ("contacts", contactrows.warm_up),
-                    ("tick rows", tickrows.warm_up),
+        warm_ups = [*registered_warm_ups(),  # the engine's kernels, each module's own
                     (f"controller {self.info.name}", self._warm_up_controller)]
         for k, (name, warm_up) in enumerate(warm_ups, 1):  # before the run's clock starts
             with kernelbuild.step(name, k, len(warm_ups)):

@@ -13,6 +13,8 @@ import math
 import numpy as np
 from numba import njit
 
+from swarmsim.warmup import kernel_warm_up
+
 
 @njit(cache=True)
 def step_lengths(positions, before):  # pragma: no cover - compiled
@@ -75,6 +77,7 @@ def watch_settled(positions, status, moving, is_settled, settled, anchor, max_sh
     return displaced
 
 
+@kernel_warm_up("tallies")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one = np.zeros((1, 2))

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit
 
 from swarmsim.carrays import c_array
+from swarmsim.warmup import kernel_warm_up
 
 
 def clamp_rows(velocities: np.ndarray, rows: np.ndarray, v_max: float) -> None:
@@ -73,6 +74,7 @@ def sign_rows(messages: np.ndarray, rows: np.ndarray, statuses: int) -> int:
                       int(statuses))
 
 
+@kernel_warm_up("tick rows")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one = np.zeros((1, 2))

@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 from swarmsim.cellsearch import MAX_CELLS_PER_ROBOT, grid, grid_frame
+from swarmsim.warmup import kernel_warm_up
 
 
 @njit(cache=True, inline="always")
@@ -120,6 +121,7 @@ def awake_robots(asleep, failed, wake_tick, tick, positions, ref, velocities, ep
     return np.flatnonzero(~asleep & ~failed)
 
 
+@kernel_warm_up("wakes")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     one, flag = np.zeros((1, 2)), np.zeros(1, dtype=np.bool_)

@@ -154,3 +154,20 @@ def test_no_test_file_imports_another():
         if tests:
             offenders[str(path.relative_to(ROOT))] = tests
     assert not offenders
+
+
+def test_every_engine_kernel_registers_its_warm_up():
+    """A kernel module's warm_up is registered (swarmsim.warmup), so Simulation warms it up
+    before the run's clock starts; one that is not would compile mid-run."""
+    import importlib
+
+    from swarmsim.warmup import registered_warm_ups
+
+    kernels = [path for path in ENGINE.rglob("*.py")
+               if any(isinstance(node, ast.FunctionDef) and node.name == "warm_up"
+                      for node in ast.parse(path.read_text()).body)]
+    assert len(kernels) >= 5
+    registered = [fn for _, fn in registered_warm_ups()]
+    for path in kernels:
+        name = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+        assert importlib.import_module(name).warm_up in registered, name
