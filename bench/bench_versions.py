@@ -28,8 +28,7 @@ from pathlib import Path
 
 WORKER = r"""
 import hashlib, json, sys, time
-from swarmsim import Simulation
-from swarmsim.sim import PHASES
+from swarmsim import Simulation  # the public API: the same in every version
 world, seed, ticks, controller = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 groups = int(sys.argv[5]) or None
 sim = Simulation(world, controller=controller or None, seed=seed, max_ticks=ticks or None,
