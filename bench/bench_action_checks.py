@@ -1,8 +1,8 @@
 """What the engine's checks of a controller's actions cost, as a share of a run, in one run.
 
-Times every call of the checks (swarmsim.actioncheck: the forms of a batch controller's
+Times every call of the checks (swarmsim.engine.actioncheck: the forms of a batch controller's
 ChunkActions, a list of Actions turned into columns, broadcasts converted; the ids written
-and status codes checked by swarmsim.tickrows.sign_rows) during a run, and prints their
+and status codes checked by swarmsim.engine.tickrows.sign_rows) during a run, and prints their
 seconds against the run's. The values checked inside the compiled passes that write the
 actions (finite velocities, ranges not negative) cost a compare per robot and are not
 counted. The timer's own cost (the wrapper, two perf_counter calls) is measured in the run,
@@ -29,9 +29,9 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim import actioncheck, sim, tickrows
 from swarmsim.controller import ChunkActions
-from swarmsim.sim import Simulation
+from swarmsim.engine import actioncheck, sim, tickrows
+from swarmsim.engine.sim import Simulation
 
 SPENT: Counter[str] = Counter()
 CALLS: Counter[str] = Counter()

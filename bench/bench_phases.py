@@ -50,7 +50,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_tick import square_world
 
 from swarmsim import Simulation
-from swarmsim.sim import PHASES
+from swarmsim.engine.sim import PHASES
 
 
 def parse_settings(pairs: list[str]) -> dict:

@@ -20,8 +20,8 @@ import numpy as np
 from swarmsim.controller import message_dtype
 from swarmsim.metrics import CoverageGrid
 from swarmsim.render import Renderer, VideoWriter
-from swarmsim.snapshot import Snapshot
-from swarmsim.world import world_from_dict
+from swarmsim.results.snapshot import Snapshot
+from swarmsim.world.world import world_from_dict
 
 
 def make_snapshots(n_robots: int, n_frames: int, step: float = 0.3, seed: int = 0):

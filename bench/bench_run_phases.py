@@ -22,7 +22,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from swarmsim import Simulation
-from swarmsim.config import parse_value
+from swarmsim.engine.config import parse_value
 
 
 def awake_parked(sim: Simulation) -> tuple[int, int, int]:

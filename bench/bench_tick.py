@@ -20,8 +20,8 @@ import statistics
 import time
 
 from swarmsim import Simulation
-from swarmsim.sim import PHASES
-from swarmsim.world import World, world_from_dict
+from swarmsim.engine.sim import PHASES
+from swarmsim.world.world import World, world_from_dict
 
 
 def square_world(robots: int) -> World:

@@ -17,19 +17,19 @@ import importlib
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmsim import kernelcache
+from swarmsim.kernels import kernelcache
 
 kernelcache.register_tree(Path(__file__).parent)  # kernels stamped by their file's code
 kernelcache.install()  # before any kernel is decorated
 
-_LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.sim",
-         "Simulation": "swarmsim.sim", "World": "swarmsim.world",
-         "available_worlds": "swarmsim.world", "load_world": "swarmsim.world"}
+_LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.engine.sim",
+         "Simulation": "swarmsim.engine.sim", "World": "swarmsim.world.world",
+         "available_worlds": "swarmsim.world.world", "load_world": "swarmsim.world.world"}
 
 if TYPE_CHECKING:  # _LAZY's names for a type checker (tests/test_engine_structure.py: equal)
+    from swarmsim.engine.sim import RunResult, Simulation
     from swarmsim.errors import ConfigError
-    from swarmsim.sim import RunResult, Simulation
-    from swarmsim.world import World, available_worlds, load_world
+    from swarmsim.world.world import World, available_worlds, load_world
 
 __all__ = ["ConfigError", "RunResult", "Simulation", "World", "available_worlds", "load_world"]
 __version__ = "0.1.0"

@@ -56,7 +56,7 @@ def action_columns(actions: Sequence[Any], robots: int, action_class: type
     ChunkActions' velocities, listen, messages and sleepers. Velocities are checked here for
     their shape and type; that they are finite, and that ``listen`` is not negative, by the
     compiled pass that writes them (:func:`move_problem`); broadcasts when they are converted
-    (swarmsim.actioncheck.Broadcasts). Raises BadAction."""
+    (swarmsim.engine.actioncheck.Broadcasts). Raises BadAction."""
     if len(actions) != robots:
         raise BadAction(None, f"{len(actions)} actions for a chunk of {robots} robots")
     if robots and set(map(type, actions)) != {action_class}:
@@ -82,7 +82,7 @@ def action_columns(actions: Sequence[Any], robots: int, action_class: type
 def action_problem(action: Any) -> str | None:
     """What is wrong with the values of one robot's Action (None: nothing; that it is an
     Action is the caller's to check); its broadcast's values are checked when it is written
-    (swarmsim.actioncheck.Broadcasts)."""
+    (swarmsim.engine.actioncheck.Broadcasts)."""
     velocity = _velocity_problem(action.velocity)
     if velocity:
         return velocity

@@ -18,7 +18,6 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from swarmsim import runfolder
 from swarmsim.errors import ConfigError, ControllerError, interrupts_unwrapped
 from swarmsim.limits import (
     MAX_COORDINATE,
@@ -30,16 +29,17 @@ from swarmsim.limits import (
     MAX_WORKERS_PER_CPU,
     check_count,
 )
-from swarmsim.runfolder import NewFolders
-from swarmsim.worldinfo import LATTICE_SPACINGS, fit_number
+from swarmsim.results import runfolder
+from swarmsim.results.runfolder import NewFolders
+from swarmsim.world.worldinfo import LATTICE_SPACINGS, fit_number
 
 if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run import them
-    from swarmsim.config import SimConfig
+    from swarmsim.engine.config import SimConfig
 
 
 def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
-    """The ``--set KEY=VALUE`` pairs as settings; see swarmsim.config.settings_from_pairs."""
-    from swarmsim.config import settings_from_pairs
+    """The ``--set KEY=VALUE`` pairs as settings; see swarmsim.engine.config.settings_from_pairs."""
+    from swarmsim.engine.config import settings_from_pairs
 
     return settings_from_pairs(pairs, options)
 
@@ -229,8 +229,8 @@ def cmd_worlds(args: argparse.Namespace) -> int:
 
 def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) -> int:
     """Describe each world; with ``preview``, draw the one world into that PNG."""
-    from swarmsim.world import load_world
-    from swarmsim.worldinfo import describe_world, format_report
+    from swarmsim.world.world import load_world
+    from swarmsim.world.worldinfo import describe_world, format_report
 
     if preview is not None:
         if len(names) != 1:
@@ -256,8 +256,8 @@ def cmd_describe_worlds(names: Sequence[str], preview: Path | None, width: int) 
 
 
 def cmd_make_world(args: argparse.Namespace) -> int:
-    from swarmsim.makeworld import WorldSpec, build_world, describe_built, write_world
-    from swarmsim.shapes import image_shape, text_shape
+    from swarmsim.world.makeworld import WorldSpec, build_world, describe_built, write_world
+    from swarmsim.world.shapes import image_shape, text_shape
 
     if args.out.suffix.lower() != ".toml":
         raise ConfigError(f"must be a .toml file, got {str(args.out)!r}", key="--out")
@@ -295,7 +295,7 @@ def cmd_make_world(args: argparse.Namespace) -> int:
 
 
 def cmd_list_worlds() -> int:
-    from swarmsim.world import available_worlds, load_world
+    from swarmsim.world.world import available_worlds, load_world
 
     head = f"{'world':<10} {'area':>9} " + " ".join(f"{'cap@' + str(d):>8}"
                                                    for d in LATTICE_SPACINGS)
@@ -320,10 +320,10 @@ def cmd_controllers() -> int:
 
 
 def cmd_params(controller: str) -> int:
-    from swarmsim.config import SimConfig
     from swarmsim.controller import get_controller
-    from swarmsim.paramhelp import format_params, help_width
-    from swarmsim.physics import PhysicsConfig
+    from swarmsim.engine.config import SimConfig
+    from swarmsim.engine.paramhelp import format_params, help_width
+    from swarmsim.physics.physics import PhysicsConfig
 
     cls = get_controller(controller)
     sections = (("engine", SimConfig), ("physics", PhysicsConfig),
@@ -342,7 +342,7 @@ def _trajectories_every(args: argparse.Namespace) -> int:
     """--trajectories K as ticks (0 when not given); it needs --out."""
     if args.trajectories is None:
         return 0
-    from swarmsim.trajectories import check_every
+    from swarmsim.results.trajectories import check_every
 
     every = check_every(args.trajectories, key="--trajectories")
     if not args.out:
@@ -429,24 +429,24 @@ def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, ev
     if args.video or args.snapshot:
         _check_width(args.width, world.arena)
     if every:
-        from swarmsim.trajectories import check_memory
+        from swarmsim.results.trajectories import check_memory
 
         check_memory(every, config.robots, config.max_ticks, key="--trajectories")
 
 
 def _run_arguments(args: argparse.Namespace) -> dict[str, Any]:
     """Simulation's keyword arguments from run's options (an option that --set gives again
-    is refused: swarmsim.config.settings_from_pairs)."""
+    is refused: swarmsim.engine.config.settings_from_pairs)."""
     given = {"robots": args.robots, "groups": args.groups, "seed": args.seed,
              "d_cover": args.d_cover, "max_ticks": args.max_ticks}
     return {"controller": args.controller, **given, "settings": _parse_set(args.set, **given)}
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from swarmsim.kernelbuild import build_notice
+    from swarmsim.engine.sim import Simulation
+    from swarmsim.kernels.kernelbuild import build_notice
     from swarmsim.recording import Recorder
-    from swarmsim.sim import Simulation
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _frame_every(args, MAX_TICKS)

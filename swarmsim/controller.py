@@ -39,7 +39,7 @@ from typing import Any, ClassVar, Protocol, TypeAlias, cast, runtime_checkable
 import numpy as np
 
 from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
-from swarmsim.kernelcache import register_tree as stamp_kernels_by_code
+from swarmsim.kernels.kernelcache import register_tree as stamp_kernels_by_code
 from swarmsim.limits import require_non_negative, require_positive
 from swarmsim.registry import available_controllers, get_controller
 
@@ -377,7 +377,7 @@ class Swarm(Protocol):
     """All robots' controllers of one run, deciding a chunk of awake robots at a time.
 
     A batch controller class makes one with ``create_swarm``; per-robot controllers are driven
-    through :class:`swarmsim.swarm.RobotSwarm`, which calls each robot's ``step``. Optional:
+    through :class:`swarmsim.engine.swarm.RobotSwarm`, which calls each robot's ``step``. Optional:
     ``warm_up()``, compile or load the kernels this swarm's run uses (called once, after the
     class's ``warm_up``, before the run's clock starts: no kernel is then compiled mid-run).
     """
@@ -402,7 +402,7 @@ class ControllerClass(Protocol):
     or ``create_swarm(setups, params, rngs) -> Swarm`` (a batch controller).
 
     Optional declarations (defaults in brackets), read once by
-    :func:`swarmsim.controller_info.describe`:
+    :func:`swarmsim.engine.controller_info.describe`:
 
     - ``MESSAGE_FIELDS`` ([]: no fields of its own): broadcast fields beyond ``id``,
       ``status``, ``moving`` (a list of (name, numpy type)); ``message_fields_for(groups,
@@ -416,7 +416,7 @@ class ControllerClass(Protocol):
       value, e.g. a hop count) or "category" (e.g. a group id). "status" is always offered.
     - ``LEADER_FIELD`` (None): a bool message field marking leaders (drawn with a ring;
       faults fail them last); ``GROUP_FIELD`` (None): the field holding a robot's group.
-    - ``LAYOUTS`` (every layout of :data:`swarmsim.layouts.LAYOUTS`: "random", "formation"):
+    - ``LAYOUTS`` (every layout of :data:`swarmsim.world.layouts.LAYOUTS`: "random", "formation"):
       the start layouts it can start from, if not all; ``default_start`` is one of them.
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
       forms no groups of its own),

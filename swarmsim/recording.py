@@ -9,18 +9,18 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Self
 
+from swarmsim.engine.sim import RunResult, Simulation
 from swarmsim.errors import ConfigError, did_you_mean
-from swarmsim.output import write_npz, write_run
-from swarmsim.runfolder import clear_run
-from swarmsim.sim import RunResult, Simulation
-from swarmsim.trajectories import FILE_NAME as TRAJECTORIES_FILE
-from swarmsim.trajectories import Trajectories
+from swarmsim.results.output import write_npz, write_run
+from swarmsim.results.runfolder import clear_run
+from swarmsim.results.trajectories import FILE_NAME as TRAJECTORIES_FILE
+from swarmsim.results.trajectories import Trajectories
 
 
 class Recorder:
     """Streams frames of ``sim`` to an MP4 every ``frame_every`` ticks and saves the last frame;
     with ``trajectories_every`` K > 0 it also samples positions every K ticks (see
-    swarmsim.trajectories), which :meth:`write_outputs` saves.
+    swarmsim.results.trajectories), which :meth:`write_outputs` saves.
 
     Use as a context manager around ``sim.run(on_tick=recorder.on_tick)``.
     """
@@ -89,7 +89,7 @@ class Recorder:
         """summary.json, timeseries.csv, robots.csv, coverage.npz, coverage.png and (if
         sampled) trajectories.npz in ``out_dir`` (docs/outputs.md describes each).
 
-        The folder holds one run: the files an earlier run wrote there (swarmsim.runfolder
+        The folder holds one run: the files an earlier run wrote there (swarmsim.results.runfolder
         RUN_FILES, e.g. its trajectories.npz) are removed first, and if writing fails or is
         interrupted the files written so far are removed too. Other files are left alone."""
         clear_run(out_dir)
@@ -104,7 +104,7 @@ class Recorder:
         write_npz(out / "coverage.npz", self.sim.grid.arrays(self.sim.positions))
         if self.trajectories is not None:
             self.trajectories.save(out / TRAJECTORIES_FILE)
-        from swarmsim.plots import plot_timeseries
+        from swarmsim.results.plots import plot_timeseries
 
         title = (f"{result.summary['world']} / {result.summary['controller']} / "
                  f"{result.summary['robots']} robots, {result.summary['groups']} groups")

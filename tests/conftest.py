@@ -9,7 +9,7 @@ import pytest
 os.environ.setdefault("SDL_VIDEODRIVER", "dummy")
 os.environ.setdefault("SDL_AUDIODRIVER", "dummy")
 
-from swarmsim.world import World, world_from_dict
+from swarmsim.world.world import World, world_from_dict
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import re
 
-from swarmsim.kernelbuild import PREFIX
+from swarmsim.kernels.kernelbuild import PREFIX
 
 _NOTICE = re.compile(rf"^({re.escape(PREFIX)}|swarmsim: compiled |  \d+/\d+ )")
-"""A line of the first run's build notice (swarmsim.kernelbuild), which a run that compiles
+"""A line of the first run's build notice (swarmsim.kernels.kernelbuild), which a run that compiles
 kernels prints before anything else: on a cold cache (a fresh clone's CI) it comes first."""
 
 

@@ -16,13 +16,13 @@ import shapely
 from controllers.dispersion import Dispersion
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
-from swarmsim.config import SimConfig
+from swarmsim.engine.config import SimConfig
 from swarmsim.experiments import load_spec, run_sweep
 from swarmsim.experiments.figures import PaperSetup
 from swarmsim.experiments.spec import spec_from_dict
 from swarmsim.metrics import CoverageGrid
-from swarmsim.spawn import max_formation_robots
-from swarmsim.world import available_worlds, load_world, world_from_dict
+from swarmsim.world.spawn import max_formation_robots
+from swarmsim.world.world import available_worlds, load_world, world_from_dict
 from tests.errlines import one_error_line
 
 TINY_TOML = (Path(__file__).parents[1] / "worlds" / "tiny.toml").read_text()

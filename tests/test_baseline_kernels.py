@@ -17,7 +17,7 @@ from controllers.cvt.kernel import owned
 from controllers.dash.kernel import spacing_view
 from controllers.meanshift.kernel import explore, interact
 from swarmsim.controller import NO_SENDER, RobotSetup
-from swarmsim.sensing import FloorSensor
+from swarmsim.sensing.sensing import FloorSensor
 
 
 def test_pairwise_sum_is_numpys_sum_to_the_bit():

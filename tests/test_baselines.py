@@ -23,8 +23,8 @@ from swarmsim.controller import (
     get_controller,
     run_message_fields,
 )
-from swarmsim.controller_info import describe
-from swarmsim.sim import TIMING_FIELDS
+from swarmsim.engine.controller_info import describe
+from swarmsim.engine.sim import TIMING_FIELDS
 
 CONTROLLERS = available_controllers()
 

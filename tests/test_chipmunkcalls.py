@@ -7,7 +7,8 @@ import numpy as np
 import pymunk
 import pytest
 
-from swarmsim import Simulation, chipmunkcalls
+from swarmsim import Simulation
+from swarmsim.physics import chipmunkcalls
 
 KNOWN_ABI = sys.platform != "win32" and platform.machine().lower() in {"x86_64", "aarch64"}
 

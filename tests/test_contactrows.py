@@ -3,8 +3,8 @@ numpy computed them before (np.maximum(0, -distance), np.hypot)."""
 
 import numpy as np
 
-from swarmsim.bodysleep import IdTable
-from swarmsim.contactrows import from_batch
+from swarmsim.physics.bodysleep import IdTable
+from swarmsim.physics.contactrows import from_batch
 
 
 def test_arbiter_rows_become_contact_rows():

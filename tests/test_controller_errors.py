@@ -20,8 +20,8 @@ import pytest
 import tests.bad_controllers as bad
 from swarmsim import Simulation
 from swarmsim.cli import main
-from swarmsim.config import engine_settings
 from swarmsim.controller import Action, ChunkActions, available_controllers, get_controller
+from swarmsim.engine.config import engine_settings
 from swarmsim.errors import ConfigError, ControllerError
 from swarmsim.experiments import run_sweep
 from swarmsim.experiments.spec import RunSpec
@@ -195,7 +195,7 @@ def test_a_sweep_records_a_failing_controller_with_its_line(tmp_path):
     line, _, details = error.partition("\n\n")
     assert line == (f"controller '{MODULE}:RaisesInStep', {AT}: step() raised "
                     "ZeroDivisionError: float division by zero")
-    assert "in user_helper" in details and "swarmsim/sim.py" not in details
+    assert "in user_helper" in details and "swarmsim/engine/sim.py" not in details
 
 
 def test_no_robot_can_broadcast_another_robots_id():

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from swarmsim.controller import Action, Perception, RobotSetup
+from swarmsim.engine.sim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.registry import available_controllers, get_controller
-from swarmsim.sim import Simulation
-from swarmsim.summary import SummaryCollector
+from swarmsim.results.summary import SummaryCollector
 from tests.conftest import square_world
 from tests.import_graph import assert_no_circles
 
@@ -157,11 +157,11 @@ def test_no_test_file_imports_another():
 
 
 def test_every_engine_kernel_registers_its_warm_up():
-    """A kernel module's warm_up is registered (swarmsim.warmup), so Simulation warms it up
+    """A kernel module's warm_up is registered (swarmsim.kernels.warmup), so Simulation warms it up
     before the run's clock starts; one that is not would compile mid-run."""
     import importlib
 
-    from swarmsim.warmup import registered_warm_ups
+    from swarmsim.kernels.warmup import registered_warm_ups
 
     kernels = [path for path in ENGINE.rglob("*.py")
                if any(isinstance(node, ast.FunctionDef) and node.name == "warm_up"

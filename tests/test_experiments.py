@@ -19,6 +19,8 @@ from controllers.common.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
+from swarmsim.engine.faults import FaultInjector, FaultPlan
+from swarmsim.engine.sim import TIMING_FIELDS, Simulation
 from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
 from swarmsim.experiments.runner import Sweep, run_cost
@@ -30,8 +32,6 @@ from swarmsim.experiments.verdicts import (
     claims_fig18,
     claims_fig21,
 )
-from swarmsim.faults import FaultInjector, FaultPlan
-from swarmsim.sim import TIMING_FIELDS, Simulation
 
 TINY = {"world": "tiny", "controller": "dispersion", "params": {"max_ticks": 30}}
 
@@ -102,7 +102,7 @@ def test_spec_errors_name_file_key_and_value(tmp_path, text, key, value):
 
 
 def test_world_path_is_relative_to_the_spec(tmp_path, monkeypatch):
-    from swarmsim.world import world_path
+    from swarmsim.world.world import world_path
 
     (tmp_path / "worlds").mkdir()
     (tmp_path / "worlds" / "mine.toml").write_text(world_path("tiny").read_text())

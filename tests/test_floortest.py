@@ -5,9 +5,9 @@ import pytest
 import shapely
 from shapely.geometry import Polygon
 
-from swarmsim.floortest import contains, polygon_edges, probe
-from swarmsim.sensing import FloorSensor
-from swarmsim.world import load_world
+from swarmsim.sensing.floortest import contains, polygon_edges, probe
+from swarmsim.sensing.sensing import FloorSensor
+from swarmsim.world.world import load_world
 
 RING = Polygon([(0, 0), (10, 0), (10, 10), (0, 10)], [[(3, 3), (7, 3), (7, 7), (3, 7)]])
 

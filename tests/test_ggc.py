@@ -7,8 +7,8 @@ from controllers.common.gradient import INF_GRADIENT
 from controllers.ggc import GGCParams
 from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, INITIAL, STATUSES
 from swarmsim import ConfigError, Simulation
-from swarmsim.sim import TIMING_FIELDS
-from swarmsim.world import world_from_dict
+from swarmsim.engine.sim import TIMING_FIELDS
+from swarmsim.world.world import world_from_dict
 from tests.conftest import small_world
 
 from .ggc_bot import ggc_state

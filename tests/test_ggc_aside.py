@@ -9,7 +9,7 @@ from scipy.spatial import cKDTree
 
 from controllers.ggc.statuses import ARRIVE, CMD_TRAVEL, COVERAGE, DETECTION, INITIAL
 from swarmsim import Simulation
-from swarmsim.world import world_from_dict
+from swarmsim.world.world import world_from_dict
 
 from .ggc_bot import Bot
 

@@ -5,7 +5,7 @@ import pytest
 
 from controllers.ggc.statuses import ARRIVE, COVERAGE, DETECTION, SURPLUS
 from swarmsim import Simulation
-from swarmsim.world import world_from_dict
+from swarmsim.world.world import world_from_dict
 
 from .ggc_bot import Bot
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from swarmsim.sim import TIMING_FIELDS
+from swarmsim.engine.sim import TIMING_FIELDS
 
 
 def run_in_process(out: Path, *args: str) -> tuple[dict, list[dict]]:

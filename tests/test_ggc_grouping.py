@@ -19,7 +19,7 @@ from controllers.ggc.statuses import (
     SURPLUS,
 )
 from swarmsim import Simulation
-from swarmsim.world import world_from_dict
+from swarmsim.world.world import world_from_dict
 from tests.conftest import small_world
 
 from .ggc_bot import Bot, ggc_state
@@ -103,7 +103,7 @@ def test_small_two_group_world_from_a_scattered_start_is_covered(two_group_run):
 @pytest.mark.slow
 def test_under_yield_holes_two_groups_meeting_head_on_park_no_one():
     """The default rule set on the corridor: no Stop between groups, yet no deadlock."""
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
                      max_ticks=20000)
@@ -117,7 +117,7 @@ def test_under_yield_holes_two_groups_meeting_head_on_park_no_one():
 def test_two_groups_meeting_head_on_resolve_without_deadlock():
     """The corridor world: two formations enter a band from its two ends and meet (the
     paper's rule set: Section 4.3's Stop between groups)."""
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
                      max_ticks=20000, settings={"ruleset": "paper"})
@@ -189,7 +189,7 @@ def test_every_group_keeps_a_leader_when_two_leaders_pick_the_same_robot(seed):
 
 
 def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monkeypatch):
-    from swarmsim import spawn
+    from swarmsim.world import spawn
 
     layout = spawn.random_layout
 
@@ -212,7 +212,7 @@ def test_a_robot_cut_off_from_the_swarm_covers_on_its_own_after_the_timeout(monk
 def test_where_the_target_is_full_every_robot_of_every_group_ends_standing():
     """d_cover 8 on the corridor holds 23 of 60 robots: the default's surplus movers of both
     groups stop (SURPLUS flag), so the run ends stalled, not on the plateau rule."""
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     sim = Simulation(load_world("corridor"), controller="ggc", robots=60, groups=2, seed=0,
                      d_cover=8, max_ticks=30000)

@@ -10,10 +10,10 @@ import pytest
 
 from swarmsim import ConfigError, Simulation
 from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup
-from swarmsim.imperfections import Imperfections, NoiseLevels
+from swarmsim.engine.sim import TIMING_FIELDS
 from swarmsim.metrics import SettledWatch
-from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.sim import TIMING_FIELDS
+from swarmsim.physics.physics import Physics, PhysicsConfig
+from swarmsim.robots.imperfections import Imperfections, NoiseLevels
 
 from .conftest import square_world
 

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from swarmsim import ConfigError, Simulation, makeworld
+from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
-from swarmsim.config import SimConfig
+from swarmsim.engine.config import SimConfig
 from swarmsim.limits import (
     MAX_COORDINATE,
     MAX_FRAME_SIDE,
@@ -21,9 +21,10 @@ from swarmsim.limits import (
     MAX_TICKS,
     field_bounds,
 )
-from swarmsim.physics import PhysicsConfig
-from swarmsim.world import world_from_dict
-from swarmsim.worldinfo import describe_world, fit_number, format_report
+from swarmsim.physics.physics import PhysicsConfig
+from swarmsim.world import makeworld
+from swarmsim.world.world import world_from_dict
+from swarmsim.world.worldinfo import describe_world, fit_number, format_report
 from tests.errlines import one_error_line
 
 SPEC = 'world = "tiny"\ncontroller = "dispersion"\n[params]\nmax_ticks = 5\n'
@@ -36,7 +37,7 @@ def nothing_built(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a refused input was built")
 
-    from swarmsim import sim as sim_module
+    from swarmsim.engine import sim as sim_module
 
     monkeypatch.setattr(sim_module.Simulation, "_setup", refuse)
     monkeypatch.setattr(makeworld, "_joined", refuse)
@@ -130,7 +131,7 @@ def test_make_world_takes_the_largest_size_it_suggests(tmp_path, capsys):
                  str(tmp_path / "w.toml")]) == 2
     most = int(re.search(r"give --size ([\d,]+) or less", one_error_line(capsys)).group(1)
                .replace(",", ""))
-    from swarmsim.shapes import text_shape
+    from swarmsim.world.shapes import text_shape
 
     shape = text_shape("GGC")
     spec = makeworld.WorldSpec(name="g", description="", size=float(most))

@@ -16,12 +16,12 @@ import pytest
 
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import build_parser, main
-from swarmsim.config import build_configs
 from swarmsim.controller import available_controllers, get_controller
+from swarmsim.engine.config import build_configs
 from swarmsim.experiments.spec import load_spec, spec_from_dict
-from swarmsim.makeworld import toml_string
 from swarmsim.recording import Recorder
-from swarmsim.world import load_world, world_from_dict
+from swarmsim.world.makeworld import toml_string
+from swarmsim.world.world import load_world, world_from_dict
 from tests.errlines import one_error_line
 
 REPO = Path(__file__).parents[1]

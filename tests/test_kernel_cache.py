@@ -1,5 +1,5 @@
-"""Compiled kernels are cached by code (swarmsim/kernelcache.py), and the first run says that
-it compiles them (swarmsim/kernelbuild.py)."""
+"""Compiled kernels are cached by code (swarmsim/kernels/kernelcache.py), and the first run says that
+it compiles them (swarmsim/kernels/kernelbuild.py)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from swarmsim import kernelcache
+from swarmsim.kernels import kernelcache
 
 RULE = '''\
 """Rules."""
@@ -47,7 +47,7 @@ kernelcache.install()
 sys.path.insert(0, sys.argv[1])
 from numba.core import event
 
-from swarmsim.kernelbuild import build_notice
+from swarmsim.kernels.kernelbuild import build_notice
 
 with event.install_recorder("numba:compile") as compiles, build_notice(detail=False):
     from pkg.driver import driver
@@ -127,7 +127,7 @@ def test_the_detailed_notice_names_each_step_that_compiled():
     nothing gets no line."""
     from numba import njit
 
-    from swarmsim.kernelbuild import PREFIX, build_notice, step
+    from swarmsim.kernels.kernelbuild import PREFIX, build_notice, step
 
     @njit  # not cached: compiled on every call of this test
     def add_one(x):  # pragma: no cover - compiled
@@ -149,7 +149,7 @@ def test_the_detailed_notice_names_each_step_that_compiled():
 
 
 def test_nothing_is_printed_when_nothing_compiles():
-    from swarmsim.kernelbuild import build_notice, step
+    from swarmsim.kernels.kernelbuild import build_notice, step
 
     stream = io.StringIO()
     with build_notice(stream, detail=True), step("loaded", 1, 1):

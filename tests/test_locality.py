@@ -18,13 +18,13 @@ from swarmsim.controller import (
     message_dtype,
     run_message_fields,
 )
-from swarmsim.sensing import FloorProbe, FloorSensor
+from swarmsim.sensing.sensing import FloorProbe, FloorSensor
 from tests.import_graph import assert_no_circles
 
 CONTROLLERS = Path(__file__).resolve().parent.parent / "controllers"
-FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics", "swarmsim.sim",
-             "swarmsim.sensing", "swarmsim.world", "swarmsim.render", "swarmsim.metrics",
-             "swarmsim.spawn")
+FORBIDDEN = ("pymunk", "pygame", "shapely", "scipy", "swarmsim.physics.physics", "swarmsim.engine.sim",
+             "swarmsim.sensing.sensing", "swarmsim.world.world", "swarmsim.render", "swarmsim.metrics",
+             "swarmsim.world.spawn")
 
 
 def imported_modules(path: Path) -> set[str]:

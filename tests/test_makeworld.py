@@ -10,10 +10,10 @@ import pytest
 import shapely
 
 from swarmsim.cli import main
-from swarmsim.makeworld import CAPACITY_SHARE, to_toml
-from swarmsim.sim import Simulation
-from swarmsim.world import load_world
-from swarmsim.worldinfo import hex_capacity
+from swarmsim.engine.sim import Simulation
+from swarmsim.world.makeworld import CAPACITY_SHARE, to_toml
+from swarmsim.world.world import load_world
+from swarmsim.world.worldinfo import hex_capacity
 
 
 def _make(tmp_path: Path, *args: str, name: str = "w.toml") -> Path:

@@ -15,10 +15,11 @@ from pathlib import Path
 import pymunk
 import pytest
 
-from swarmsim import ConfigError, runfolder
+from swarmsim import ConfigError
 from swarmsim.cli import _terminate_as_interrupt, main
+from swarmsim.engine.sim import Simulation
 from swarmsim.experiments import run_sweep, spec_from_dict
-from swarmsim.sim import Simulation
+from swarmsim.results import runfolder
 from tests import early_end_bots
 from tests.errlines import error_lines
 
@@ -96,7 +97,7 @@ def test_a_run_folder_holds_one_run(tmp_path, monkeypatch):
 def test_writing_that_fails_leaves_no_half_run(tmp_path, monkeypatch, existed):
     """Writing the outputs fails half-way: none of the run's files stay (nor a folder made for
     them); the user's do."""
-    import swarmsim.plots
+    import swarmsim.results.plots
 
     monkeypatch.chdir(tmp_path)
     if existed:
@@ -106,7 +107,7 @@ def test_writing_that_fails_leaves_no_half_run(tmp_path, monkeypatch, existed):
     def disk_full(*_args, **_kwargs):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(swarmsim.plots, "plot_timeseries", disk_full)
+    monkeypatch.setattr(swarmsim.results.plots, "plot_timeseries", disk_full)
     with pytest.raises(OSError, match="No space"):
         main(["run", "tiny", "--quiet", "--max-ticks", "20", "--out", "o"])
     assert _tree(tmp_path) == ({"o": "", "o/notes.txt": "mine"} if existed else {})

@@ -3,7 +3,7 @@
 import os
 import stat
 
-from swarmsim.output import atomic_write_text, write_json
+from swarmsim.results.output import atomic_write_text, write_json
 
 
 def test_atomic_files_get_the_permissions_of_a_plain_write(tmp_path):

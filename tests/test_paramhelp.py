@@ -8,10 +8,10 @@ import re
 import pytest
 
 from swarmsim.cli import main
-from swarmsim.config import SimConfig
 from swarmsim.controller import available_controllers, get_controller
-from swarmsim.paramhelp import attribute_docs, format_params
-from swarmsim.physics import PhysicsConfig
+from swarmsim.engine.config import SimConfig
+from swarmsim.engine.paramhelp import attribute_docs, format_params
+from swarmsim.physics.physics import PhysicsConfig
 
 SENTENCE_ENDS = (".", ")", '"', "!", "?")
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.spawn import hex_offsets
+from swarmsim.physics.physics import Physics, PhysicsConfig
+from swarmsim.world.spawn import hex_offsets
 
 from .conftest import square_world
 
@@ -60,7 +60,7 @@ def test_robots_never_leave_the_arena():
 
 
 def test_obstacles_block_robots():
-    from swarmsim.world import world_from_dict
+    from swarmsim.world.world import world_from_dict
 
     world = world_from_dict({
         "name": "wall", "target": {"outline": [[0, 0], [40, 0], [40, 40], [0, 40]]},

@@ -1,6 +1,6 @@
 """Parked robots sleep in pymunk (physics_sleep): the same collisions, reads and contacts.
 
-One test per pitfall of swarmsim/bodysleep.py: sleepers are still pushed (and wake), reads map
+One test per pitfall of swarmsim/physics/bodysleep.py: sleepers are still pushed (and wake), reads map
 rows by body id, contacts of sleepers are kept, an unparked sleeper moves, runs repeat.
 """
 
@@ -9,10 +9,11 @@ import hashlib
 import numpy as np
 import pytest
 
-from swarmsim import Simulation, chipmunkcalls
-from swarmsim.bodysleep import IdTable
-from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.spawn import hex_offsets
+from swarmsim import Simulation
+from swarmsim.physics import chipmunkcalls
+from swarmsim.physics.bodysleep import IdTable
+from swarmsim.physics.physics import Physics, PhysicsConfig
+from swarmsim.world.spawn import hex_offsets
 
 from .conftest import square_world
 

@@ -14,10 +14,10 @@ import pytest
 from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT
 from swarmsim.controller import message_dtype
 from swarmsim.metrics import CoverageGrid
-from swarmsim.plots import plot_timeseries
 from swarmsim.render import Renderer, VideoWriter, save_png
-from swarmsim.snapshot import Snapshot
-from swarmsim.world import world_from_dict
+from swarmsim.results.plots import plot_timeseries
+from swarmsim.results.snapshot import Snapshot
+from swarmsim.world.world import world_from_dict
 
 
 def make_world(margin: float = 5.0, beacon: bool = False):

@@ -6,11 +6,11 @@ import numpy as np
 import pygame
 import pytest
 
+from swarmsim.engine.sim import Simulation
 from swarmsim.render import Renderer
 from swarmsim.render.legend import _swatch
 from swarmsim.render.palette import GROUP_PALETTE, LEADER_RING, NONE_GREY
-from swarmsim.sim import Simulation
-from swarmsim.snapshot import Snapshot
+from swarmsim.results.snapshot import Snapshot
 
 
 def renderer(sim: Simulation, **kw) -> Renderer:

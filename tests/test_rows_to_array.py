@@ -1,11 +1,11 @@
 """The engine's broadcast rows -> structured array conversion
-(swarmsim.actioncheck.Broadcasts.array): numpy's values, checked."""
+(swarmsim.engine.actioncheck.Broadcasts.array): numpy's values, checked."""
 
 import numpy as np
 import pytest
 
-from swarmsim.actioncheck import Broadcasts
 from swarmsim.actionvalues import BadAction
+from swarmsim.engine.actioncheck import Broadcasts
 
 DTYPE = np.dtype([("id", "<i4"), ("status", "i1"), ("moving", "?"), ("vx", "<f4"),
                   ("ldist", "<f4", (3,)), ("lepoch", "<i4", (3,))])

@@ -13,10 +13,10 @@ import pytest
 
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.cli import main
+from swarmsim.engine.sim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.metrics import FinalState
-from swarmsim.sim import Simulation
-from swarmsim.trajectories import Trajectories, load_trajectories
+from swarmsim.results.trajectories import Trajectories, load_trajectories
 
 GO_TO_LIGHT = "examples.my_controller:GoToLight"
 

@@ -8,8 +8,8 @@ import pytest
 from controllers.ggc.params import GGCParams
 from controllers.ggc.rules.rulesets import BESIDE, HOLES, RULESETS, SURPLUS, YIELD
 from controllers.ggc.swarm import acting_flags, same_run_ruleset
+from swarmsim.engine.sim import Simulation
 from swarmsim.experiments.spec import RunSpec, run_id, same_run_settings, spec_from_dict
-from swarmsim.sim import Simulation
 
 # Run ids of the paper's reproduction (world K, seed 0) made before runs that are the same by
 # construction shared one id (the store of a full `reproduce all`): these runs are not the

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from swarmsim.physics import Physics
-from swarmsim.sensing import FloorSensor, NeighbourSearch
-from swarmsim.spawn import random_layout
+from swarmsim.physics.physics import Physics
+from swarmsim.sensing.sensing import FloorSensor, NeighbourSearch
+from swarmsim.world.spawn import random_layout
 
 from .conftest import square_world
 
@@ -45,7 +45,7 @@ def test_floor_probe_and_range():
 
 
 def test_neighbourhoods_match_neighbours_and_relative_view():
-    from swarmsim.sensing import relative_view
+    from swarmsim.sensing.sensing import relative_view
 
     rng = np.random.default_rng(3)
     pos = rng.uniform(0, 20, (200, 2))
@@ -65,7 +65,7 @@ def test_neighbourhoods_match_neighbours_and_relative_view():
 
 
 def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
-    from swarmsim.sensing import by_segment_then_distance
+    from swarmsim.sensing.sensing import by_segment_then_distance
 
     rng = np.random.default_rng(4)
     rows, cols = np.meshgrid(np.arange(30), np.arange(30), indexing="ij")
@@ -95,7 +95,7 @@ def test_segment_then_distance_order_equals_lexsort_on_a_lattice_full_of_ties():
 @pytest.mark.parametrize("segments", [50, 70_000])  # 16-bit radix passes; lexsort beyond
 def test_segment_then_distance_breaks_ties_by_a_given_order(segments):
     """Entries in no order (as the dual-tree pass returns them), ties broken by ``order``."""
-    from swarmsim.sensing import by_segment_then_distance
+    from swarmsim.sensing.sensing import by_segment_then_distance
 
     rng = np.random.default_rng(segments)
     n = 3 * segments
@@ -110,7 +110,7 @@ def test_segment_then_distance_breaks_ties_by_a_given_order(segments):
                                   np.lexsort((np.arange(n), d2, segment)))
 
 def test_neighbourhoods_in_chunks_equal_one_pass_noise_included(monkeypatch):
-    from swarmsim import sensing
+    from swarmsim.sensing import sensing
 
     rng = np.random.default_rng(5)
     rows, cols = np.meshgrid(np.arange(40), np.arange(40), indexing="ij")
@@ -143,7 +143,7 @@ def test_neighbourhoods_keep_exactly_the_robots_within_each_robots_own_radius(sp
     one ulp inside and one ulp outside it: the same sets as query_ball_point."""
     from scipy.spatial import cKDTree
 
-    from swarmsim import sensing
+    from swarmsim.sensing import sensing
 
     monkeypatch.setattr(sensing, "RADIUS_SPREAD", spread)
 
@@ -252,7 +252,7 @@ def test_compiled_pairs_near_equal_the_kdtree_pairs():
 def test_compiled_views_compile_once_whatever_arrays_callers_pass():
     """Read-only, broadcast, strided or int32 inputs take the one compiled signature, so a
     run never compiles inside its clock (Simulation warms the kernels up before)."""
-    from swarmsim import cellsearch
+    from swarmsim.sensing import cellsearch
 
     rng = np.random.default_rng(2)
     pos = rng.uniform(0, 20, (300, 4))[:, ::2]  # strided
@@ -268,7 +268,7 @@ def test_compiled_views_compile_once_whatever_arrays_callers_pass():
 
 
 def test_cell_views_refuse_positions_that_are_not_finite():
-    from swarmsim.cellsearch import cell_views
+    from swarmsim.sensing.cellsearch import cell_views
 
     robots, radii = np.arange(3, dtype=np.int64), np.full(3, 5.0)
     for bad in (np.nan, np.inf, -np.inf):

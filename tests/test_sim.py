@@ -14,8 +14,8 @@ from controllers.ggc.statuses import ARRIVE
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
-from swarmsim.hooks import Hook
-from swarmsim.sim import TIMING_FIELDS
+from swarmsim.engine.hooks import Hook
+from swarmsim.engine.sim import TIMING_FIELDS
 
 from .conftest import square_world
 
@@ -75,7 +75,7 @@ def test_shuffled_decision_order_changes_nothing_with_noise_and_message_loss_eit
 def test_deciding_in_chunks_changes_nothing(monkeypatch):
     """Sensing and deciding a few awake robots at a time (to bound memory) is the same run,
     with sensing noise and message loss drawn in pieces."""
-    import swarmsim.sim as sim_module
+    import swarmsim.engine.sim as sim_module
 
     def fingerprint():
         sim = Simulation(square_world(), controller="ggc", robots=60, groups=2, seed=5,
@@ -427,7 +427,7 @@ def test_a_world_file_may_name_the_controller_and_the_start(tmp_path):
 
 
 def test_progress_bar_shows_ticks_and_coverage_but_no_share_of_max_ticks_or_eta():
-    from swarmsim.sim import _progress_bar
+    from swarmsim.engine.sim import _progress_bar
 
     bar = _progress_bar(100_000, enabled=True)
     try:
@@ -446,7 +446,7 @@ def test_wake_near_wakes_exactly_the_sleepers_in_range():
     """wakes.wake_near, on a run's own sleepers, looks only in the cells round a changed
     robot: it must wake the same robots as checking every changed robot against every
     sleeper."""
-    from swarmsim import wakes
+    from swarmsim.engine import wakes
 
     from .conftest import small_world
 

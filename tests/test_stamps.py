@@ -1,10 +1,10 @@
-"""The compiled coverage stamps (swarmsim/stamps.py) cover exactly the pixels whose centre
+"""The compiled coverage stamps (swarmsim/metrics/stamps.py) cover exactly the pixels whose centre
 passes the float test (cx - x)^2 + (cy - y)^2 <= r^2, as numpy evaluates it."""
 
 import numpy as np
 import pytest
 
-from swarmsim.stamps import restamp
+from swarmsim.metrics.stamps import restamp
 
 
 def brute_counts(positions, x0, y0, dx, dy, r2, rows, cols):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swarmsim import tickrows
+from swarmsim.engine import tickrows
 
 
 def _numpy_clamp(v: np.ndarray, v_max: float) -> np.ndarray:
@@ -86,7 +86,7 @@ def test_put_sleep_puts_only_still_robots_that_asked_to_sleep():
 
 
 def test_c_array_passes_arrays_through_only_when_they_qualify():
-    from swarmsim.carrays import c_array
+    from swarmsim.kernels.carrays import c_array
     a = np.zeros((4, 2))
     assert c_array(a, np.float64) is a
     assert c_array(a[:, 0], np.float64).flags.c_contiguous

@@ -9,7 +9,7 @@ import pytest
 from shapely.geometry import Point
 
 from swarmsim.experiments.spec import load_spec
-from swarmsim.world import load_world
+from swarmsim.world.world import load_world
 
 ROOT = Path(__file__).resolve().parent.parent
 WORLDS = ROOT / "experiments" / "worlds"

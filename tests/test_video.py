@@ -10,7 +10,7 @@ import pytest
 
 from swarmsim import Simulation
 from swarmsim.cli import main
-from swarmsim.sim import TIMING_FIELDS
+from swarmsim.engine.sim import TIMING_FIELDS
 
 
 @pytest.mark.slow

@@ -1,9 +1,9 @@
-"""The compiled wake step (swarmsim/wakes.py) gives the numpy code's answers: which robots
+"""The compiled wake step (swarmsim/engine/wakes.py) gives the numpy code's answers: which robots
 drifted or were pushed, and which sleepers a changed robot wakes."""
 
 import numpy as np
 
-from swarmsim.wakes import awake_robots, drifted, hypot_at_most, wake_near
+from swarmsim.engine.wakes import awake_robots, drifted, hypot_at_most, wake_near
 
 
 def test_drifted_is_the_numpy_rule():

@@ -8,7 +8,7 @@ import pytest
 from shapely.geometry import Point
 
 from swarmsim.errors import ConfigError
-from swarmsim.world import available_worlds, load_world
+from swarmsim.world.world import available_worlds, load_world
 
 SHIPPED = ["K", "K-large", "corridor", "house", "tiny"]
 PAPER_DEFAULTS = {"K": (603, 3), "house": (942, 3), "K-large": (2000, 10), "tiny": (40, 1),
@@ -225,8 +225,8 @@ def test_formations_start_in_spawn_areas_far_apart():
     common bounding box until enough landed, which for 112 robots took minutes."""
     import numpy as np
 
-    from swarmsim import spawn
-    from swarmsim.world import world_from_dict
+    from swarmsim.world import spawn
+    from swarmsim.world.world import world_from_dict
 
     def square(x0, y0, x1, y1):
         return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
@@ -248,7 +248,7 @@ def test_a_random_start_keeps_robots_clear_of_obstacles_and_walls():
     import shapely
 
     from swarmsim import Simulation
-    from swarmsim.world import world_from_dict
+    from swarmsim.world.world import world_from_dict
 
     def square(x0, y0, x1, y1):
         return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]

@@ -10,8 +10,8 @@ import pytest
 
 from swarmsim.cli import main
 from swarmsim.errors import ConfigError
-from swarmsim.world import load_world, world_from_dict
-from swarmsim.worldinfo import describe_world, format_report
+from swarmsim.world.world import load_world, world_from_dict
+from swarmsim.world.worldinfo import describe_world, format_report
 
 ODD = """
 name = "odd"
@@ -126,8 +126,8 @@ def test_worlds_bad_input_is_one_line(argv, needle, capsys, tmp_path, monkeypatc
 
 
 def test_the_preview_shows_seed_0s_start() -> None:
+    from swarmsim.engine.sim import Simulation
     from swarmsim.render.preview import start_layout
-    from swarmsim.sim import Simulation
 
     world = load_world("corridor")
     pos, groups, leaders, note = start_layout(describe_world(world))

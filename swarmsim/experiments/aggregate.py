@@ -28,7 +28,7 @@ from swarmsim.experiments.figures import Condition, CondStats, Panel, condition_
 from swarmsim.experiments.runner import RunStore
 from swarmsim.experiments.spec import RunSpec
 from swarmsim.experiments.table import mean_band
-from swarmsim.output import atomic_write_text, csv_text
+from swarmsim.results.output import atomic_write_text, csv_text
 
 AGGREGATE_DIR = "aggregate"
 CURVE_POINTS = 201

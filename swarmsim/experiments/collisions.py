@@ -4,7 +4,7 @@ The paper's robots are points that pass through each other (NetLogo). The same c
 world, robots and seeds run in ``ghost`` mode (robots pass through each other; walls hold) and
 in ``rigid`` mode (pymunk discs that push each other), optionally at several noise levels (a
 level x sets speed_noise = heading_noise = distance_noise = bearing_noise = x, see
-swarmsim/imperfections.py). Runs are resumable (one run store, as in ``swarmsim sweep``).
+swarmsim/robots/imperfections.py). Runs are resumable (one run store, as in ``swarmsim sweep``).
 
 Outputs in DIR: ``runs/<id>/`` (each run), ``results.csv`` (one row per run),
 ``conditions.csv`` (means and sds per condition), ``collisions.png`` (mean coverage, distance
@@ -27,7 +27,7 @@ from swarmsim.experiments.runner import DONE, Sweep
 from swarmsim.experiments.spec import RunSpec, drop_unused_groups
 from swarmsim.experiments.table import Band, mean_band, series, stats
 from swarmsim.limits import MAX_REPS, check_count
-from swarmsim.output import atomic_write_bytes, atomic_write_text, write_csv
+from swarmsim.results.output import atomic_write_bytes, atomic_write_text, write_csv
 
 MILESTONES = (0.5, 0.6, 0.7, 0.8, 0.9)
 """Coverage fractions at which the study compares ticks and distance moved."""
@@ -98,9 +98,9 @@ def conditions(setup: StudySetup, reps: int) -> list[StudyCondition]:
 
 def check_setup(setup: StudySetup) -> None:
     """Fail early, naming the key, on a bad world, controller, mode, level or setting."""
-    from swarmsim.config import build_configs
     from swarmsim.controller import get_controller
-    from swarmsim.world import load_world
+    from swarmsim.engine.config import build_configs
+    from swarmsim.world.world import load_world
 
     load_world(setup.world)
     cls = get_controller(setup.controller)

@@ -25,7 +25,7 @@ from swarmsim.experiments.runner import run_cost
 from swarmsim.experiments.spec import unique_runs
 from swarmsim.experiments.table import read_table, write_table
 from swarmsim.experiments.verdicts import _pct, _tick
-from swarmsim.output import atomic_write_text, write_csv
+from swarmsim.results.output import atomic_write_text, write_csv
 
 
 # ----------------------------------------------------------------------------- outputs

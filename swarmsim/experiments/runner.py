@@ -39,8 +39,8 @@ from swarmsim.experiments import claims
 from swarmsim.experiments.executors import check_workers, open_pool
 from swarmsim.experiments.spec import RunSpec, unique_runs
 from swarmsim.experiments.table import read_table, run_row, write_table
-from swarmsim.output import write_csv, write_json, write_npz
-from swarmsim.runfolder import NewFolders, removed_if_left_empty
+from swarmsim.results.output import write_csv, write_json, write_npz
+from swarmsim.results.runfolder import NewFolders, removed_if_left_empty
 
 DONE, FAILED = "done", "failed"
 
@@ -58,7 +58,7 @@ class SweepError(RuntimeError):
 def execute_run(run: RunSpec) -> dict[str, Any]:
     """Run one simulation (in a worker). Never raises for a bad run: returns its error."""
     try:
-        from swarmsim.sim import Simulation
+        from swarmsim.engine.sim import Simulation
 
         sim = Simulation(run.world_ref or run.world, controller=run.controller, seed=run.seed,
                          settings=dict(run.settings))
@@ -120,7 +120,7 @@ class RunStore:
         (p / "error.txt").unlink(missing_ok=True)
 
     def write_error(self, run: RunSpec, message: str, details: str = "") -> None:
-        from swarmsim.output import atomic_write_text
+        from swarmsim.results.output import atomic_write_text
 
         p = self.path(run.run_id)
         write_json(p / "run.json", run.to_json())
@@ -224,7 +224,7 @@ class Sweep:
         return [r for r in rows if r is not None and not r.get("error")]
 
     def code_versions(self) -> Counter[str]:
-        """How many finished runs each code version made (see swarmsim.provenance)."""
+        """How many finished runs each code version made (see swarmsim.results.provenance)."""
         return Counter(str(r.get("code_version") or "unrecorded") for r in self._finished_rows())
 
     def run_seconds(self) -> float:

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from swarmsim.config import PhysicsConfig, SimConfig, coerce, field_defaults
+from swarmsim.engine.config import PhysicsConfig, SimConfig, coerce, field_defaults
 from swarmsim.errors import ConfigError, did_you_mean, unknown_name
 from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
 from swarmsim.tomlfile import read_toml
@@ -129,9 +129,9 @@ def same_run_settings(world: str, controller: str, settings: Mapping[str, Any]
 @functools.lru_cache(maxsize=4096)
 def _same_run_settings(world: str, controller: str, settings: str
                        ) -> tuple[tuple[str, Any], ...]:
-    from swarmsim.controller_info import describe
+    from swarmsim.engine.controller_info import describe
+    from swarmsim.engine.sim import Simulation
     from swarmsim.registry import get_controller
-    from swarmsim.sim import Simulation
 
     try:
         cls = get_controller(controller)
@@ -146,7 +146,7 @@ def _same_run_settings(world: str, controller: str, settings: str
 
 @functools.lru_cache(maxsize=32)
 def _loaded_world(ref: str) -> Any:
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     return load_world(ref)
 
@@ -342,7 +342,7 @@ def _seeds(data: Mapping[str, Any], source: str) -> tuple[int, ...]:
 def check_settings(spec: SweepSpec) -> None:
     """Every world loads and every setting name and value type suits its controller."""
     from swarmsim.controller import get_controller
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     worlds = spec.grid.get("world", [spec.world])
     controllers = spec.grid.get("controller", [spec.controller])
@@ -371,8 +371,8 @@ def check_runs(runs: Iterable[RunSpec], source: str) -> None:
     :meth:`Simulation.check` does, before any run starts: a bad value (``groups = 0``, an
     unknown mode, a negative distance) is one ConfigError naming the run's grid values, not a
     failed run per grid point."""
-    from swarmsim.sim import Simulation
-    from swarmsim.world import load_world
+    from swarmsim.engine.sim import Simulation
+    from swarmsim.world.world import load_world
 
     worlds: dict[str, Any] = {}
     for run in runs:
@@ -403,7 +403,7 @@ def drop_unused_groups(controller: str, settings: Mapping[str, Any]) -> dict[str
     settings' start has no use for groups (see ControllerInfo.uses_groups): such a run
     has one group, and asking it for more is an error. For figures and studies that set the
     same groups for every controller they compare."""
-    from swarmsim.controller_info import describe
+    from swarmsim.engine.controller_info import describe
     from swarmsim.registry import get_controller
 
     out = dict(settings)

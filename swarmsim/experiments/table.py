@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.output import atomic_write_text
+from swarmsim.results.output import atomic_write_text
 
 ERROR_COLUMN = "error"
 

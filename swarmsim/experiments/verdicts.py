@@ -103,7 +103,7 @@ def _dist_at_settle(s: CondStats) -> float | None:
 
 def _enough_robots(ctx: Context, st: list[CondStats]) -> list[CondStats]:
     """Conditions whose d_cover lattice over the target needs no more robots than are used."""
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     world = load_world(ctx.setup.world)
     robots = ctx.setup.robots or int(world.defaults.get("robots", 100))
@@ -133,7 +133,7 @@ def _dcover_coverage_claims(ctx: Context, key: str) -> list[Claim]:
 
 
 def _robots_note(ctx: Context, key: str) -> Claim:
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     st = ctx.stats(key)
     world = load_world(ctx.setup.world)

@@ -13,7 +13,7 @@ time-series columns, robots.csv columns and summary fields; :class:`RunMetrics` 
 * ``spacing`` (spacing.py): nearest-neighbour spacing on the target at the end.
 
 A new metric is one new part, added to :func:`standard_parts`. The stop rules that read the
-metrics (complete, plateau, stall) are loop hooks (swarmsim/hooks.py).
+metrics (complete, plateau, stall) are loop hooks (swarmsim/engine/hooks.py).
 """
 
 from swarmsim.metrics.collector import ObservedRun, RunMetrics, standard_parts

@@ -63,7 +63,7 @@ def standard_parts(grid: CoverageGrid, config: Any, physics: Any,
 class RunMetrics:
     """Accumulates a run's metrics tick by tick from named parts and keeps the time series.
 
-    A loop hook (swarmsim.hooks): :meth:`start` and :meth:`post_step` observe the run, so a
+    A loop hook (swarmsim.engine.hooks): :meth:`start` and :meth:`post_step` observe the run, so a
     hook placed before it in ``Simulation.hooks`` changes what a tick's metrics see, and one
     placed after it reads them.
 

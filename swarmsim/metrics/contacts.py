@@ -12,7 +12,7 @@ from swarmsim.metrics.part import MetricPart, Observation, Reporter, RobotReport
 
 class ContactsPart(MetricPart):
     """Contacts read from the physics each tick: who touches, overlap, impulse; and the
-    physics' own counts of contacts begun (swarmsim.physics.ContactStats).
+    physics' own counts of contacts begun (swarmsim.physics.physics.ContactStats).
 
     Args:
         physics: the run's Physics (its ``contact_state()`` and ``contacts`` are read).

@@ -19,9 +19,9 @@ import shapely
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
-from swarmsim.carrays import c_array
 from swarmsim.errors import ConfigError
-from swarmsim.stamps import restamp
+from swarmsim.kernels.carrays import c_array
+from swarmsim.metrics.stamps import restamp
 
 
 @dataclass(frozen=True)

@@ -63,7 +63,7 @@ class MetricPart:
         - :meth:`observe` is called once at the start (tick 0) and once at the end of every
           tick, after the physics step and the fault hooks, in the order of the run's parts
           (a part may read the parts before it). It must not change the Observation's arrays.
-          Any pass over all robots belongs in a compiled kernel (swarmsim/tallies.py).
+          Any pass over all robots belongs in a compiled kernel (swarmsim/metrics/tallies.py).
         - :meth:`conclude` is called before the summary fields are read (at the end of a
           run, or whenever a summary is asked for).
         - :meth:`columns`, :meth:`robot_columns` and :meth:`summary_fields` are called once,

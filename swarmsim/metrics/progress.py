@@ -11,7 +11,7 @@ import numpy as np
 from swarmsim.metrics.coverage import CoveragePart
 from swarmsim.metrics.part import MetricPart, Observation, Reporter, RobotReporter, RunEnd
 from swarmsim.metrics.settled import SettledPart
-from swarmsim.tallies import count_above, enter_settled, step_lengths
+from swarmsim.metrics.tallies import count_above, enter_settled, step_lengths
 
 MOVING_FRACTION = 0.01
 """A robot counts as moving in a tick (time series column ``moving``) when it moved more

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from swarmsim.metrics.part import MetricPart, Observation, Reporter, RobotReporter
-from swarmsim.tallies import watch_settled
+from swarmsim.metrics.tallies import watch_settled
 
 
 class SettledWatch:

@@ -1,4 +1,4 @@
-"""Headless frame rendering: a :class:`~swarmsim.snapshot.Snapshot` -> an (H, W, 3) uint8 image.
+"""Headless frame rendering: a :class:`~swarmsim.results.snapshot.Snapshot` -> an (H, W, 3) uint8 image.
 
 Everything is drawn with pygame-ce on an off-screen ``Surface``: no window, no audio, no
 ``pygame.init()``. The static part of the picture (arena walls, target with its holes, obstacles,
@@ -51,8 +51,8 @@ from swarmsim.render.palette import (
     TEXT,
     WALL,
 )
-from swarmsim.snapshot import Snapshot
-from swarmsim.world import World
+from swarmsim.results.snapshot import Snapshot
+from swarmsim.world.world import World
 
 MIN_WIDTH = 64
 

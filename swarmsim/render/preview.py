@@ -15,8 +15,8 @@ from swarmsim.errors import ConfigError
 from swarmsim.render.frame import Renderer
 from swarmsim.render.palette import OUTSIDE, PANEL, TEXT
 from swarmsim.render.video import save_png
-from swarmsim.snapshot import Snapshot
-from swarmsim.worldinfo import (
+from swarmsim.results.snapshot import Snapshot
+from swarmsim.world.worldinfo import (
     DEFAULT_D_COVER,
     DEFAULT_ROBOTS,
     ROBOT_RADIUS,
@@ -36,7 +36,7 @@ def start_layout(report: WorldReport, seed: int = 0) -> tuple[np.ndarray, np.nda
     """Positions (n, 2), groups (n,) and leader flags (n,) of the world's default start, and a
     note ("" or why no robots are drawn). The default start is the world's ``start``, else a
     formation (GGC's), with its ``robots`` (else 100) in its ``groups`` (else 1)."""
-    from swarmsim import spawn
+    from swarmsim.world import spawn
 
     w = report.world
     robots = int(w.defaults.get("robots", DEFAULT_ROBOTS))

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from swarmsim.snapshot import Snapshot
+from swarmsim.results.snapshot import Snapshot
 
 
 def _has(snapshot: Snapshot, field: str | None) -> bool:

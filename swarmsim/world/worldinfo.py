@@ -18,7 +18,7 @@ from shapely.geometry.base import BaseGeometry
 
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_GRID_SIZE
-from swarmsim.world import HEX_CELL_FACTOR, World
+from swarmsim.world.world import HEX_CELL_FACTOR, World
 
 LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
 DEFAULT_D_COVER = 6.0
@@ -214,7 +214,7 @@ def _where(world: World, xy: tuple[float, float]) -> str:
 
 def _start_check(world: World, robots: int) -> list[str]:
     """The world's default start, tried with seed 0: a one-line warning if it is refused."""
-    from swarmsim import spawn
+    from swarmsim.world import spawn
 
     groups = int(world.defaults.get("groups", 1))
     start = world.defaults.get("start", "formation")

@@ -1,6 +1,6 @@
 """Parked robots sleep in pymunk: the low-level parts Physics needs (pymunk body sleeping).
 
-Not the engine's robot sleep (controllers asking not to be decided, swarmsim/wakes.py): this
+Not the engine's robot sleep (controllers asking not to be decided, swarmsim/engine/wakes.py): this
 is Chipmunk's own sleeping of bodies at rest, which takes them out of its solver.
 
 Chipmunk keeps every body jointed to a KINEMATIC body awake, so a robot's control body is made
@@ -26,8 +26,8 @@ import pymunk
 from numba import njit
 from pymunk._chipmunk_cffi import lib
 
-from swarmsim import chipmunkcalls
-from swarmsim.carrays import c_array
+from swarmsim.kernels.carrays import c_array
+from swarmsim.physics import chipmunkcalls
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing's multiplier, 2^64 / phi
 

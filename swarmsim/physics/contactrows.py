@@ -14,8 +14,8 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.bodysleep import IdTable, lookup_ids
-from swarmsim.warmup import kernel_warm_up
+from swarmsim.kernels.warmup import kernel_warm_up
+from swarmsim.physics.bodysleep import IdTable, lookup_ids
 
 
 @njit(cache=True)

@@ -2,7 +2,7 @@
 
 A controller declares the layouts it can start from (``LAYOUTS``, names from
 :data:`LAYOUTS`) and its ``default_start``; every controller can start "random". The geometry
-lives in :mod:`swarmsim.spawn`.
+lives in :mod:`swarmsim.world.spawn`.
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swarmsim import spawn
 from swarmsim.controller import RobotSetup
-from swarmsim.world import World
+from swarmsim.world import spawn
+from swarmsim.world.world import World
 
 
 @dataclass(frozen=True)

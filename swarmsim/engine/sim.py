@@ -17,11 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from swarmsim import interrupts, kernelbuild, spawn, tickrows, wakes
-from swarmsim.actioncheck import Broadcasts, blame, check_columns, column_problems, columns_of
+from swarmsim import interrupts
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
-from swarmsim.carrays import as_records
-from swarmsim.config import SimConfig, build_configs, check_given_once
 from swarmsim.controller import (
     Action,
     ChunkActions,
@@ -32,23 +29,35 @@ from swarmsim.controller import (
     make_perception,
     silent_message,
 )
-from swarmsim.controller_info import ControllerInfo, describe
+from swarmsim.engine import tickrows, wakes
+from swarmsim.engine.actioncheck import (
+    Broadcasts,
+    blame,
+    check_columns,
+    column_problems,
+    columns_of,
+)
+from swarmsim.engine.config import SimConfig, build_configs, check_given_once
+from swarmsim.engine.controller_info import ControllerInfo, describe
+from swarmsim.engine.hooks import LoopHook, stop_rules
 from swarmsim.errors import ConfigError, ControllerError, interrupt_within
-from swarmsim.hooks import LoopHook, stop_rules
-from swarmsim.imperfections import Imperfections
-from swarmsim.layouts import LAYOUTS, LayoutRequest
+from swarmsim.kernels import kernelbuild
+from swarmsim.kernels.carrays import as_records
+from swarmsim.kernels.warmup import registered_warm_ups
 from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics, standard_parts
-from swarmsim.physics import Physics, PhysicsConfig
-from swarmsim.provenance import code_version
+from swarmsim.physics.physics import Physics, PhysicsConfig
 from swarmsim.registry import resolve_controller
-from swarmsim.sensing import FlatViews, FloorSensor, NeighbourSearch
-from swarmsim.snapshot import Snapshot
-from swarmsim.summary import SummaryCollector
-from swarmsim.warmup import registered_warm_ups
-from swarmsim.world import World, load_world
+from swarmsim.results.provenance import code_version
+from swarmsim.results.snapshot import Snapshot
+from swarmsim.results.summary import SummaryCollector
+from swarmsim.robots.imperfections import Imperfections
+from swarmsim.sensing.sensing import FlatViews, FloorSensor, NeighbourSearch
+from swarmsim.world import spawn
+from swarmsim.world.layouts import LAYOUTS, LayoutRequest
+from swarmsim.world.world import World, load_world
 
 if TYPE_CHECKING:
-    from swarmsim.faults import FaultInjector
+    from swarmsim.engine.faults import FaultInjector
 
 NEVER = np.iinfo(np.int64).max
 """wake_tick of a sleeping robot that set no timeout."""
@@ -269,7 +278,7 @@ class Simulation:
         injector = self._fault_injector()
         self.hooks: list[LoopHook] = [*([injector] if injector is not None else []),
                                       self.metrics, *stop_rules(cfg, self.metrics)]
-        """What runs around each tick, in order (swarmsim.hooks.LoopHook): the fault
+        """What runs around each tick, in order (swarmsim.engine.hooks.LoopHook): the fault
         injector, the metrics, the stop rules; a user's hook is appended."""
         for hook in self.hooks:
             hook.start(self)
@@ -297,7 +306,7 @@ class Simulation:
         cfg = self.config
         if not cfg.failures:
             return None
-        from swarmsim.faults import FaultPlan, fault_injector, fault_rng
+        from swarmsim.engine.faults import FaultPlan, fault_injector, fault_rng
         return fault_injector(FaultPlan.from_config(cfg), self.n, fault_rng(cfg.seed))
 
     def _create_swarm(self, setups: list[RobotSetup], rngs: list[np.random.Generator],
@@ -502,7 +511,7 @@ class Simulation:
     def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
                new_messages: np.ndarray, velocities: np.ndarray) -> None:
         """Write the awake robots' actions: velocities, broadcasts, listening and sleep.
-        Each is checked as it is written (swarmsim.actioncheck); BadAction names the chunk's
+        Each is checked as it is written (swarmsim.engine.actioncheck); BadAction names the chunk's
         row of the first that breaks the controller API."""
         if len(awake) == 0:
             return
@@ -546,7 +555,7 @@ class Simulation:
                 _name_columns(actions, len(awake), bad)
                 raise BadAction(bad, wake_range_problem(actions.wake_range[bad]))
             return
-        for k, action in actions.sleepers.items():  # checked: swarmsim.actioncheck
+        for k, action in actions.sleepers.items():  # checked: swarmsim.engine.actioncheck
             if vel[k, 0] == 0 and vel[k, 1] == 0:
                 i = awake[k]
                 self.asleep[i] = True
@@ -559,7 +568,7 @@ class Simulation:
     def _send(self, awake: np.ndarray, messages: dict[int, Any],
               new_messages: np.ndarray) -> None:
         """Write the new broadcasts ({k: row} of the chunk's robots; a row is a tuple in the
-        dtype's order or a dict by field name: swarmsim.actioncheck.Broadcasts)."""
+        dtype's order or a dict by field name: swarmsim.engine.actioncheck.Broadcasts)."""
         sent = np.fromiter(messages, dtype=np.int64, count=len(messages))
         try:
             rows = self.broadcasts.array(list(messages.values()))

@@ -16,8 +16,8 @@ import numpy as np
 from scipy.spatial import cKDTree
 from shapely.geometry import Polygon
 
-from swarmsim import floortest
-from swarmsim.cellsearch import cell_views
+from swarmsim.sensing import floortest
+from swarmsim.sensing.cellsearch import cell_views
 
 
 class FloorSensor:
@@ -133,7 +133,7 @@ class FlatViews(NamedTuple):
 class NeighbourSearch:
     """All robot centres at the start of a tick, searched for neighbours.
 
-    A tick's views and wake pairs come from a compiled cell-grid pass (swarmsim.cellsearch);
+    A tick's views and wake pairs come from a compiled cell-grid pass (swarmsim.sensing.cellsearch);
     the other queries from a k-d tree (scipy's cKDTree), built when first needed. Both give
     the same views to the bit (tests/test_sensing.py).
 

@@ -2,7 +2,7 @@
 
 The paper's robots are ideal points that move exactly as commanded, sense exactly and never
 miss a message. Collision-realism studies turn these on one at a time (run settings, see
-:class:`swarmsim.config.SimConfig`):
+:class:`swarmsim.engine.config.SimConfig`):
 
 * ``speed_noise``: each tick a moving robot's commanded speed is multiplied by
   ``1 + speed_noise * N(0, 1)`` (relative standard deviation; 0.05 = 5 %).

@@ -15,8 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.cellsearch import MAX_CELLS_PER_ROBOT, grid, grid_frame
-from swarmsim.warmup import kernel_warm_up
+from swarmsim.kernels.warmup import kernel_warm_up
+from swarmsim.sensing.cellsearch import MAX_CELLS_PER_ROBOT, grid, grid_frame
 
 
 @njit(cache=True, inline="always")

@@ -3,7 +3,7 @@
 Python API::
 
     from swarmsim import Simulation
-    from swarmsim.trajectories import Trajectories, load_trajectories
+    from swarmsim.results.trajectories import Trajectories, load_trajectories
 
     sim = Simulation("corridor", seed=1)
     tracks = Trajectories(sim, every=10)        # samples the start state now
@@ -28,7 +28,7 @@ import numpy as np
 
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_TICKS, MAX_TRAJECTORY_BYTES, check_at_most
-from swarmsim.output import write_npz
+from swarmsim.results.output import write_npz
 
 FILE_NAME = "trajectories.npz"
 BYTES_PER_ROBOT = 9  # a sample's bytes per robot: float32 x, y and an int8 status

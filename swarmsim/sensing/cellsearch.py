@@ -20,8 +20,8 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.carrays import c_array
-from swarmsim.warmup import kernel_warm_up
+from swarmsim.kernels.carrays import c_array
+from swarmsim.kernels.warmup import kernel_warm_up
 
 MAX_CELLS_PER_ROBOT = 4
 """The grid has at most this many cells per robot: a tiny radius over a wide swarm gets

@@ -1,6 +1,6 @@
 """Worlds from any shape (``swarmsim make-world``): a target shape -> a world file.
 
-The shape (from :mod:`swarmsim.shapes`) is scaled to ``size`` units high (default: the
+The shape (from :mod:`swarmsim.world.shapes`) is scaled to ``size`` units high (default: the
 height at which its area is the shipped K world's, 13,280 units^2), its separate parts are
 joined by bridges (a world has one target polygon, and robots spread from one structure), it
 is simplified and validated. The spawn band goes below it (15 units below, as in K), as wide as
@@ -27,8 +27,8 @@ from shapely.ops import polylabel
 
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, check_count
-from swarmsim.world import World, world_from_dict
-from swarmsim.worldinfo import describe_world, hex_capacity, layout_rng
+from swarmsim.world.world import World, world_from_dict
+from swarmsim.world.worldinfo import describe_world, hex_capacity, layout_rng
 
 K_AREA = 13_280.0  # the shipped K world's target area, units^2
 CAPACITY_SHARE = 0.7  # lattice capacity / robots, as the shipped worlds are sized
@@ -239,7 +239,7 @@ def _ring(coords) -> list[list[float]]:
 def _check_start(data: dict, robots: int, groups: int) -> World:
     """The validated world, its spawn band grown until the formation start fits for seeds
     0..LAYOUT_SEEDS-1 (drawn as a run draws them)."""
-    from swarmsim import spawn
+    from swarmsim.world import spawn
 
     for _ in range(8):
         world = world_from_dict(data, source=f"<{data['name']}>")
@@ -322,7 +322,7 @@ def _points(key: str | None, pts: list[list[float]]) -> list[str]:
 def write_world(built: BuiltWorld, path: Path, header: str = "") -> Path:
     """Write the world's TOML atomically (temp file + rename), then load it back as a check;
     a file that does not load is removed and the error raised."""
-    from swarmsim.world import load_world
+    from swarmsim.world.world import load_world
 
     path = Path(path)
     text = to_toml(built.data, header)

@@ -9,7 +9,7 @@ Each kernel module registers its own warm-up when it is imported, by decorating 
 :class:`swarmsim.Simulation` warms every registered kernel, in the order the modules were
 imported, then its controller's (see ``Simulation._setup``). A kernel module that a run
 imports is warmed; one it does not import costs nothing. The name is what the build notice
-(swarmsim.kernelbuild) shows while the step compiles.
+(swarmsim.kernels.kernelbuild) shows while the step compiles.
 """
 
 from __future__ import annotations

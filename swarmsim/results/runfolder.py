@@ -25,7 +25,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from swarmsim.errors import ConfigError
-from swarmsim.trajectories import FILE_NAME as TRAJECTORIES_FILE
+from swarmsim.results.trajectories import FILE_NAME as TRAJECTORIES_FILE
 
 RUN_FILES = ("summary.json", "timeseries.csv", "robots.csv", "coverage.npz", "coverage.png",
              TRAJECTORIES_FILE)
@@ -87,7 +87,7 @@ def removed_if_left_empty() -> Iterator[NewFolders]:
 
 def clear_run(folder: str | Path) -> None:
     """Remove from ``folder`` the files a run writes (RUN_FILES) and the temporary files of
-    their atomic writes (``.NAME.*.tmp``, see swarmsim.output); nothing else."""
+    their atomic writes (``.NAME.*.tmp``, see swarmsim.results.output); nothing else."""
     folder = Path(folder)
     for name in RUN_FILES:
         (folder / name).unlink(missing_ok=True)

@@ -12,7 +12,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from swarmsim.errors import ConfigError
-from swarmsim.world import World
+from swarmsim.world.world import World
 
 MAX_TRIES_PER_ROBOT = 400
 BOX_TRIES = 20

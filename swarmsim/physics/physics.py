@@ -12,7 +12,7 @@ command within a tick. Walls around the arena and obstacle outlines are static s
 pymunk.batch.
 
 With ``physics_sleep`` on (the default, see PhysicsConfig), parked robots (a zero command
-for two ticks) sleep in pymunk: see swarmsim/bodysleep.py. They are still pushed, and wake on contact. A sleeping
+for two ticks) sleep in pymunk: see swarmsim/physics/bodysleep.py. They are still pushed, and wake on contact. A sleeping
 robot's contacts drop out of pymunk's arbiters; :meth:`Physics.contact_state` keeps its last
 ones (they cannot change while it sleeps).
 """
@@ -27,10 +27,11 @@ import numpy as np
 import pymunk
 import pymunk.batch as pb
 
-from swarmsim import chipmunkcalls, contactrows, interrupts
-from swarmsim.bodysleep import BodyRows, IdTable, Parking
+from swarmsim import interrupts
 from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields, require_positive
-from swarmsim.world import World
+from swarmsim.physics import chipmunkcalls, contactrows
+from swarmsim.physics.bodysleep import BodyRows, IdTable, Parking
+from swarmsim.world.world import World
 
 ROBOT_TYPE = 1
 WALL_TYPE = 2
@@ -270,7 +271,7 @@ class Physics:
 
     def _read_by_id(self) -> tuple[np.ndarray, np.ndarray]:
         """read() with sleepers: each robot's body asked directly (compiled, see
-        swarmsim/chipmunkcalls.py), or pymunk.batch's rows matched to robots by body id."""
+        swarmsim/physics/chipmunkcalls.py), or pymunk.batch's rows matched to robots by body id."""
         calls = self._calls
         if calls is not None:
             positions, velocities = np.empty((self.n, 2)), np.empty((self.n, 2))
@@ -315,7 +316,7 @@ class Physics:
         """Set every robot's commanded velocity (N, 2), units per tick. Call after read().
 
         With physics_sleep, a zero command for this tick and the last parks the robot (see
-        swarmsim/bodysleep.py); a non-zero one unparks it.
+        swarmsim/physics/bodysleep.py); a non-zero one unparks it.
         """
         if self._sleep:
             self._parking.command(velocities)

@@ -14,8 +14,8 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.carrays import c_array
-from swarmsim.warmup import kernel_warm_up
+from swarmsim.kernels.carrays import c_array
+from swarmsim.kernels.warmup import kernel_warm_up
 
 
 def clamp_rows(velocities: np.ndarray, rows: np.ndarray, v_max: float) -> None:

@@ -9,7 +9,7 @@ swarmsim.actionvalues (which the controller API's ChunkActions uses too).
 
 What it costs: a batch controller's dense columns (GGC's) are checked by their shapes and
 dtypes (a few attribute reads a chunk), their values inside the compiled passes that write
-them (swarmsim.tickrows: finite velocities, listening and wake ranges not negative, status
+them (swarmsim.engine.tickrows: finite velocities, listening and wake ranges not negative, status
 codes in range, each sender's own id); a list of Actions and their broadcasts a column at a
 time, robot by robot only to name the robot once a column is found wrong.
 """
@@ -73,7 +73,7 @@ def check_columns(actions: ChunkActions, robots: int, dtype: np.dtype) -> None:
     """Check the form of a chunk's ChunkActions (``robots`` rows; broadcasts in the run's
     message ``dtype``) before any of it is written. The dense form: its broadcast rows here
     (a few attribute reads); its other columns, one row per robot, where the compiled passes
-    write them (swarmsim.tickrows: -2), numbers as numpy converts them (else it raises), and
+    write them (swarmsim.engine.tickrows: -2), numbers as numpy converts them (else it raises), and
     :func:`column_problems` names the column. The sparse form: every column, and the rows its
     messages and sleepers name. Raises BadAction."""
     b = actions.broadcast
@@ -124,7 +124,7 @@ class Broadcasts:
     ``dtype``, dicts by field name (missing fields zero), or rows of that dtype.
 
     ``id`` is the engine's: whatever a broadcast holds there is replaced by the sender's
-    own id when it is written (swarmsim.tickrows.sign_rows), so no robot can speak as another.
+    own id when it is written (swarmsim.engine.tickrows.sign_rows), so no robot can speak as another.
     Every other value must fit its field as given: a bool field takes True or False (or 0, 1),
     an integer field whole numbers in its range, a float field numbers its precision can hold
     (NaN and inf are the controller's business); ``status`` must be an index into STATUSES.

@@ -1,7 +1,7 @@
 """Robot failures injected at a phase of the run (paper Sections 5 and 6.6, Figure 23).
 
 A failed robot stops moving and communicating but stays a physical body that others must go
-around (:meth:`swarmsim.sim.Simulation.fail`). A :class:`FaultPlan` says how many robots fail
+around (:meth:`swarmsim.engine.sim.Simulation.fail`). A :class:`FaultPlan` says how many robots fail
 and when:
 
 * ``"gradient"``: during gradient formation: at the end of the first tick on which some robot
@@ -22,7 +22,7 @@ The draw uses its own numpy Generator derived from the run seed (:func:`fault_rn
 stays reproducible and its other random streams are unchanged by failures.
 
 Run settings ``failures``, ``failure_phase`` and ``failure_tick`` (see
-:class:`swarmsim.config.SimConfig`) build the plan, e.g.
+:class:`swarmsim.engine.config.SimConfig`) build the plan, e.g.
 ``swarmsim run K --set failures=10 --set failure_phase=gradient``.
 """
 
@@ -33,9 +33,9 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from swarmsim.controller_info import ControllerInfo
+from swarmsim.engine.controller_info import ControllerInfo
+from swarmsim.engine.hooks import Hook
 from swarmsim.errors import ConfigError
-from swarmsim.hooks import Hook
 
 PHASES = ("gradient", "coverage", "tick")
 FAULT_STREAM = 0xFA17
@@ -92,7 +92,7 @@ class FaultTarget(Protocol):
 
 
 class FaultInjector(Hook):
-    """A loop hook (swarmsim.hooks) that fails the plan's robots once, at the end of the
+    """A loop hook (swarmsim.engine.hooks) that fails the plan's robots once, at the end of the
     tick on which its phase starts (after the physics step, before the tick's metrics).
 
     After firing, ``fired_tick`` is the tick and ``robots`` the indices of the failed robots.

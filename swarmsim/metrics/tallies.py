@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.warmup import kernel_warm_up
+from swarmsim.kernels.warmup import kernel_warm_up
 
 
 @njit(cache=True)

@@ -40,7 +40,7 @@ class ControllerInfo:
         leader_field: the bool message field marking leaders, or None.
         group_field: the message field holding a robot's group, or None.
         layouts: the names of the start layouts it can start from (default: every one in
-            swarmsim.layouts).
+            swarmsim.world.layouts).
         default_start: the start layout used unless the run names one.
         requires_beacon: the world must have a beacon.
         max_groups: the most groups a run may have, or None: the controller forms no groups
@@ -74,9 +74,9 @@ class ControllerInfo:
     def uses_groups(self, start: str = "") -> bool:
         """Whether a run's number of groups means anything with this start ("": the
         default start): the controller forms groups (it declares ``max_groups``: GGC), or the
-        start layout makes one formation per group (swarmsim.layouts.GROUPED). Otherwise a
+        start layout makes one formation per group (swarmsim.world.layouts.GROUPED). Otherwise a
         run has one group."""
-        from swarmsim.layouts import GROUPED
+        from swarmsim.world.layouts import GROUPED
 
         return self.max_groups is not None or (start or self.default_start) in GROUPED
 
@@ -139,10 +139,10 @@ class ControllerInfo:
     def create_swarm(self, setups: Sequence[RobotSetup], params: Any,
                      rngs: Sequence[np.random.Generator], **options: Any) -> Swarm:
         """The run's swarm: the class's own, or its robots driven one by one (``options``
-        go to :class:`swarmsim.swarm.RobotSwarm`)."""
+        go to :class:`swarmsim.engine.swarm.RobotSwarm`)."""
         if self.batch:
             return self.cls.create_swarm(setups, params, rngs)
-        from swarmsim.swarm import RobotSwarm
+        from swarmsim.engine.swarm import RobotSwarm
 
         return RobotSwarm(self.cls, setups, params, rngs, **options)
 
@@ -184,7 +184,7 @@ def _refuse_engine_names(cls: type, name: str) -> None:
     """ConfigError naming the first of the class's Params fields that is named like an engine
     setting (config.engine_settings): a run's value of that name would set the engine's
     setting, never the controller's parameter."""
-    from swarmsim.config import engine_settings
+    from swarmsim.engine.config import engine_settings
 
     engine = engine_settings()
     params = cls.Params
@@ -213,7 +213,7 @@ def _statuses(cls: type, name: str) -> tuple[str, ...]:
 
 
 def _layouts(cls: type, name: str) -> tuple[str, ...]:
-    from swarmsim.layouts import LAYOUTS
+    from swarmsim.world.layouts import LAYOUTS
 
     declared = tuple(getattr(cls, "LAYOUTS", LAYOUTS))
     unknown = [s for s in declared if s not in LAYOUTS]

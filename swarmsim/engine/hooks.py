@@ -2,7 +2,7 @@
 stop rules that end a run.
 
 A run keeps its hooks in one list, ``Simulation.hooks``, built in this order: the fault
-injector (if the run has failures: swarmsim/faults.py), the metrics
+injector (if the run has failures: swarmsim/engine/faults.py), the metrics
 (swarmsim.metrics.RunMetrics), then the stop rules of :func:`stop_rules`: complete, stalled,
 plateau, max_ticks. A user of the Python API adds one with ``sim.hooks.append(hook)`` (or
 inserts it before ``sim.metrics`` to change what a tick's metrics see).

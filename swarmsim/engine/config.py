@@ -3,7 +3,7 @@
 A run has three kinds of parameters, all with documented defaults:
 
 * :class:`SimConfig`: the tick loop, metrics and stopping rules (paper Table 2 where it has one),
-* :class:`swarmsim.physics.PhysicsConfig`: bodies and drive,
+* :class:`swarmsim.physics.physics.PhysicsConfig`: bodies and drive,
 * the controller's own ``Params`` dataclass (e.g. GGC's d_cover, R_c, ...).
 
 ``resolve_settings`` routes each key to the one place that knows it; an unknown key, a value
@@ -22,9 +22,9 @@ from typing import Any
 
 from swarmsim import limits
 from swarmsim.errors import ConfigError, unknown_name
-from swarmsim.imperfections import NoiseLevels
 from swarmsim.limits import MAX_GRID_SIZE, MAX_RECORD_ROWS, MAX_ROBOTS, MAX_TICKS, at_most
-from swarmsim.physics import PhysicsConfig
+from swarmsim.physics.physics import PhysicsConfig
+from swarmsim.robots.imperfections import NoiseLevels
 
 UNBOUNDED_PARAMS = frozenset({"spin_traction"})
 """Parameters for which +inf is a documented value (PhysicsConfig.spin_traction: robots never
@@ -63,14 +63,14 @@ class SimConfig:
             check: results must not depend on it; sensing and noise are drawn in index order).
         allow_sleep: honour controllers' sleep requests (a check: results must not depend on it).
         failures: number of robots that fail during the run (paper Section 6.6; 0 = none). They
-            stop moving and communicating but stay in the way. See swarmsim/faults.py for the
+            stop moving and communicating but stay in the way. See swarmsim/engine/faults.py for the
             rule that picks them (random working non-leader robots that have not arrived).
         failure_phase: when they fail: "gradient" (when the first robot leaves its Initial
             status; tick 1 for controllers without one), "coverage" (when the first robot
             starts moving to cover) or "tick" (at failure_tick).
         failure_tick: the tick at which robots fail with failure_phase = "tick" (>= 1).
         speed_noise: actuation noise: relative sd of a moving robot's speed each tick (0 = off;
-            0.05 = 5 %). See swarmsim/imperfections.py for every imperfection's model.
+            0.05 = 5 %). See swarmsim/robots/imperfections.py for every imperfection's model.
         heading_noise: actuation noise: sd of a moving robot's heading each tick, radians.
         distance_noise: sensing noise: relative sd of each sensed neighbour distance.
         bearing_noise: sensing noise: sd of each sensed neighbour bearing, radians.

@@ -1,0 +1,1 @@
+"""What a robot does imperfectly: sensing and motion noise (later: drive models)."""
