@@ -77,6 +77,39 @@ def test_the_public_names_are_typed_as_they_are_loaded():
     assert sorted(swarmsim.__all__) == sorted(typed)
 
 
+def package_of(module: str) -> str:
+    """The package of swarmsim/ that holds ``module`` (swarmsim.engine.sim -> swarmsim.engine);
+    a module of swarmsim/ itself (swarmsim.cli, swarmsim.controller) stands alone."""
+    parts = module.split(".")
+    if len(parts) > 2 and parts[0] == "swarmsim" and (ENGINE / parts[1]).is_dir():
+        return ".".join(parts[:2])
+    return module
+
+
+def test_the_engine_packages_import_each_other_in_one_direction():
+    """No circle between the packages of swarmsim/ (engine, physics, world, ...) and its own
+    modules: each stands above all it imports (docs/internals.md, "Where the code lives")."""
+    packages: dict[str, set[str]] = {}
+    for mod, deps in engine_imports().items():
+        home = package_of(mod)
+        packages.setdefault(home, set()).update(
+            package_of(d) for d in deps if d.startswith("swarmsim") and package_of(d) != home)
+    assert {"swarmsim.engine", "swarmsim.physics", "swarmsim.world"} <= set(packages)
+    assert_no_circles(packages)
+
+
+def test_every_package_is_installed():
+    """pyproject.toml names every folder of swarmsim/ and controllers/ that holds an
+    __init__.py (a package left out would be missing from an installed copy)."""
+    import tomllib
+
+    listed = set(tomllib.loads((ROOT / "pyproject.toml").read_text())
+                 ["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(ROOT).parts)
+             for top in ("swarmsim", "controllers") for p in (ROOT / top).rglob("__init__.py")}
+    assert found | {"swarmsim.worlds"} == listed
+
+
 def test_importing_the_controller_api_loads_no_physics_or_drawing():
     code = ("import sys, controllers.ggc, controllers.kilobot, swarmsim.controller; "
             "print(sorted(m for m in ('pymunk', 'pygame') if m in sys.modules))")
