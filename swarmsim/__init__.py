@@ -26,7 +26,7 @@ _LAZY = {"ConfigError": "swarmsim.errors", "RunResult": "swarmsim.engine.sim",
          "Simulation": "swarmsim.engine.sim", "World": "swarmsim.world.world",
          "available_worlds": "swarmsim.world.world", "load_world": "swarmsim.world.world"}
 
-if TYPE_CHECKING:  # _LAZY's names for a type checker (tests/test_engine_structure.py: equal)
+if TYPE_CHECKING:  # _LAZY's names for a type checker (tests/structure/test_engine_structure.py: equal)
     from swarmsim.engine.sim import RunResult, Simulation
     from swarmsim.errors import ConfigError
     from swarmsim.world.world import World, available_worlds, load_world

@@ -324,7 +324,7 @@ class ChunkActions:
 # Fast makers for the two objects made once per awake robot per tick. Calling a frozen
 # dataclass runs one object.__setattr__ per field to get past the frozen check; these set each
 # slot through its descriptor (what object.__setattr__ ends up doing) directly: the same
-# objects, still frozen. tests/test_controller_makers.py holds them to the classes' fields.
+# objects, still frozen. tests/engine/test_controller_makers.py holds them to the classes' fields.
 _new = object.__new__
 (_p_tick, _p_offsets, _p_distances, _p_messages, _p_on_target, _p_probe, _p_beacon,
  _p_moved) = (vars(Perception)[name].__set__ for name in Perception.__slots__)

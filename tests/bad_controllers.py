@@ -1,5 +1,5 @@
 """Controllers that break the controller contract, each in one way, for
-tests/test_controller_errors.py: robot ``BAD_ROBOT`` misbehaves at tick ``BAD_TICK`` (the
+tests/engine/test_controller_errors.py: robot ``BAD_ROBOT`` misbehaves at tick ``BAD_TICK`` (the
 others, and it before then, walk east as :class:`Walker` does), or at setup.
 
 Run one as ``swarmsim run tiny --controller tests.bad_controllers:NanVelocity``.

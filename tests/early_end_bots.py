@@ -1,5 +1,5 @@
 """Controllers that end a run early, or keep its physics busy, for the tests of
-tests/test_nothing_left_behind.py (``--controller tests.early_end_bots:NAME``)."""
+tests/cli/test_nothing_left_behind.py (``--controller tests.early_end_bots:NAME``)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Written by controllers/ggc/schema.py from its DATA: do not edit.
 
 Regenerate: python controllers/ggc/schema.py
-(tests/test_ggc_schema.py fails while this file is not current)."""
+(tests/controllers/ggc/test_ggc_schema.py fails while this file is not current)."""
 
 from __future__ import annotations
 

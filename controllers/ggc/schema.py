@@ -206,7 +206,7 @@ def generated_source() -> str:
         '"""Written by controllers/ggc/schema.py from its DATA: do not edit.',
         "",
         f"Regenerate: {REGENERATE}",
-        '(tests/test_ggc_schema.py fails while this file is not current)."""',
+        '(tests/controllers/ggc/test_ggc_schema.py fails while this file is not current)."""',
         "",
         "from __future__ import annotations",
         "",

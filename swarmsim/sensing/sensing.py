@@ -135,7 +135,7 @@ class NeighbourSearch:
 
     A tick's views and wake pairs come from a compiled cell-grid pass (swarmsim.sensing.cellsearch);
     the other queries from a k-d tree (scipy's cKDTree), built when first needed. Both give
-    the same views to the bit (tests/test_sensing.py).
+    the same views to the bit (tests/sensing/test_sensing.py).
 
     Args:
         positions: (N, 2) robot centres at the start of the tick.
