@@ -50,7 +50,7 @@ class Listener:
         self.distances.extend(p.distances.tolist())
         self.sorted_ok &= bool(np.all(np.diff(p.distances) >= 0))
         v = 0.1 * p.beacon
-        return Action((float(v[0]), float(v[1])), (self.id, 0, 0, 0, False, True))
+        return Action((float(v[0]), float(v[1])), (self.id, 0, True))
 
 
 LISTENER = "tests.robots.test_imperfections:Listener"
