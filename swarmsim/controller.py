@@ -369,7 +369,7 @@ def make_action(velocity: tuple[float, float] = (0.0, 0.0), message: Broadcast |
 class Controller(Protocol):
     """One robot's controller: ``step(perception) -> action``."""
 
-    def step(self, p: Perception) -> Action: ...
+    def step(self, perception: Perception) -> Action: ...
 
 
 @runtime_checkable

@@ -49,21 +49,21 @@ class Walker:
         self.id = setup.robot_id
         self.v = params.v
 
-    def step(self, p: Perception) -> Action:
-        if self.id == BAD_ROBOT and p.tick == BAD_TICK:
-            return self.bad(p)
-        return self.good(p)
+    def step(self, perception: Perception) -> Action:
+        if self.id == BAD_ROBOT and perception.tick == BAD_TICK:
+            return self.bad(perception)
+        return self.good(perception)
 
-    def good(self, p: Perception) -> Action:
+    def good(self, perception: Perception) -> Action:
         return Action((self.v, 0.0), (self.id, 0, True, 1.5, 2))
 
-    def bad(self, p: Perception) -> Action:
-        return self.good(p)
+    def bad(self, perception: Perception) -> Action:
+        return self.good(perception)
 
 
 # ----------------------------------------------------------------------------- raising
 class RaisesInStep(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((user_helper(1.0), 0.0))
 
 
@@ -94,137 +94,137 @@ class RaisesInSensingRange(Walker):
 
 # ----------------------------------------------------------------------------- returns
 class ReturnsNone(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return None
 
 
 class ReturnsTuple(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return (self.v, 0.0)
 
 
 class NanVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((float("nan"), 0.0))
 
 
 class InfVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, -float("inf")))
 
 
 class StringVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action(("fast", 0.0))
 
 
 class NumericStringVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action(("1", "0"))
 
 
 class ThreeVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.1, 0.0, 0.0))
 
 
 class ScalarVelocity(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action(0.1)
 
 
 class StringStatus(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), (self.id, "Walking", True, 1.5, 2))
 
 
 class StatusOutOfRange(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), (self.id, 2, True, 1.5, 2))
 
 
 class NegativeStatus(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), {"status": -1})
 
 
 class ShortTuple(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), (self.id, 0, True))
 
 
 class LongTuple(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), (self.id, 0, True, 1.5, 2, 7))
 
 
 class UnknownField(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), {"status": 0, "speed": 3})
 
 
 class TooBigForField(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), (self.id, 0, True, 1.5, 70000))
 
 
 class FractionInIntField(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), {"hops": 2.5})
 
 
 class StringInFloatField(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), {"x": "left"})
 
 
 class MessageIsString(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), "hello")
 
 
 class NegativeListen(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), listen=-1.0)
 
 
 class NanListen(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), listen=float("nan"))
 
 
 class StringListen(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), listen="far")
 
 
 class StringSleep(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), sleep="no")
 
 
 class NegativeWakeRange(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), sleep=True, wake_range=-2.0)
 
 
 class NanWakeRange(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), sleep=True, wake_range=float("nan"))
 
 
 class NegativeWakeTick(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), sleep=True, wake_tick=-5)
 
 
 class FloatWakeTick(Walker):
-    def bad(self, p):
-        return Action((0.0, 0.0), sleep=True, wake_tick=p.tick + 2.5)
+    def bad(self, perception):
+        return Action((0.0, 0.0), sleep=True, wake_tick=perception.tick + 2.5)
 
 
 class StringWakeOnMotion(Walker):
-    def bad(self, p):
+    def bad(self, perception):
         return Action((0.0, 0.0), sleep=True, wake_on_motion="never")
 
 
@@ -232,7 +232,7 @@ class StringWakeOnMotion(Walker):
 class Spoofer(Walker):
     """Every robot claims to be robot 0, by tuple and (odd robots) by dict."""
 
-    def good(self, p):
+    def good(self, perception):
         if self.id % 2:
             return Action((self.v, 0.0), {"id": 0, "status": 1, "x": 1.5})
         return Action((self.v, 0.0), (0, 0, True, 1.5, 2))

@@ -32,8 +32,8 @@ class _Base:
     def __init__(self, setup: RobotSetup, params: NoParams, rng: np.random.Generator):
         self.robot_id = setup.robot_id
 
-    def step(self, p: Perception) -> Action:
-        v = p.beacon if p.beacon is not None else np.array([0.0, 1.0])
+    def step(self, perception: Perception) -> Action:
+        v = perception.beacon if perception.beacon is not None else np.array([0.0, 1.0])
         return Action((float(v[0]), float(v[1])), {"status": 0, "moving": True})
 
 
@@ -44,34 +44,34 @@ class Crowd(_Base):
 class RaisesInStep(_Base):
     """Raises a plain error from ``step`` at tick GO_FROM_TICK."""
 
-    def step(self, p: Perception) -> Action:
-        if p.tick >= GO_FROM_TICK:
+    def step(self, perception: Perception) -> Action:
+        if perception.tick >= GO_FROM_TICK:
             raise RuntimeError("a bug in the user's controller")
-        return super().step(p)
+        return super().step(perception)
 
 
 class NanVelocity(_Base):
     """Returns a NaN velocity from tick GO_FROM_TICK on."""
 
-    def step(self, p: Perception) -> Action:
-        if p.tick >= GO_FROM_TICK:
+    def step(self, perception: Perception) -> Action:
+        if perception.tick >= GO_FROM_TICK:
             return Action((float("nan"), 0.0), {"status": 0, "moving": True})
-        return super().step(p)
+        return super().step(perception)
 
 
 class Interrupted(_Base):
     """Raises KeyboardInterrupt from ``step`` at tick GO_FROM_TICK (Ctrl-C at that moment)."""
 
-    def step(self, p: Perception) -> Action:
-        if p.tick >= GO_FROM_TICK:
+    def step(self, perception: Perception) -> Action:
+        if perception.tick >= GO_FROM_TICK:
             raise KeyboardInterrupt
-        return super().step(p)
+        return super().step(perception)
 
 
 class UndeclaredField(_Base):
     """Broadcasts a field its class does not declare from tick GO_FROM_TICK on."""
 
-    def step(self, p: Perception) -> Action:
-        if p.tick >= GO_FROM_TICK:
+    def step(self, perception: Perception) -> Action:
+        if perception.tick >= GO_FROM_TICK:
             return Action((0.0, 0.0), {"status": 0, "moving": True, "mood": 3})
-        return super().step(p)
+        return super().step(perception)

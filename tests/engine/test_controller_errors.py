@@ -161,7 +161,7 @@ def test_the_python_api_raises_a_controller_error_caused_by_the_controllers_exce
 
 def test_an_interrupt_in_a_controller_is_an_interrupt_not_its_error():
     class Interrupted(bad.Walker):
-        def bad(self, p):
+        def bad(self, perception):
             raise KeyboardInterrupt
 
     sim = Simulation("tiny", controller=Interrupted, robots=6, max_ticks=8)
@@ -334,7 +334,7 @@ def test_a_malformed_declaration_is_refused_naming_it(declarations, problem):
 class SleepsPastInt64(bad.Walker):
     """Sleeps with a timeout past int64's range: never, as None."""
 
-    def step(self, p):
+    def step(self, perception):
         return Action((0.0, 0.0), None, sleep=True, wake_tick=10**30)
 
 

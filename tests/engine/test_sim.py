@@ -182,7 +182,7 @@ class StandStill:
     def __init__(self, setup: RobotSetup, params, rng: np.random.Generator):
         pass
 
-    def step(self, p: Perception) -> Action:
+    def step(self, perception: Perception) -> Action:
         return Action((0.0, 0.0), {"status": 0, "moving": False})
 
 

@@ -472,12 +472,12 @@ class Scripted:
         return 3.0
 
     def __init__(self, setup: RobotSetup, params: ScriptParams, rng):
-        self.setup, self.p = setup, params
+        self.setup, self.params = setup, params
 
-    def step(self, p: Perception) -> Action:
-        t, s = p.tick, self.setup
-        arrived = t >= self.p.arrive and s.robot_id % 2 == 0
-        status = 0 if t < self.p.leave_initial else 1 if t < self.p.start_moving else (
+    def step(self, perception: Perception) -> Action:
+        t, s = perception.tick, self.setup
+        arrived = t >= self.params.arrive and s.robot_id % 2 == 0
+        status = 0 if t < self.params.leave_initial else 1 if t < self.params.start_moving else (
             3 if arrived else 2)
         moving = status == 2
         msg = (s.robot_id, status, moving, 0 if s.leader else INF_GRADIENT, s.group, s.leader)

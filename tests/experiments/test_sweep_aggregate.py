@@ -102,10 +102,10 @@ class Flaky:
         return 2.0
 
     def __init__(self, setup, params: FlakyParams, rng):
-        self.p = params
+        self.params = params
 
-    def step(self, p):
-        if self.p.fail and p.tick >= 2:
+    def step(self, perception):
+        if self.params.fail and perception.tick >= 2:
             raise RuntimeError("flaky robot broke")
         return Action((0.0, 0.0), {"status": 0, "moving": False})
 

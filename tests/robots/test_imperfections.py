@@ -44,12 +44,12 @@ class Listener:
         self.distances: list[float] = []
         self.sorted_ok = True
 
-    def step(self, p: Perception) -> Action:
-        if p.tick >= 1:  # broadcasts arrive one tick after they are sent
-            self.heard_ids.extend(p.messages["id"].tolist())
-        self.distances.extend(p.distances.tolist())
-        self.sorted_ok &= bool(np.all(np.diff(p.distances) >= 0))
-        v = 0.1 * p.beacon
+    def step(self, perception: Perception) -> Action:
+        if perception.tick >= 1:  # broadcasts arrive one tick after they are sent
+            self.heard_ids.extend(perception.messages["id"].tolist())
+        self.distances.extend(perception.distances.tolist())
+        self.sorted_ok &= bool(np.all(np.diff(perception.distances) >= 0))
+        v = 0.1 * perception.beacon
         return Action((float(v[0]), float(v[1])), (self.id, 0, True))
 
 
