@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import inspect
 from collections import namedtuple
+from collections.abc import Callable
 from dataclasses import fields
 
 import numba
@@ -199,18 +200,26 @@ _DRIVERS: set[type] = set()
 loaded) in this process."""
 
 
-def ensure_driver(args: ChunkArgs) -> None:
+def ensure_driver(args: ChunkArgs) -> Callable[..., None]:
     """Compile (or load from the cache) the driver for ``args``' types unless this process
     has it for their start (the type of ``args.P``); numba compiles nothing else: a call
     whose types no driver can take fails loudly (TypeError) instead of compiling for a
     minute mid-run. Every broadcast column is typed strided (rules.common.Heard), so one
-    driver takes every chunk."""
+    driver takes every chunk.
+
+    Returns the driver for arguments of exactly ``args``' numba types: the compiled
+    signature's entry point, which skips the dispatcher's typing of the six namedtuple
+    arguments on each call (the caller must pass it arguments of those types only:
+    :class:`DriverTypes`); :func:`decide_chunk` itself (which types each call and refuses
+    what no driver takes) when no compiled signature matches."""
+    signature = tuple(numba.typeof(value) for value in args)
     start = type(args.P)
-    if start in _DRIVERS:
-        return
-    decide_chunk.disable_compile(False)
-    try:
-        decide_chunk.compile(tuple(numba.typeof(value) for value in args))
-    finally:
-        decide_chunk.disable_compile()
-    _DRIVERS.add(start)
+    if start not in _DRIVERS:
+        decide_chunk.disable_compile(False)
+        try:
+            decide_chunk.compile(signature)
+        finally:
+            decide_chunk.disable_compile()
+        _DRIVERS.add(start)
+    compiled = decide_chunk.overloads.get(signature)
+    return decide_chunk if compiled is None else compiled.entry_point

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import fields, replace
 
 import numpy as np
@@ -141,6 +141,11 @@ class GGCSwarm:
         self.params = params
         self.rules = rule_params(params, groups, scattered)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
+        # the driver's saved rows, reused by every chunk (a chunk has at most one row per
+        # robot; the driver writes a row there before it reads it back)
+        self._saved = np.empty(len(self.state), dtype=self.state.dtype)
+        self._driver_types: tuple | None = None  # argument_types of _driver_fn's chunks
+        self._driver_fn: Callable[..., None] = decide_chunk
         # the broadcasts' kernel is typed by the run's message dtype (message_fields):
         # compiled or loaded now, before the run's clock starts
         broadcast_rows(self.state, np.zeros(0, dtype=np.int64),
@@ -168,14 +173,14 @@ class GGCSwarm:
         m.flags.writeable = False  # the rules read it (one compiled signature: read-only)
         # each column a strided view of the heard rows, not a copy: the rules read a
         # neighbour's fields from its one record
-        heard = Heard(starts=np.ascontiguousarray(batch.neighbours.starts, dtype=np.int64),
-                      off=np.ascontiguousarray(batch.offsets, dtype=np.float64),
-                      dist=np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
-                      **{name: m[name] for name in BROADCAST_NAMES})
+        heard = Heard._make((np.ascontiguousarray(batch.neighbours.starts, dtype=np.int64),
+                             np.ascontiguousarray(batch.offsets, dtype=np.float64),
+                             np.ascontiguousarray(batch.neighbours.distances, dtype=np.float64),
+                             *[m[name] for name in BROADCAST_NAMES]))
         has_beacon = batch.beacons is not None
         return ChunkArgs(
             chunk=Chunk(todo=np.arange(n), rows=robots, state=self.state,
-                        saved=np.empty(n, dtype=self.state.dtype), again=False),
+                        saved=self._saved[:n], again=False),
             heard=heard,
             sensors=Sensors(
                 tick=int(batch.tick), on_target=np.ascontiguousarray(batch.on_target, dtype=bool),
@@ -197,10 +202,10 @@ class GGCSwarm:
         in the dense column form (every robot's broadcast and sleep request)."""
         robots = np.ascontiguousarray(robots, dtype=np.intp)
         a = self._chunk_args(robots, batch)
-        ensure_driver(a)  # one compiled signature per start, whatever the chunk's sizes
+        driver = self._driver(a, batch)
         chunk, probes, actions = a.chunk, a.probes, a.actions
         while len(chunk.todo):
-            decide_chunk(*a)
+            driver(*a)
             chunk = chunk._replace(todo=np.flatnonzero(probes.pending), again=True)
             a = a._replace(chunk=chunk)
             if len(chunk.todo):
@@ -210,6 +215,16 @@ class GGCSwarm:
             velocities=actions.velocity, listen=actions.listen, broadcast=broadcast,
             sleep=actions.sleep, wake_range=actions.wake_range,
             wake_on_motion=actions.wake_on_motion, wake_tick=actions.wake_tick)
+
+    def _driver(self, a: ChunkArgs, batch: DecideBatch) -> Callable[..., None]:
+        """The driver for ``a``, a chunk's arguments (decide.ensure_driver: one compiled
+        signature per start, whatever the chunk's sizes). Looked up again only when the
+        arguments' numba types could differ from the last chunk's: every argument is made
+        here with fixed types but for what :func:`argument_types` names."""
+        types = argument_types(a, batch)
+        if types != self._driver_types:
+            self._driver_types, self._driver_fn = types, ensure_driver(a)
+        return self._driver_fn
 
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, probes: Probes) -> None:
@@ -242,6 +257,17 @@ class GGCSwarm:
                 "deadlocks_open": open_,
                 "collision_stops": int(s["collision_stops"].sum()),
                 "surplus_stops": int(s["surplus"].sum())}
+
+
+def argument_types(a: ChunkArgs, batch: DecideBatch) -> tuple:
+    """What sets the numba types of a chunk's driver arguments ``a`` (made by
+    GGCSwarm._chunk_args from ``batch``) beyond what _chunk_args fixes (dtypes, layouts): the
+    heard messages' dtype, the number of dimensions of each array made from the batch's, and
+    whether there is a beacon."""
+    heard, sensors = a.heard, a.sensors
+    return (batch.neighbours.messages.dtype, heard.starts.ndim, heard.off.ndim,
+            heard.dist.ndim, sensors.on_target.ndim, sensors.moved.ndim, sensors.beacons.ndim,
+            sensors.has_beacon)
 
 
 @njit(cache=True)

@@ -205,3 +205,29 @@ def test_the_warm_up_compiles_the_one_driver_a_run_needs(robots, groups, start):
     sim.run()
     assert list(decide_chunk.signatures) == compiled  # nothing compiled during the run
     assert len(compiled) <= 2  # at most one driver per start
+
+
+
+def test_chunks_call_the_compiled_driver_and_other_types_meet_the_dispatcher():
+    """A run's chunks call the entry point compiled for their types (no typing per call);
+    arguments of types no driver was compiled for get the dispatcher, which refuses them."""
+    from controllers.ggc.decide import decide_chunk, ensure_driver
+    from controllers.ggc.swarm import GGCSwarm
+    from swarmsim.controller import DecideBatch, NeighbourBatch
+
+    sim = Simulation("tiny", controller="ggc", robots=6, seed=0, max_ticks=20)
+    sim.run()
+    swarm = sim.swarm
+    assert isinstance(swarm, GGCSwarm)
+    entry_points = [compiled.entry_point for compiled in decide_chunk.overloads.values()]
+    assert any(swarm._driver_fn is entry for entry in entry_points)
+    batch = DecideBatch(20, NeighbourBatch(np.zeros(2, dtype=sim.messages.dtype), np.ones(2),
+                                           np.array([0, 1, 2])),
+                        np.array([[1.0, 0.0], [-1.0, 0.0]]), np.zeros(2, dtype=bool),
+                        np.zeros((2, 2)), np.zeros((2, 2)), lambda k: None, None)
+    args = swarm._chunk_args(np.arange(2, dtype=np.intp), batch)
+    assert ensure_driver(args) is swarm._driver_fn
+    flat = args._replace(sensors=args.sensors._replace(moved=np.zeros(2)))  # (n,), not (n, 2)
+    assert ensure_driver(flat) is decide_chunk
+    with pytest.raises(TypeError):
+        decide_chunk(*flat)
