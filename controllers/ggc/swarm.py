@@ -226,6 +226,10 @@ class GGCSwarm:
             self._driver_types, self._driver_fn = types, ensure_driver(a)
         return self._driver_fn
 
+    def __getstate__(self) -> dict:
+        """A copy (pickle) without the compiled entry point, which is looked up again."""
+        return {**self.__dict__, "_driver_types": None, "_driver_fn": decide_chunk}
+
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, probes: Probes) -> None:
         """Answer the open probe questions of the robots ``todo`` (in place, in
