@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from swarmsim.errors import ConfigError
+from swarmsim.errors import ConfigError, did_you_mean
 
 if TYPE_CHECKING:
     import pygame
@@ -192,9 +192,13 @@ class Viewer:
         problem = display_problem(os.environ, sys.platform)
         if problem:
             raise ConfigError(problem)
+        offered = ("status", *sim.info.colourings)
+        if color_by is not None and color_by not in offered:
+            hint = did_you_mean(color_by, offered)
+            raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
+                              f"{', '.join(offered)}; got {color_by!r}{hint}", key="--color-by")
         self.sim = sim
         self.renderer = sim.new_renderer(width=width, color_by=color_by)
-        offered = ("status", *sim.info.colourings)
         self.state = initial_state(offered, self.renderer.color_by)
         self.save_dir = Path(save_dir)
         self.saved: list[Path] = []
