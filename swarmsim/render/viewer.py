@@ -32,8 +32,9 @@ from swarmsim.errors import ConfigError, did_you_mean
 if TYPE_CHECKING:
     import pygame
 
-    from swarmsim.engine.sim import Simulation
     from swarmsim.results.snapshot import Snapshot
+
+Simulation = Any  # swarmsim.engine.sim.Simulation: the engine imports render, never the reverse
 
 HEADLESS_ENV = "SWARMSIM_VIEW_HEADLESS"
 """Set to 1 to open the viewer on SDL's dummy video driver (no window; for tests)."""
