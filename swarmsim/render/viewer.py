@@ -266,8 +266,9 @@ class Viewer:
         self._window.blit(surf, (0, 0))
         if self.state.selected is not None and self.state.selected < snap.n_robots:
             p = self.renderer.world_to_pixel(snap.positions[self.state.selected])
-            r = max(6, snap.radius * self.renderer.scale * 2.5)
-            pygame.draw.circle(self._window, (255, 220, 0), (float(p[0]), float(p[1])), r, 2)
+            centre, r = (float(p[0]), float(p[1])), max(10.0, snap.radius * self.renderer.scale * 3)
+            pygame.draw.circle(self._window, (0, 0, 0), centre, r + 2, 2)
+            pygame.draw.circle(self._window, (255, 200, 0), centre, r, 3)
         self._draw_panel(snap)
         pygame.display.flip()
 
@@ -322,9 +323,10 @@ class Viewer:
 
 def _wrap(line: str, width: int, font: Any) -> list[str]:
     """``line`` broken at spaces into parts at most ``width`` px wide in ``font``."""
+    indent = line[:len(line) - len(line.lstrip(" "))]
     parts: list[str] = []
     current = ""
-    for word in line.split(" "):
+    for word in line.lstrip(" ").split(" "):
         trial = word if not current else f"{current} {word}"
         if current and font.size(trial)[0] > width:
             parts.append(current)
@@ -332,6 +334,7 @@ def _wrap(line: str, width: int, font: Any) -> list[str]:
         else:
             current = trial
     parts.append(current)
+    parts[0] = indent + parts[0]
     return parts
 
 
