@@ -6,7 +6,8 @@ selected with a click (id, status, group, every broadcast field, its last veloci
 every frame.
 
 Keys: space pauses, ``.`` steps one tick, ``+`` / ``-`` double / halve the ticks per frame, ``c``
-cycles the colouring (status and the fields the controller offers), ``s`` saves a PNG of the
+cycles the colouring (status and the fields the controller offers), ``o`` toggles the coverage
+tint, ``s`` saves a PNG of the
 window, ``q`` or closing the window quits.
 
 Events change a frozen :class:`ViewState` through the pure function :func:`handle_event`; the
@@ -58,6 +59,7 @@ class ViewState:
         ticks_per_frame: ticks run between two drawn frames while not paused (1..4096).
         steps: ticks still to run while paused (``.`` adds one).
         selected: index of the robot shown in the panel, or None.
+        coverage: tint the covered target pixels (``o`` toggles it).
         save: a PNG of the window is wanted (the loop clears it once saved).
         quit: the window should close.
     """
@@ -68,6 +70,7 @@ class ViewState:
     ticks_per_frame: int = 1
     steps: int = 0
     selected: int | None = None
+    coverage: bool = True
     save: bool = False
     quit: bool = False
 
@@ -109,6 +112,8 @@ def handle_event(state: ViewState, event: Any,
         return dataclasses.replace(state, ticks_per_frame=max(1, state.ticks_per_frame // 2))
     if key == pygame.K_c:
         return dataclasses.replace(state, colour=(state.colour + 1) % len(state.colourings))
+    if key == pygame.K_o:
+        return dataclasses.replace(state, coverage=not state.coverage)
     if key == pygame.K_s:
         return dataclasses.replace(state, save=True)
     return state
@@ -146,9 +151,10 @@ def _status_counts(snapshot: Snapshot) -> str:
 
 
 def robot_lines(snapshot: Snapshot, robot: int, velocity: np.ndarray | None,
-                group_field: str | None) -> list[str]:
-    """The panel's lines about ``robot``: id, status name, group, every broadcast field and
-    its last commanded velocity (units per tick)."""
+                group_field: str | None, asleep: bool | None = None) -> list[str]:
+    """The panel's lines about ``robot``: id, status name, group, asleep or awake (when
+    ``asleep`` is known), its last commanded velocity (units per tick) and every broadcast
+    field."""
     row = snapshot.messages[robot]
     code = int(row["status"])
     status = snapshot.statuses[code] if 0 <= code < len(snapshot.statuses) else "unheard"
@@ -159,6 +165,8 @@ def robot_lines(snapshot: Snapshot, robot: int, velocity: np.ndarray | None,
         lines.append(f"group {int(snapshot.start_groups[robot])} (start)")
     if snapshot.failed[robot]:
         lines.append("FAILED")
+    if asleep is not None:
+        lines.append("asleep" if asleep else "awake")
     x, y = snapshot.positions[robot]
     lines.append(f"at ({x:.2f}, {y:.2f})")
     if velocity is not None:
@@ -260,7 +268,8 @@ class Viewer:
         import pygame
 
         self.renderer.color_by = self.state.color_by
-        snap = self.sim.snapshot()
+        self.renderer.show_coverage = self.state.coverage
+        snap = self.sim.snapshot(with_coverage=self.state.coverage)
         surf = self.renderer.draw_surface(snap)
         self._window.fill((24, 24, 28))
         self._window.blit(surf, (0, 0))
@@ -288,11 +297,12 @@ class Viewer:
                  f"colour by {state.color_by}",
                  f"robots: {_status_counts(snap)}", ""]
         if state.selected is not None and state.selected < snap.n_robots:
-            lines += robot_lines(snap, state.selected, sim.velocities[state.selected],
-                                 sim.info.group_field)
+            robot = state.selected
+            lines += robot_lines(snap, robot, sim.velocities[robot], sim.info.group_field,
+                                 bool(sim.asleep[robot]))
         else:
             lines.append("click a robot to inspect it")
-        lines += ["", "space pause  . step  +/- speed", "c colour  s save PNG  q quit"]
+        lines += ["", "space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit"]
         return lines
 
     def _draw_panel(self, snap: Snapshot) -> None:

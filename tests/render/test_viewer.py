@@ -85,6 +85,7 @@ def test_click_selects_the_robot_nearest_it(viewer):
     assert any(line.startswith("  gradient = ") for line in lines)
     assert any(line.startswith("group ") for line in lines)
     assert any(line.startswith("velocity (") for line in lines)
+    assert "awake" in lines or "asleep" in lines
 
 
 def test_a_click_beside_the_frame_keeps_the_selection(viewer):
@@ -113,6 +114,16 @@ def test_c_cycles_the_colouring_and_the_frame_changes(viewer):
         _key(pygame.K_c, "c")
     viewer.frame()
     assert viewer.state.color_by == first
+
+
+def test_o_toggles_the_coverage_tint(viewer):
+    assert viewer.state.coverage
+    _key(pygame.K_o, "o")
+    viewer.frame()
+    assert not viewer.state.coverage and not viewer.renderer.show_coverage
+    _key(pygame.K_o, "o")
+    viewer.frame()
+    assert viewer.state.coverage and viewer.renderer.show_coverage
 
 
 def test_s_saves_a_png_of_the_window(viewer, tmp_path):
