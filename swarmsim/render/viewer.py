@@ -139,6 +139,17 @@ def display_problem(environ: os._Environ[str] | dict[str, str], platform: str) -
     return None
 
 
+def in_range(positions: np.ndarray, failed: np.ndarray, robot: int, reach: float
+             ) -> np.ndarray:
+    """Indices of the robots other than ``robot`` whose centres lie within ``reach`` (units,
+    the robot's listening range) of it and that have not failed: those whose broadcasts it
+    can hear (a message lost to noise is not known here)."""
+    d2 = np.sum((positions - positions[robot]) ** 2, axis=1)
+    near = (d2 <= reach * reach) & ~failed
+    near[robot] = False
+    return np.flatnonzero(near)
+
+
 def _status_counts(snapshot: Snapshot) -> str:
     """``NAME n`` for each status robots have, silent robots as ``unheard``."""
     codes = np.asarray(snapshot.messages["status"])
@@ -276,6 +287,10 @@ class Viewer:
         if self.state.selected is not None and self.state.selected < snap.n_robots:
             p = self.renderer.world_to_pixel(snap.positions[self.state.selected])
             centre, r = (float(p[0]), float(p[1])), max(10.0, snap.radius * self.renderer.scale * 3)
+            heard = in_range(snap.positions, snap.failed, self.state.selected,
+                             float(self.sim.listen[self.state.selected]))
+            for q in self.renderer.world_to_pixel(snap.positions[heard]):
+                pygame.draw.line(self._window, (255, 140, 0), centre, (float(q[0]), float(q[1])))
             pygame.draw.circle(self._window, (0, 0, 0), centre, r + 2, 2)
             pygame.draw.circle(self._window, (255, 200, 0), centre, r, 3)
         self._draw_panel(snap)
@@ -300,6 +315,9 @@ class Viewer:
             robot = state.selected
             lines += robot_lines(snap, robot, sim.velocities[robot], sim.info.group_field,
                                  bool(sim.asleep[robot]))
+            heard = in_range(snap.positions, snap.failed, robot, float(sim.listen[robot]))
+            lines.insert(-len(snap.messages.dtype.names) - 1,
+                         f"hears {len(heard)} (range {sim.listen[robot]:.3g})")
         else:
             lines.append("click a robot to inspect it")
         lines += ["", "space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit"]

@@ -86,6 +86,10 @@ def test_click_selects_the_robot_nearest_it(viewer):
     assert any(line.startswith("group ") for line in lines)
     assert any(line.startswith("velocity (") for line in lines)
     assert "awake" in lines or "asleep" in lines
+    sim = viewer.sim
+    d = np.hypot(*(sim.positions - sim.positions[expected]).T)
+    hears = int(np.count_nonzero((d <= sim.listen[expected]) & ~sim.failed)) - 1
+    assert any(line.startswith(f"hears {hears} ") for line in lines)
 
 
 def test_a_click_beside_the_frame_keeps_the_selection(viewer):
