@@ -1,5 +1,5 @@
-"""Command line: ``swarmsim run | sweep | reproduce | study | worlds | make-world | controllers |
-params``.
+"""Command line: ``swarmsim run | view | sweep | reproduce | study | worlds | make-world |
+controllers | params``.
 
 Every input error prints one line naming the file, key and value, and exits with status 2; a
 controller's mistake, one line naming the controller, the robot and the tick (then, if the
@@ -47,19 +47,7 @@ def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run one simulation",
                        description="Run one simulation and print a one-line summary.")
-    p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
-    p.add_argument("--controller",
-                   help="controller name or module:Class (default: the world's, else ggc)")
-    p.add_argument("--robots", type=int,
-                   help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
-    p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
-    p.add_argument("--d-cover", type=float, dest="d_cover",
-                   help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
-    p.add_argument("--seed", type=int, help="run seed (default 0)")
-    p.add_argument("--max-ticks", type=int, dest="max_ticks",
-                   help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="any other parameter; see 'swarmsim params'")
+    _add_simulation_args(p)
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
                    "coverage.npz and coverage.png there (see docs/outputs.md)")
     p.add_argument("--trajectories", metavar="K",
@@ -81,6 +69,36 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                    help="ring robots that touch something (collision-realism videos)")
     p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _add_simulation_args(p: argparse.ArgumentParser) -> None:
+    """The options that build a Simulation (run's and view's; see _run_arguments)."""
+    p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
+    p.add_argument("--controller",
+                   help="controller name or module:Class (default: the world's, else ggc)")
+    p.add_argument("--robots", type=int,
+                   help=f"number of robots (default: the world's; at most {MAX_ROBOTS:,})")
+    p.add_argument("--groups", type=int, help="number of groups K (default: the world's)")
+    p.add_argument("--d-cover", type=float, dest="d_cover",
+                   help="coverage distance d_cover, units (paper: 1, 2, 4, 6, 8, 10; default 6)")
+    p.add_argument("--seed", type=int, help="run seed (default 0)")
+    p.add_argument("--max-ticks", type=int, dest="max_ticks",
+                   help=f"tick limit (default 100000, at most {MAX_TICKS:,})")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="any other parameter; see 'swarmsim params'")
+
+
+def _add_view_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("view", help="watch one simulation live in a window",
+                       description="Run one simulation in a window. Keys: space pause, . step, "
+                       "+/- ticks per frame, c colouring, s save PNG, q quit; click a robot "
+                       "to inspect it. Needs a display (or xvfb-run).")
+    _add_simulation_args(p)
+    p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
+                   help="colouring to start with: status, or a field the controller offers "
+                        "(c cycles them)")
+    p.add_argument("--width", type=int, default=800,
+                   help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
 
 
 def _add_executor_args(p: argparse.ArgumentParser) -> None:
@@ -190,6 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Physics-based 2-D swarm-robotics simulator (GGC area coverage).")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_run_parser(sub)
+    _add_view_parser(sub)
     _add_sweep_parsers(sub)
     _add_study_parser(sub)
     wp = sub.add_parser("worlds", help="list shipped worlds, or describe your own world files",
@@ -481,6 +500,30 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_view(args: argparse.Namespace) -> int:
+    """Open the live viewer (swarmsim.render.viewer) on the run the options describe."""
+    from swarmsim.render.viewer import display_problem
+
+    problem = display_problem(os.environ, sys.platform)  # before the run is built
+    if problem:
+        raise ConfigError(problem)
+    from swarmsim.engine.sim import Simulation
+    from swarmsim.kernels.kernelbuild import build_notice
+    from swarmsim.render.viewer import view
+    from swarmsim.world.world import load_world
+
+    _check_width(args.width)
+    run = _run_arguments(args)
+    world = load_world(args.world)
+    _check_width(args.width, world.arena)
+    with build_notice(detail=True):
+        sim = Simulation(world, **run)
+    viewer = view(sim, width=args.width, color_by=args.color_by)
+    print(f"{sim.world.name} {sim.controller_name}: stopped at tick {sim.tick}"
+          + "".join(f"; saved {p}" for p in viewer.saved))
+    return 0
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments import load_spec, run_sweep
     from swarmsim.experiments.executors import check_workers
@@ -613,6 +656,8 @@ def _command(args: argparse.Namespace) -> int:
         return cmd_params(args.controller)
     if args.command in ("sweep", "reproduce", "study"):
         return _dispatch(args)
+    if args.command == "view":
+        return cmd_view(args)
     return cmd_run(args)
 
 

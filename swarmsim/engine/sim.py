@@ -699,6 +699,15 @@ class Simulation:
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
 
+    def view(self, width: int = 800, color_by: str | None = None,
+             max_frames: int | None = None) -> Any:
+        """Run this simulation live in a window until the user quits (or ``max_frames``
+        frames); returns the closed swarmsim.render.viewer.Viewer. ConfigError when there is
+        no display. Viewing never changes the run."""
+        from swarmsim.render.viewer import view
+
+        return view(self, width=width, color_by=color_by, max_frames=max_frames)
+
     def new_renderer(self, **options: Any) -> Any:
         """A swarmsim.render.Renderer of this run's world and coverage grid that colours and
         marks robots as the controller declares (COLOURINGS, LEADER_FIELD, GROUP_FIELD);

@@ -1,0 +1,180 @@
+"""The live viewer (swarmsim.render.viewer) under SDL's dummy video driver: posted key and mouse
+events pause, step, select the robot nearest a click and change the colouring; no display ->
+one error line, exit 2."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from collections.abc import Iterator
+
+import numpy as np
+import pygame
+import pytest
+
+from swarmsim import Simulation
+from swarmsim.render import viewer as vw
+
+
+@pytest.fixture
+def viewer(tmp_path, monkeypatch) -> Iterator[vw.Viewer]:
+    monkeypatch.setenv(vw.HEADLESS_ENV, "1")
+    sim = Simulation("tiny", controller="ggc", robots=30, groups=2, seed=0, max_ticks=500)
+    v = vw.Viewer(sim, width=320, save_dir=tmp_path)
+    yield v
+    v.close()
+
+
+def _key(key: int, text: str = "") -> None:
+    pygame.event.post(pygame.event.Event(pygame.KEYDOWN, key=key, unicode=text, mod=0))
+
+
+def _click(pos: tuple[int, int]) -> None:
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=pos))
+
+
+def test_frames_advance_the_run_and_space_pauses_it(viewer):
+    assert viewer.frame() and viewer.sim.tick == 1
+    _key(pygame.K_SPACE, " ")
+    for _ in range(3):
+        assert viewer.frame()
+    assert viewer.state.paused and viewer.sim.tick == 1
+    _key(pygame.K_SPACE, " ")
+    viewer.frame()
+    assert not viewer.state.paused and viewer.sim.tick == 2
+
+
+def test_period_steps_exactly_one_tick(viewer):
+    _key(pygame.K_SPACE, " ")
+    viewer.frame()
+    tick = viewer.sim.tick
+    _key(pygame.K_PERIOD, ".")
+    viewer.frame()
+    viewer.frame()
+    assert viewer.sim.tick == tick + 1
+    _key(pygame.K_PERIOD, ".")
+    _key(pygame.K_PERIOD, ".")
+    viewer.frame()
+    assert viewer.sim.tick == tick + 3
+
+
+def test_plus_and_minus_change_ticks_per_frame(viewer):
+    _key(pygame.K_PLUS, "+")
+    _key(pygame.K_PLUS, "+")
+    viewer.frame()
+    assert viewer.state.ticks_per_frame == 4 and viewer.sim.tick == 4
+    _key(pygame.K_MINUS, "-")
+    viewer.frame()
+    assert viewer.state.ticks_per_frame == 2 and viewer.sim.tick == 6
+
+
+def test_click_selects_the_robot_nearest_it(viewer):
+    viewer.frame()
+    pixels = viewer.renderer.world_to_pixel(viewer.sim.positions)
+    click = (int(pixels[7, 0]) + 1, int(pixels[7, 1]))  # beside robot 7
+    _key(pygame.K_SPACE, " ")  # paused: the robots stay where the click was aimed
+    viewer.frame()
+    pixels = viewer.renderer.world_to_pixel(viewer.sim.positions)
+    expected = int(np.argmin(np.sum((pixels - np.asarray(click, float)) ** 2, axis=1)))
+    _click(click)
+    viewer.frame()
+    assert viewer.state.selected == expected
+    lines = viewer.panel_lines(viewer.sim.snapshot())
+    assert f"robot {expected}" in lines
+    assert any(line.startswith("  gradient = ") for line in lines)
+    assert any(line.startswith("group ") for line in lines)
+    assert any(line.startswith("velocity (") for line in lines)
+    assert "awake" in lines or "asleep" in lines
+    sim = viewer.sim
+    d = np.hypot(*(sim.positions - sim.positions[expected]).T)
+    hears = int(np.count_nonzero((d <= sim.listen[expected]) & ~sim.failed)) - 1
+    assert any(line.startswith(f"hears {hears} ") for line in lines)
+
+
+def test_a_click_beside_the_frame_keeps_the_selection(viewer):
+    _click((5, 5))
+    viewer.frame()
+    chosen = viewer.state.selected
+    assert chosen is not None
+    _click((viewer.renderer.width + 10, 5))  # on the panel
+    viewer.frame()
+    assert viewer.state.selected == chosen
+
+
+def test_c_cycles_the_colouring_and_the_frame_changes(viewer):
+    for _ in range(20):
+        viewer.frame()
+    assert viewer.state.colourings == ("status", "gradient", "group")
+    first = viewer.state.color_by
+    before = viewer.renderer.robot_colors(viewer.sim.snapshot()).copy()
+    _key(pygame.K_SPACE, " ")
+    _key(pygame.K_c, "c")
+    viewer.frame()
+    assert viewer.state.color_by != first
+    assert viewer.renderer.color_by == viewer.state.color_by
+    assert not np.array_equal(viewer.renderer.robot_colors(viewer.sim.snapshot()), before)
+    for _ in range(2):
+        _key(pygame.K_c, "c")
+    viewer.frame()
+    assert viewer.state.color_by == first
+
+
+def test_o_toggles_the_coverage_tint(viewer):
+    assert viewer.state.coverage
+    _key(pygame.K_o, "o")
+    viewer.frame()
+    assert not viewer.state.coverage and not viewer.renderer.show_coverage
+    _key(pygame.K_o, "o")
+    viewer.frame()
+    assert viewer.state.coverage and viewer.renderer.show_coverage
+
+
+def test_s_saves_a_png_of_the_window(viewer, tmp_path):
+    _key(pygame.K_s, "s")
+    viewer.frame()
+    assert viewer.saved == [tmp_path / f"view-tick{viewer.sim.tick}.png"]
+    import imageio.v3 as iio
+
+    image = iio.imread(viewer.saved[0])
+    assert image.shape[1] == viewer.renderer.width + vw.PANEL_WIDTH
+
+
+def test_q_and_closing_the_window_end_the_loop(viewer):
+    _key(pygame.K_q, "q")
+    assert not viewer.frame()
+    state = vw.handle_event(viewer.state, pygame.event.Event(pygame.QUIT), lambda p: None)
+    assert state.quit
+
+
+def test_view_stops_at_max_frames_and_the_run_is_unchanged(monkeypatch):
+    monkeypatch.setenv(vw.HEADLESS_ENV, "1")
+    shown = Simulation("tiny", controller="ggc", robots=30, groups=2, seed=0, max_ticks=500)
+    viewer = shown.view(width=320, max_frames=12)
+    plain = Simulation("tiny", controller="ggc", robots=30, groups=2, seed=0, max_ticks=500)
+    for _ in range(12):
+        plain.advance()
+    assert viewer.frames == 12 and shown.tick == 12
+    np.testing.assert_array_equal(shown.positions, plain.positions)
+    np.testing.assert_array_equal(shown.messages, plain.messages)
+
+
+def test_display_problem_rules():
+    assert vw.display_problem({}, "linux") == vw.NO_DISPLAY
+    assert vw.display_problem({"DISPLAY": ":0"}, "linux") is None
+    assert vw.display_problem({"WAYLAND_DISPLAY": "wayland-0"}, "linux") is None
+    assert vw.display_problem({vw.HEADLESS_ENV: "1"}, "linux") is None
+    assert vw.display_problem({}, "darwin") is None
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the X11/Wayland rule")
+def test_view_without_a_display_prints_one_line_and_exits_2():
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("DISPLAY", "WAYLAND_DISPLAY", vw.HEADLESS_ENV)}
+    proc = subprocess.run([sys.executable, "-m", "swarmsim", "view", "tiny"], env=env,
+                          check=False, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1
+    assert lines[0].startswith("swarmsim: error: no display")
+    assert "--video" in lines[0] and "xvfb-run" in lines[0]
