@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Any, Self
 
 from swarmsim.engine.sim import RunResult, Simulation
-from swarmsim.errors import ConfigError, did_you_mean
 from swarmsim.results.output import write_npz, write_run
 from swarmsim.results.runfolder import clear_run
 from swarmsim.results.trajectories import FILE_NAME as TRAJECTORIES_FILE
@@ -29,11 +28,7 @@ class Recorder:
                  fps: int = 30, frame_every: int = 10, color_by: str | None = None,
                  width: int = 800, highlight_contacts: bool = False,
                  trajectories_every: int = 0):
-        offered = ("status", *sim.info.colourings)
-        if color_by is not None and color_by not in offered:
-            hint = did_you_mean(color_by, offered)
-            raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
-                              f"{', '.join(offered)}; got {color_by!r}{hint}", key="--color-by")
+        sim.offered_colourings(color_by)  # refuses a colouring the run does not offer
         self.sim = sim
         self.trajectories = (Trajectories(sim, trajectories_every) if trajectories_every
                              else None)

@@ -40,7 +40,7 @@ from swarmsim.engine.actioncheck import (
 from swarmsim.engine.config import SimConfig, build_configs, check_given_once
 from swarmsim.engine.controller_info import ControllerInfo, describe
 from swarmsim.engine.hooks import LoopHook, stop_rules
-from swarmsim.errors import ConfigError, ControllerError, interrupt_within
+from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrupt_within
 from swarmsim.kernels import kernelbuild
 from swarmsim.kernels.carrays import as_records
 from swarmsim.kernels.warmup import registered_warm_ups
@@ -707,6 +707,16 @@ class Simulation:
         from swarmsim.render.viewer import view
 
         return view(self, width=width, color_by=color_by, max_frames=max_frames)
+
+    def offered_colourings(self, color_by: str | None = None) -> tuple[str, ...]:
+        """The robot colourings this run offers: "status", then the controller's COLOURINGS.
+        Raises ConfigError (key --color-by) when ``color_by`` is given and is none of them."""
+        offered = ("status", *self.info.colourings)
+        if color_by is not None and color_by not in offered:
+            hint = did_you_mean(color_by, offered)
+            raise ConfigError(f"controller {self.controller_name!r} colours robots by "
+                              f"{', '.join(offered)}; got {color_by!r}{hint}", key="--color-by")
+        return offered
 
     def new_renderer(self, **options: Any) -> Any:
         """A swarmsim.render.Renderer of this run's world and coverage grid that colours and

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from swarmsim.errors import ConfigError, did_you_mean
+from swarmsim.errors import ConfigError
 
 if TYPE_CHECKING:
     import pygame
@@ -212,11 +212,7 @@ class Viewer:
         problem = display_problem(os.environ, sys.platform)
         if problem:
             raise ConfigError(problem)
-        offered = ("status", *sim.info.colourings)
-        if color_by is not None and color_by not in offered:
-            hint = did_you_mean(color_by, offered)
-            raise ConfigError(f"controller {sim.controller_name!r} colours robots by "
-                              f"{', '.join(offered)}; got {color_by!r}{hint}", key="--color-by")
+        offered = sim.offered_colourings(color_by)
         self.sim = sim
         self.renderer = sim.new_renderer(width=width, color_by=color_by)
         self.state = initial_state(offered, self.renderer.color_by)

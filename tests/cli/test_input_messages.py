@@ -19,7 +19,6 @@ from swarmsim.cli import build_parser, main
 from swarmsim.controller import available_controllers, get_controller
 from swarmsim.engine.config import build_configs
 from swarmsim.experiments.spec import load_spec, spec_from_dict
-from swarmsim.recording import Recorder
 from swarmsim.world.makeworld import toml_string
 from swarmsim.world.world import load_world, world_from_dict
 from tests.errlines import one_error_line
@@ -122,7 +121,7 @@ def _recorder_color_by(name: str) -> None:
     sim = SimpleNamespace(info=SimpleNamespace(colourings={"gradient": "scale",
                                                            "group": "category"}),
                           controller_name="ggc")
-    Recorder(sim, color_by=name)
+    Simulation.offered_colourings(sim, name)  # what Recorder and the viewer ask
 
 
 @pytest.mark.parametrize("refuse, suggestion", [
