@@ -42,6 +42,10 @@ HEADLESS_ENV = "SWARMSIM_VIEW_HEADLESS"
 """Set to 1 to open the viewer on SDL's dummy video driver (no window; for tests)."""
 
 PANEL_WIDTH = 300  # px, the side panel right of the frame
+PANEL_FONT_SIZE = 18  # px, pygame's default font
+PANEL_LINES = 24  # the panel's lines other than the broadcast fields (with room to wrap)
+HELP_LINES = ("space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit",
+              "wheel zoom  drag pan  0/r reset view", "click a robot to inspect it")
 MAX_TICKS_PER_FRAME = 4096
 MAX_ZOOM = 16.0  # the most the camera magnifies the frame
 ZOOM_STEP = 1.25  # magnification per notch of the mouse wheel
@@ -344,10 +348,15 @@ class Viewer:
         self.state = initial_state(offered, self.renderer.color_by, self.renderer.size)
         self.save_dir = Path(save_dir)
         self.saved: list[Path] = []
-        self._window = _open_window(self.renderer.width + PANEL_WIDTH, self.renderer.height)
         import pygame
 
-        self._font = pygame.font.Font(None, 18)
+        pygame.font.init()
+        self._font = pygame.font.Font(None, PANEL_FONT_SIZE)
+        # tall enough for the panel with every broadcast field of a selected robot
+        panel_height = 16 + self._font.get_linesize() * (PANEL_LINES
+                                                         + len(sim.messages.dtype.names))
+        self._window = _open_window(self.renderer.width + PANEL_WIDTH,
+                                    max(self.renderer.height, panel_height))
         self._clock = pygame.time.Clock()
         self._rate: tuple[float, int] = (time.perf_counter(), sim.tick)
         self.ticks_per_second = 0.0
@@ -447,7 +456,7 @@ class Viewer:
                  f"{run}   {self.ticks_per_second:.0f} ticks/s",
                  f"ticks per frame {state.ticks_per_frame}   zoom {state.camera.zoom:.2g}x",
                  f"colour by {state.color_by}",
-                 f"robots: {_status_counts(snap)}", ""]
+                 f"robots: {_status_counts(snap)}", "", *HELP_LINES, ""]
         if state.selected is not None and state.selected < snap.n_robots:
             robot = state.selected
             lines += robot_lines(snap, robot, sim.velocities[robot], sim.info.group_field,
@@ -455,10 +464,6 @@ class Viewer:
             heard = in_range(snap.positions, snap.failed, robot, float(sim.listen[robot]))
             lines.insert(-len(snap.messages.dtype.names) - 1,
                          f"hears {len(heard)} (range {sim.listen[robot]:.3g})")
-        else:
-            lines.append("click a robot to inspect it")
-        lines += ["", "space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit",
-                  "wheel zoom  drag pan  0/r reset view  click select"]
         return lines
 
     def _draw_panel(self, snap: Snapshot) -> None:
