@@ -68,13 +68,17 @@ class Camera:
     """
 
     size: tuple[int, int]
-    zoom: float = 1.0
-    centre: tuple[float, float] | None = None  # None: the frame's centre
+    zoom: float
+    centre: tuple[float, float]
+
+    @classmethod
+    def whole_frame(cls, size: tuple[int, int]) -> Camera:
+        """The camera showing the whole frame of ``size`` (width, height) pixels, unmagnified."""
+        return cls(size, 1.0, (size[0] / 2, size[1] / 2))
 
     def __post_init__(self) -> None:
         zoom = min(MAX_ZOOM, max(1.0, float(self.zoom)))
-        w, h = self.size
-        cx, cy = self.centre if self.centre is not None else (w / 2, h / 2)
+        (w, h), (cx, cy) = self.size, self.centre
         half_w, half_h = w / (2 * zoom), h / (2 * zoom)
         object.__setattr__(self, "zoom", zoom)
         object.__setattr__(self, "centre", (min(w - half_w, max(half_w, float(cx))),
@@ -83,13 +87,8 @@ class Camera:
     @property
     def top_left(self) -> tuple[float, float]:
         """The frame pixel shown at the window's top-left corner."""
-        (cx, cy), (w, h) = self._centre, self.size
+        (cx, cy), (w, h) = self.centre, self.size
         return cx - w / (2 * self.zoom), cy - h / (2 * self.zoom)
-
-    @property
-    def _centre(self) -> tuple[float, float]:
-        assert self.centre is not None  # __post_init__ fills it
-        return self.centre
 
     def to_window(self, frame_px: Any) -> np.ndarray:
         """Frame pixels (..., 2) -> window pixels (..., 2), floats."""
@@ -114,7 +113,7 @@ class Camera:
 
     def panned(self, by: tuple[float, float]) -> Camera:
         """The camera after the picture was dragged ``by`` window pixels (dx, dy)."""
-        cx, cy = self._centre
+        cx, cy = self.centre
         return Camera(self.size, self.zoom, (cx - by[0] / self.zoom, cy - by[1] / self.zoom))
 
 
@@ -164,7 +163,7 @@ def initial_state(colourings: tuple[str, ...], color_by: str | None,
     """The state a viewer starts in, colouring by ``color_by`` (None: the first offered), the
     whole frame (``frame_size`` (width, height) pixels) in view."""
     colour = colourings.index(color_by) if color_by in colourings else 0
-    return ViewState(colourings=colourings, colour=colour, camera=Camera(frame_size))
+    return ViewState(colourings=colourings, colour=colour, camera=Camera.whole_frame(frame_size))
 
 
 def handle_event(state: ViewState, event: Any,
@@ -200,7 +199,7 @@ def handle_event(state: ViewState, event: Any,
     if key == pygame.K_s:
         return dataclasses.replace(state, save=True)
     if key in (pygame.K_0, pygame.K_KP_0, pygame.K_r):
-        return dataclasses.replace(state, camera=Camera(state.camera.size))
+        return dataclasses.replace(state, camera=Camera.whole_frame(state.camera.size))
     return state
 
 

@@ -259,13 +259,13 @@ def test_a_press_that_barely_moves_is_a_click(viewer):
     pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=(102, 101)))
     viewer.frame()
     assert viewer.state.selected is not None
-    assert viewer.state.camera == vw.Camera(viewer.renderer.size)
+    assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
 
 
 def test_a_pan_stays_on_the_frame(viewer):
     _drag((100, 100), (300, 200))  # at zoom 1 there is nothing to pan to
     viewer.frame()
-    assert viewer.state.camera == vw.Camera(viewer.renderer.size)
+    assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
     _move((100, 100))
     _wheel(3)
     _drag((100, 100), (319, 239))
@@ -283,7 +283,7 @@ def test_zero_and_r_reset_the_view(viewer):
         assert viewer.state.camera.zoom > 1
         _key(key, text)
         viewer.frame()
-        assert viewer.state.camera == vw.Camera(viewer.renderer.size)
+        assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
 
 
 def _window_pixels(viewer) -> np.ndarray:
