@@ -1,6 +1,7 @@
 """The live viewer's frames per second on K (603 robots, GGC, seed 0) under SDL's dummy video
-driver, without the window's 30 frames-per-second cap: running one tick per frame, and paused
-(drawing only: the frame, the panel and a selected robot).
+driver, without the window's 30 frames-per-second cap: running one tick per frame, paused
+(drawing only: the frame, the panel and a selected robot), and paused zoomed in 4x about the
+selected robot (the frame magnified, the heads-up line and legend drawn over it).
 
     python bench/bench_viewer.py [--frames 200] [--width 800]
 """
@@ -38,8 +39,13 @@ def main() -> None:
     running = frames_per_second(viewer, args.frames)
     viewer.state = dataclasses.replace(viewer.state, paused=True)
     paused = frames_per_second(viewer, args.frames)
+    robot = viewer.renderer.world_to_pixel(viewer.sim.positions[100])
+    camera = viewer.state.camera.zoomed(4.0, (int(robot[0]), int(robot[1])))
+    viewer.state = dataclasses.replace(viewer.state, camera=camera)
+    zoomed = frames_per_second(viewer, args.frames)
     print(f"K, {args.width} px: running 1 tick/frame {running:.1f} frames/s; "
-          f"paused (drawing only) {paused:.1f} frames/s; ended at tick {viewer.sim.tick}")
+          f"paused (drawing only) {paused:.1f} frames/s; paused zoomed 4x {zoomed:.1f} "
+          f"frames/s; ended at tick {viewer.sim.tick}")
     viewer.close()
 
 

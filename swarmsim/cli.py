@@ -91,8 +91,9 @@ def _add_simulation_args(p: argparse.ArgumentParser) -> None:
 def _add_view_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("view", help="watch one simulation live in a window",
                        description="Run one simulation in a window. Keys: space pause, . step, "
-                       "+/- ticks per frame, c colouring, s save PNG, q quit; click a robot "
-                       "to inspect it. Needs a display (or xvfb-run).")
+                       "+/- ticks per frame, c colouring, o coverage tint, s save PNG, 0 or r "
+                       "reset the view, q quit; the mouse wheel zooms, a drag pans, a click "
+                       "on a robot inspects it. Needs a display (or xvfb-run).")
     _add_simulation_args(p)
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="colouring to start with: status, or a field the controller offers "

@@ -708,6 +708,29 @@ class Simulation:
 
         return view(self, width=width, color_by=color_by, max_frames=max_frames)
 
+    def _repr_png_(self) -> bytes:
+        """Jupyter shows a Simulation as its current frame, 640 px wide (a PNG)."""
+        from swarmsim.render.notebook import png_bytes
+
+        return png_bytes(self.render(width=640))
+
+    def show(self, width: int = 640, color_by: str | None = None) -> None:
+        """Display the current frame in a notebook now (IPython's display; the extra
+        ``notebook``). ConfigError naming the extra without IPython."""
+        from swarmsim.render.notebook import show_frame
+
+        show_frame(self, width=width, color_by=color_by)
+
+    def video(self, ticks: int | None = None, every: int = 10, width: int = 480,
+              fps: float = 30, color_by: str | None = None) -> Any:
+        """Run ``ticks`` more ticks (None: until the run stops) as ``run`` would, drawing a
+        frame every ``every`` ticks; returns a swarmsim.render.notebook.InlineVideo, which
+        a notebook shows as an HTML5 video (its ``mp4`` bytes, ``save(path)``)."""
+        from swarmsim.render.notebook import record_video
+
+        return record_video(self, ticks=ticks, every=every, width=width, fps=fps,
+                            color_by=color_by)
+
     def offered_colourings(self, color_by: str | None = None) -> tuple[str, ...]:
         """The robot colourings this run offers: "status", then the controller's COLOURINGS.
         Raises ConfigError (key --color-by) when ``color_by`` is given and is none of them."""

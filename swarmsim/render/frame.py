@@ -404,18 +404,25 @@ class Renderer:
             surf.blit(panel, (off, self.height - off - panel.get_height()))
 
     # --- public --------------------------------------------------------------------------------
-    def draw_surface(self, snapshot: Snapshot) -> pygame.Surface:
-        """Draw ``snapshot`` and return the renderer's own frame Surface (reused next call)."""
+    def draw_surface(self, snapshot: Snapshot, overlays: bool = True) -> pygame.Surface:
+        """Draw ``snapshot`` and return the renderer's own frame Surface (reused next call);
+        ``overlays=False`` leaves out the heads-up line and legend (see draw_overlays)."""
         surf = self._frame
         surf.blit(self._background, (0, 0))
         if self.show_coverage and snapshot.covered is not None:
             self._draw_coverage(surf, snapshot.covered)
         self._draw_robots(surf, snapshot)
+        if overlays:
+            self.draw_overlays(surf, snapshot)
+        return surf
+
+    def draw_overlays(self, surf: pygame.Surface, snapshot: Snapshot) -> None:
+        """Draw the heads-up line (when ``hud``) and the legend (when ``legend``) of
+        ``snapshot`` onto ``surf``, at their places in a frame whose top-left is surf's."""
         if self.hud:
             self._draw_hud(surf, snapshot)
         if self.legend:
             self._draw_legend(surf, snapshot)
-        return surf
 
     def draw(self, snapshot: Snapshot) -> np.ndarray:
         """Draw ``snapshot``; returns a new (H, W, 3) uint8 RGB array (rows top to bottom).

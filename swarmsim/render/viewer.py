@@ -7,8 +7,9 @@ every frame.
 
 Keys: space pauses, ``.`` steps one tick, ``+`` / ``-`` double / halve the ticks per frame, ``c``
 cycles the colouring (status and the fields the controller offers), ``o`` toggles the coverage
-tint, ``s`` saves a PNG of the
-window, ``q`` or closing the window quits.
+tint, ``0`` or ``r`` resets the view, ``s`` saves a PNG of the window, ``q`` or closing the
+window quits. The mouse wheel zooms about the cursor, a left-button drag pans, a left click
+(pressed and released within DRAG_THRESHOLD pixels) selects the robot nearest it.
 
 Events change a frozen :class:`ViewState` through the pure function :func:`handle_event`; the
 loop (:class:`Viewer`) only advances the simulation and draws. Viewing never changes the run: it
@@ -41,11 +42,79 @@ HEADLESS_ENV = "SWARMSIM_VIEW_HEADLESS"
 """Set to 1 to open the viewer on SDL's dummy video driver (no window; for tests)."""
 
 PANEL_WIDTH = 300  # px, the side panel right of the frame
+PANEL_FONT_SIZE = 18  # px, pygame's default font
+PANEL_LINES = 24  # the panel's lines other than the broadcast fields (with room to wrap)
+HELP_LINES = ("space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit",
+              "wheel zoom  drag pan  0/r reset view", "click a robot to inspect it")
 MAX_TICKS_PER_FRAME = 4096
+MAX_ZOOM = 16.0  # the most the camera magnifies the frame
+ZOOM_STEP = 1.25  # magnification per notch of the mouse wheel
+DRAG_THRESHOLD = 4  # px: a press that moves farther than this pans instead of selecting
 FRAMES_PER_SECOND = 30  # the window's redraw cap
 NO_DISPLAY = ("no display to open the viewer on (DISPLAY and WAYLAND_DISPLAY are unset): "
               "write a video with 'swarmsim run WORLD --video FILE.mp4', or run the viewer "
               "under a virtual X server: xvfb-run swarmsim view WORLD")
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Which part of the Renderer's frame the window shows, magnified.
+
+    The window's frame area is ``size`` (width, height) pixels, the frame's own size. It shows
+    the frame around the frame pixel ``centre`` magnified ``zoom`` times (1 to MAX_ZOOM; at 1
+    the whole frame, nothing to pan). The view never leaves the frame: ``centre`` is kept at
+    least half a window / zoom from the frame's edges. Frame pixels are the Renderer's
+    (``Renderer.world_to_pixel``); window pixels count from the window's top-left corner.
+    """
+
+    size: tuple[int, int]
+    zoom: float
+    centre: tuple[float, float]
+
+    @classmethod
+    def whole_frame(cls, size: tuple[int, int]) -> Camera:
+        """The camera showing the whole frame of ``size`` (width, height) pixels, unmagnified."""
+        return cls(size, 1.0, (size[0] / 2, size[1] / 2))
+
+    def __post_init__(self) -> None:
+        zoom = min(MAX_ZOOM, max(1.0, float(self.zoom)))
+        (w, h), (cx, cy) = self.size, self.centre
+        half_w, half_h = w / (2 * zoom), h / (2 * zoom)
+        object.__setattr__(self, "zoom", zoom)
+        object.__setattr__(self, "centre", (min(w - half_w, max(half_w, float(cx))),
+                                            min(h - half_h, max(half_h, float(cy)))))
+
+    @property
+    def top_left(self) -> tuple[float, float]:
+        """The frame pixel shown at the window's top-left corner."""
+        (cx, cy), (w, h) = self.centre, self.size
+        return cx - w / (2 * self.zoom), cy - h / (2 * self.zoom)
+
+    def to_window(self, frame_px: Any) -> np.ndarray:
+        """Frame pixels (..., 2) -> window pixels (..., 2), floats."""
+        return (np.asarray(frame_px, dtype=float) - self.top_left) * self.zoom
+
+    def to_frame(self, window_px: Any) -> np.ndarray:
+        """Window pixels (..., 2) -> frame pixels (..., 2), floats."""
+        return np.asarray(window_px, dtype=float) / self.zoom + self.top_left
+
+    def contains(self, window_px: tuple[int, int]) -> bool:
+        """Whether ``window_px`` lies on the frame area (not on the panel)."""
+        return 0 <= window_px[0] < self.size[0] and 0 <= window_px[1] < self.size[1]
+
+    def zoomed(self, factor: float, about: tuple[int, int]) -> Camera:
+        """The camera magnified ``factor`` times more, the frame pixel under the window pixel
+        ``about`` staying under it (unless the view would leave the frame)."""
+        fixed = self.to_frame(about)
+        zoom = min(MAX_ZOOM, max(1.0, self.zoom * factor))
+        w, h = self.size
+        centre = fixed - (np.asarray(about, dtype=float) - (w / 2, h / 2)) / zoom
+        return Camera(self.size, zoom, (float(centre[0]), float(centre[1])))
+
+    def panned(self, by: tuple[float, float]) -> Camera:
+        """The camera after the picture was dragged ``by`` window pixels (dx, dy)."""
+        cx, cy = self.centre
+        return Camera(self.size, self.zoom, (cx - by[0] / self.zoom, cy - by[1] / self.zoom))
 
 
 @dataclass(frozen=True)
@@ -62,9 +131,16 @@ class ViewState:
         coverage: tint the covered target pixels (``o`` toggles it).
         save: a PNG of the window is wanted (the loop clears it once saved).
         quit: the window should close.
+        camera: the part of the frame shown and its magnification (wheel, drag, ``0``/``r``).
+        pointer: the last window pixel the mouse was seen at (the wheel zooms about it).
+        pressed: where the left button went down on the frame, while it is held; None
+            otherwise (or when it went down on the panel).
+        dragging: the held button has moved more than DRAG_THRESHOLD pixels: it pans, and its
+            release selects nothing.
     """
 
     colourings: tuple[str, ...]
+    camera: Camera
     colour: int = 0
     paused: bool = False
     ticks_per_frame: int = 1
@@ -73,29 +149,35 @@ class ViewState:
     coverage: bool = True
     save: bool = False
     quit: bool = False
+    pointer: tuple[int, int] = (0, 0)
+    pressed: tuple[int, int] | None = None
+    dragging: bool = False
 
     @property
     def color_by(self) -> str:
         return self.colourings[self.colour]
 
 
-def initial_state(colourings: tuple[str, ...], color_by: str | None) -> ViewState:
-    """The state a viewer starts in, colouring by ``color_by`` (None: the first offered)."""
+def initial_state(colourings: tuple[str, ...], color_by: str | None,
+                  frame_size: tuple[int, int]) -> ViewState:
+    """The state a viewer starts in, colouring by ``color_by`` (None: the first offered), the
+    whole frame (``frame_size`` (width, height) pixels) in view."""
     colour = colourings.index(color_by) if color_by in colourings else 0
-    return ViewState(colourings=colourings, colour=colour)
+    return ViewState(colourings=colourings, colour=colour, camera=Camera.whole_frame(frame_size))
 
 
 def handle_event(state: ViewState, event: Any,
-                 pick: Callable[[tuple[int, int]], int | None]) -> ViewState:
-    """The state after one pygame ``event``; ``pick(pixel)`` names the robot nearest a click
-    on the frame (None: the click was not on the frame). Events the viewer ignores return
-    ``state`` itself."""
+                 pick: Callable[[np.ndarray], int | None]) -> ViewState:
+    """The state after one pygame ``event``; ``pick(frame_px)`` names the robot nearest the
+    frame pixel (float (x, y)) a click on the frame landed on, or None. Events the viewer
+    ignores return ``state`` itself."""
     import pygame
 
     if event.type == pygame.QUIT:
         return dataclasses.replace(state, quit=True)
-    if event.type == pygame.MOUSEBUTTONDOWN and event.button == 1:
-        return dataclasses.replace(state, selected=pick(tuple(event.pos)))
+    if event.type in (pygame.MOUSEBUTTONDOWN, pygame.MOUSEBUTTONUP, pygame.MOUSEMOTION,
+                      pygame.MOUSEWHEEL):
+        return _mouse_event(state, event, pick)
     if event.type != pygame.KEYDOWN:
         return state
     key, text = event.key, getattr(event, "unicode", "")
@@ -116,16 +198,63 @@ def handle_event(state: ViewState, event: Any,
         return dataclasses.replace(state, coverage=not state.coverage)
     if key == pygame.K_s:
         return dataclasses.replace(state, save=True)
+    if key in (pygame.K_0, pygame.K_KP_0, pygame.K_r):
+        return dataclasses.replace(state, camera=Camera.whole_frame(state.camera.size))
     return state
 
 
-def nearest_robot(pixels: np.ndarray, at: tuple[float, float]) -> int | None:
-    """Index of the row of ``pixels`` ((N, 2) robot centres in window pixels) nearest ``at``,
-    or None when there are no robots."""
-    if len(pixels) == 0:
+def _mouse_event(state: ViewState, event: Any,
+                 pick: Callable[[np.ndarray], int | None]) -> ViewState:
+    """handle_event for the mouse: the wheel zooms about the pointer, a left-button drag on the
+    frame pans, a left click on the frame (released within DRAG_THRESHOLD px) selects."""
+    import pygame
+
+    if event.type == pygame.MOUSEWHEEL:
+        factor = ZOOM_STEP ** float(getattr(event, "precise_y", event.y))
+        if getattr(event, "flipped", False):
+            factor = 1 / factor
+        if factor == 1 or not state.camera.contains(state.pointer):
+            return state
+        return dataclasses.replace(state, camera=state.camera.zoomed(factor, state.pointer))
+    pos = (int(event.pos[0]), int(event.pos[1]))
+    if event.type == pygame.MOUSEMOTION:
+        if state.pressed is None:
+            return dataclasses.replace(state, pointer=pos)
+        moved = (pos[0] - state.pointer[0], pos[1] - state.pointer[1])
+        if not state.dragging:
+            far = np.hypot(pos[0] - state.pressed[0], pos[1] - state.pressed[1])
+            if far <= DRAG_THRESHOLD:
+                return state  # still a click: the pointer stays where the button went down
+            moved = (pos[0] - state.pressed[0], pos[1] - state.pressed[1])
+        return dataclasses.replace(state, pointer=pos, dragging=True,
+                                   camera=state.camera.panned(moved))
+    if event.button != 1:
+        return dataclasses.replace(state, pointer=pos)
+    if event.type == pygame.MOUSEBUTTONDOWN:
+        pressed = pos if state.camera.contains(pos) else None
+        return dataclasses.replace(state, pointer=pos, pressed=pressed, dragging=False)
+    # MOUSEBUTTONUP: a click when the button did not move far since it went down on the frame
+    after = dataclasses.replace(state, pointer=pos, pressed=None, dragging=False)
+    if state.pressed is None or state.dragging:
+        return after
+    return dataclasses.replace(after, selected=pick(state.camera.to_frame(state.pressed)))
+
+
+def nearest_robot(points: np.ndarray, at: Any) -> int | None:
+    """Index of the row of ``points`` ((N, 2) robot centres) nearest ``at`` (x, y) in the same
+    coordinates, or None when there are no robots."""
+    if len(points) == 0:
         return None
-    d2 = np.sum((np.asarray(pixels, dtype=float) - np.asarray(at, dtype=float)) ** 2, axis=1)
+    d2 = np.sum((np.asarray(points, dtype=float) - np.asarray(at, dtype=float)) ** 2, axis=1)
     return int(np.argmin(d2))
+
+
+def frame_to_world(renderer: Any, frame_px: Any) -> np.ndarray:
+    """Frame pixels (..., 2) -> world coordinates (..., 2): the inverse of the Renderer's
+    ``world_to_pixel`` (``scale`` pixels per unit, y flipped)."""
+    origin = renderer.world_to_pixel((0.0, 0.0))
+    offset = (np.asarray(frame_px, dtype=float) - origin) / renderer.scale
+    return offset * (1.0, -1.0)
 
 
 def display_problem(environ: os._Environ[str] | dict[str, str], platform: str) -> str | None:
@@ -215,24 +344,28 @@ class Viewer:
         offered = sim.offered_colourings(color_by)
         self.sim = sim
         self.renderer = sim.new_renderer(width=width, color_by=color_by)
-        self.state = initial_state(offered, self.renderer.color_by)
+        self.state = initial_state(offered, self.renderer.color_by, self.renderer.size)
         self.save_dir = Path(save_dir)
         self.saved: list[Path] = []
-        self._window = _open_window(self.renderer.width + PANEL_WIDTH, self.renderer.height)
         import pygame
 
-        self._font = pygame.font.Font(None, 18)
+        pygame.font.init()
+        self._font = pygame.font.Font(None, PANEL_FONT_SIZE)
+        # tall enough for the panel with every broadcast field of a selected robot
+        panel_height = 16 + self._font.get_linesize() * (PANEL_LINES
+                                                         + len(sim.messages.dtype.names))
+        self._window = _open_window(self.renderer.width + PANEL_WIDTH,
+                                    max(self.renderer.height, panel_height))
         self._clock = pygame.time.Clock()
         self._rate: tuple[float, int] = (time.perf_counter(), sim.tick)
         self.ticks_per_second = 0.0
         self.frames = 0
 
     # --- one frame --------------------------------------------------------------------------
-    def pick(self, pixel: tuple[int, int]) -> int | None:
-        """The robot nearest ``pixel`` of the window, or None outside the frame."""
-        if not (0 <= pixel[0] < self.renderer.width and 0 <= pixel[1] < self.renderer.height):
-            return self.state.selected
-        return nearest_robot(self.renderer.world_to_pixel(self.sim.positions), pixel)
+    def pick(self, frame_px: np.ndarray) -> int | None:
+        """The robot whose centre is nearest, in world units, the point drawn at the frame
+        pixel ``frame_px`` (x, y), or None when there are no robots."""
+        return nearest_robot(self.sim.positions, frame_to_world(self.renderer, frame_px))
 
     def handle(self, events: list[Any]) -> None:
         """Apply ``events`` to the state (see :func:`handle_event`)."""
@@ -277,20 +410,36 @@ class Viewer:
         self.renderer.color_by = self.state.color_by
         self.renderer.show_coverage = self.state.coverage
         snap = self.sim.snapshot(with_coverage=self.state.coverage)
-        surf = self.renderer.draw_surface(snap)
+        camera = self.state.camera
         self._window.fill((24, 24, 28))
-        self._window.blit(surf, (0, 0))
+        self._window.set_clip(pygame.Rect((0, 0), camera.size))
+        if camera.zoom == 1:
+            self._window.blit(self.renderer.draw_surface(snap), (0, 0))
+        else:  # magnify the frame's part in view; the heads-up line and legend stay unscaled
+            _blit_magnified(self._window, self.renderer.draw_surface(snap, overlays=False),
+                            camera)
+            self.renderer.draw_overlays(self._window, snap)
         if self.state.selected is not None and self.state.selected < snap.n_robots:
-            p = self.renderer.world_to_pixel(snap.positions[self.state.selected])
-            centre, r = (float(p[0]), float(p[1])), max(10.0, snap.radius * self.renderer.scale * 3)
-            heard = in_range(snap.positions, snap.failed, self.state.selected,
-                             float(self.sim.listen[self.state.selected]))
-            for q in self.renderer.world_to_pixel(snap.positions[heard]):
-                pygame.draw.line(self._window, (255, 140, 0), centre, (float(q[0]), float(q[1])))
-            pygame.draw.circle(self._window, (0, 0, 0), centre, r + 2, 2)
-            pygame.draw.circle(self._window, (255, 200, 0), centre, r, 3)
+            self._draw_selection(snap, self.state.selected, camera)
+        self._window.set_clip(None)
         self._draw_panel(snap)
         pygame.display.flip()
+
+    def _draw_selection(self, snap: Snapshot, robot: int, camera: Camera) -> None:
+        """A ring around ``robot`` and a line to each robot it hears, in window pixels."""
+        import pygame
+
+        def window_px(world: np.ndarray) -> np.ndarray:
+            return camera.to_window(self.renderer.world_to_pixel(world))
+
+        p = window_px(snap.positions[robot])
+        centre = (float(p[0]), float(p[1]))
+        r = max(10.0, snap.radius * self.renderer.scale * camera.zoom * 3)
+        heard = in_range(snap.positions, snap.failed, robot, float(self.sim.listen[robot]))
+        for q in window_px(snap.positions[heard]):
+            pygame.draw.line(self._window, (255, 140, 0), centre, (float(q[0]), float(q[1])))
+        pygame.draw.circle(self._window, (0, 0, 0), centre, r + 2, 2)
+        pygame.draw.circle(self._window, (255, 200, 0), centre, r, 3)
 
     def panel_lines(self, snap: Snapshot) -> list[str]:
         """The side panel's text: heads-up lines, then the selected robot's."""
@@ -304,9 +453,9 @@ class Viewer:
                else "paused" if state.paused else "running")
         lines = [f"tick {snap.tick}   coverage {100 * snap.coverage:.1f} %",
                  f"{run}   {self.ticks_per_second:.0f} ticks/s",
-                 f"ticks per frame {state.ticks_per_frame}",
+                 f"ticks per frame {state.ticks_per_frame}   zoom {state.camera.zoom:.2g}x",
                  f"colour by {state.color_by}",
-                 f"robots: {_status_counts(snap)}", ""]
+                 f"robots: {_status_counts(snap)}", "", *HELP_LINES, ""]
         if state.selected is not None and state.selected < snap.n_robots:
             robot = state.selected
             lines += robot_lines(snap, robot, sim.velocities[robot], sim.info.group_field,
@@ -314,9 +463,6 @@ class Viewer:
             heard = in_range(snap.positions, snap.failed, robot, float(sim.listen[robot]))
             lines.insert(-len(snap.messages.dtype.names) - 1,
                          f"hears {len(heard)} (range {sim.listen[robot]:.3g})")
-        else:
-            lines.append("click a robot to inspect it")
-        lines += ["", "space pause  . step  +/- speed", "c colour  o coverage  s save PNG  q quit"]
         return lines
 
     def _draw_panel(self, snap: Snapshot) -> None:
@@ -343,6 +489,23 @@ class Viewer:
         import pygame
 
         pygame.display.quit()
+
+
+def _blit_magnified(window: pygame.Surface, frame: pygame.Surface, camera: Camera) -> None:
+    """Draw the part of ``frame`` the camera sees onto ``window``'s frame area, magnified:
+    the whole frame pixels covering the view, scaled (nearest neighbour) by the zoom and
+    placed so frame pixel f lands at ``camera.to_window(f)`` (within a window pixel)."""
+    import math
+
+    import pygame
+
+    (left, top), zoom = camera.top_left, camera.zoom
+    w, h = camera.size
+    x0, y0 = math.floor(left), math.floor(top)
+    x1, y1 = min(w, math.ceil(left + w / zoom)), min(h, math.ceil(top + h / zoom))
+    part = frame.subsurface(pygame.Rect(x0, y0, x1 - x0, y1 - y0))
+    scaled = pygame.transform.scale(part, (round((x1 - x0) * zoom), round((y1 - y0) * zoom)))
+    window.blit(scaled, (round((x0 - left) * zoom), round((y0 - top) * zoom)))
 
 
 def _wrap(line: str, width: int, font: Any) -> list[str]:

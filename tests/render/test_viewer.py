@@ -32,6 +32,26 @@ def _key(key: int, text: str = "") -> None:
 
 def _click(pos: tuple[int, int]) -> None:
     pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=pos))
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=pos))
+
+
+def _move(pos: tuple[int, int], held: bool = False) -> None:
+    pygame.event.post(pygame.event.Event(pygame.MOUSEMOTION, pos=pos, rel=(0, 0),
+                                         buttons=(int(held), 0, 0)))
+
+
+def _wheel(notches: float) -> None:
+    pygame.event.post(pygame.event.Event(pygame.MOUSEWHEEL, x=0, y=int(notches),
+                                         precise_x=0.0, precise_y=float(notches),
+                                         flipped=False))
+
+
+def _drag(start: tuple[int, int], end: tuple[int, int]) -> None:
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=start))
+    mid = ((start[0] + end[0]) // 2, (start[1] + end[1]) // 2)
+    _move(mid, held=True)
+    _move(end, held=True)
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=end))
 
 
 def test_frames_advance_the_run_and_space_pauses_it(viewer):
@@ -178,3 +198,136 @@ def test_view_without_a_display_prints_one_line_and_exits_2():
     assert len(lines) == 1
     assert lines[0].startswith("swarmsim: error: no display")
     assert "--video" in lines[0] and "xvfb-run" in lines[0]
+
+
+# --- zoom, pan, reset -------------------------------------------------------------------------
+
+def test_the_wheel_zooms_about_the_pointer(viewer):
+    _key(pygame.K_SPACE, " ")
+    pointer = (80, 60)
+    _move(pointer)
+    _wheel(2)
+    viewer.frame()
+    camera = viewer.state.camera
+    assert camera.zoom == pytest.approx(vw.ZOOM_STEP ** 2)
+    # the frame pixel under the pointer stays under it
+    np.testing.assert_allclose(camera.to_frame(pointer), pointer)
+    np.testing.assert_allclose(camera.to_window(camera.to_frame((10, 200))), (10, 200))
+    _wheel(-1)
+    viewer.frame()
+    assert viewer.state.camera.zoom == pytest.approx(vw.ZOOM_STEP)
+    np.testing.assert_allclose(viewer.state.camera.to_frame(pointer), pointer)
+    for _ in range(3):
+        _wheel(-1)
+    viewer.frame()
+    assert viewer.state.camera.zoom == 1.0  # never below the whole frame
+    for _ in range(40):
+        _wheel(1)
+    viewer.frame()
+    assert viewer.state.camera.zoom == vw.MAX_ZOOM
+
+
+def test_the_wheel_over_the_panel_does_not_zoom(viewer):
+    _move((viewer.renderer.width + 20, 20))
+    _wheel(1)
+    viewer.frame()
+    assert viewer.state.camera.zoom == 1.0
+
+
+def test_a_drag_pans_and_selects_nothing(viewer):
+    _key(pygame.K_SPACE, " ")
+    _move((160, 100))
+    _wheel(4)
+    viewer.frame()
+    before = viewer.state.camera
+    _drag((160, 100), (200, 80))
+    viewer.frame()
+    after = viewer.state.camera
+    assert viewer.state.selected is None and not viewer.state.dragging
+    assert after.zoom == before.zoom
+    np.testing.assert_allclose(np.subtract(after.centre, before.centre),
+                               np.array([-40, 20]) / before.zoom)
+    # the frame point under the press now lies under the release
+    np.testing.assert_allclose(after.to_window(before.to_frame((160, 100))), (200, 80))
+
+
+def test_a_press_that_barely_moves_is_a_click(viewer):
+    _key(pygame.K_SPACE, " ")
+    viewer.frame()
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONDOWN, button=1, pos=(100, 100)))
+    _move((102, 101), held=True)
+    pygame.event.post(pygame.event.Event(pygame.MOUSEBUTTONUP, button=1, pos=(102, 101)))
+    viewer.frame()
+    assert viewer.state.selected is not None
+    assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
+
+
+def test_a_pan_stays_on_the_frame(viewer):
+    _drag((100, 100), (300, 200))  # at zoom 1 there is nothing to pan to
+    viewer.frame()
+    assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
+    _move((100, 100))
+    _wheel(3)
+    _drag((100, 100), (319, 239))
+    _drag((100, 100), (319, 239))
+    viewer.frame()
+    np.testing.assert_allclose(viewer.state.camera.top_left, (0, 0))
+
+
+def test_zero_and_r_reset_the_view(viewer):
+    for key, text in ((pygame.K_0, "0"), (pygame.K_r, "r")):
+        _move((50, 50))
+        _wheel(3)
+        _drag((50, 50), (120, 90))
+        viewer.frame()
+        assert viewer.state.camera.zoom > 1
+        _key(key, text)
+        viewer.frame()
+        assert viewer.state.camera == vw.Camera.whole_frame(viewer.renderer.size)
+
+
+def _window_pixels(viewer) -> np.ndarray:
+    w, h = viewer._window.get_size()
+    rgb = np.frombuffer(pygame.image.tobytes(viewer._window, "RGB"), np.uint8)
+    return rgb.reshape(h, w, 3)
+
+
+def test_a_click_on_a_robot_drawn_zoomed_and_panned_selects_it(viewer):
+    for _ in range(30):
+        viewer.frame()
+    _key(pygame.K_SPACE, " ")  # paused: the robots stay where the click is aimed
+    viewer.frame()
+    swarm = viewer.renderer.world_to_pixel(viewer.sim.positions.mean(axis=0))
+    pointer = (int(swarm[0]), int(swarm[1]))
+    _move(pointer)
+    _wheel(6)  # zoom 3.8 about the swarm
+    _drag(pointer, (pointer[0] - 30, pointer[1] + 20))
+    viewer.frame()
+    camera, sim, renderer = viewer.state.camera, viewer.sim, viewer.renderer
+    assert camera.zoom > 3 and camera.top_left != (0, 0)
+    drawn = camera.to_window(renderer.world_to_pixel(sim.positions))
+    on_screen = np.flatnonzero(np.all((drawn >= 10) & (drawn < np.subtract(camera.size, 10)),
+                                      axis=1))
+    assert len(on_screen) >= 2
+    # the robot on screen farthest from its nearest neighbour: no doubt which one a click means
+    gaps = [np.sort(np.hypot(*(sim.positions - sim.positions[i]).T))[1] for i in on_screen]
+    robot = int(on_screen[int(np.argmax(gaps))])
+    click = (round(float(drawn[robot, 0])), round(float(drawn[robot, 1])))
+    # the window shows it there, in its colour
+    colour = renderer.robot_colors(sim.snapshot())[robot]
+    np.testing.assert_array_equal(_window_pixels(viewer)[click[1], click[0]], colour)
+    # ignoring the camera the same window pixel would name another robot
+    unzoomed = vw.nearest_robot(renderer.world_to_pixel(sim.positions), click)
+    assert unzoomed != robot
+    _click(click)
+    viewer.frame()
+    assert viewer.state.selected == robot
+    world = vw.frame_to_world(renderer, camera.to_frame(click))
+    assert robot == int(np.argmin(np.hypot(*(sim.positions - world).T)))
+    assert f"robot {robot}" in viewer.panel_lines(sim.snapshot())
+
+
+def test_frame_to_world_inverts_world_to_pixel(viewer):
+    points = np.array([[0.0, 0.0], [3.5, -2.25], [-7.0, 11.0]])
+    np.testing.assert_allclose(
+        vw.frame_to_world(viewer.renderer, viewer.renderer.world_to_pixel(points)), points)
