@@ -47,6 +47,8 @@ from swarmsim.registry import importable_from_here
 from swarmsim.results.output import atomic_write_bytes
 from swarmsim.results.provenance import code_version
 
+FILE_NAME = "checkpoint.swarmsim"
+"""The checkpoint ``swarmsim run --out DIR --checkpoint-every N`` keeps in DIR."""
 MAGIC = b"SWARMSIM-CHECKPOINT\n"
 """A checkpoint file's first line."""
 FORMAT = 2
@@ -112,12 +114,14 @@ def _check_savable(sim: Any) -> None:
                           "not yours", key="hooks")
 
 
-def _culprit(sim: Any, name: str, value: Any, depth: int = 3) -> str:
+def _culprit(sim: Any, name: str, value: Any, depth: int = 5) -> str:
     """The path of the deepest part of ``value`` (``name``) that does not pickle: its
     attributes, list items and dict values, ``depth`` levels down."""
     if depth == 0:
         return name
-    if isinstance(value, dict):
+    if value is sim or name == "sim":
+        parts = [(f"sim.{k}", v) for k, v in (run_state(sim) if value is sim else value).items()]
+    elif isinstance(value, dict):
         parts = [(f"{name}[{k!r}]", v) for k, v in value.items()]
     elif isinstance(value, (list, tuple)):
         parts = [(f"{name}[{i}]", v) for i, v in enumerate(value)]
