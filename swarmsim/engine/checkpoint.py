@@ -218,8 +218,7 @@ def _load_into(target: Any, body: bytes) -> Any:
     continues as the run that saved it does."""
     payload = _Unpickler(io.BytesIO(body), target).load()
     kept = {k: v for k, v in vars(target).items() if k in UNSAVED}
-    target.__dict__.clear()
-    target.__dict__.update(payload["state"], **kept)
+    target.__dict__ = {**payload["state"], **kept}  # one assignment: never half re-seated
     target.stop_reason = target.finished()
     return payload["extra"]
 
