@@ -571,11 +571,6 @@ def _checkpointing(args: argparse.Namespace, recorder: Any, path: Path) -> Any:
     return on_tick
 
 
-_RESUME_ALONE = ("world", "controller", "robots", "groups", "d_cover", "seed", "max_ticks",
-                 "out", "trajectories", "video", "snapshot", "color_by", "checkpoint_every")
-"""run's options (dests) that --resume takes from the checkpoint and refuses given again."""
-
-
 def _resume_options(args: argparse.Namespace) -> dict[str, Any]:
     """The run options a checkpoint keeps for --resume (all of run's, less --resume and
     --quiet)."""
@@ -588,7 +583,8 @@ def _resume_run(args: argparse.Namespace) -> int:
     from swarmsim.engine import checkpoint
     from swarmsim.engine.sim import Simulation
 
-    given = [k for k in _RESUME_ALONE if getattr(args, k)] + (["set"] if args.set else [])
+    defaults = vars(build_parser().parse_args(["run"]))
+    given = [k for k, v in _resume_options(args).items() if v != defaults.get(k)]
     if given:
         flag = given[0] if given[0] == "world" else "--" + given[0].replace("_", "-")
         raise ConfigError(f"continues the run with the options it was started with; got "

@@ -121,6 +121,8 @@ def test_resume_says_what_it_cannot_resume(tmp_path, capsys):
     assert "got --robots too" in _error(["run", "--resume", str(ended), "--robots", "4"],
                                         capsys)
     assert "got world too" in _error(["run", "tiny", "--resume", str(ended)], capsys)
+    assert "got --width too" in _error(["run", "--resume", str(ended), "--width", "400"],
+                                       capsys)
 
 
 def test_a_new_run_removes_an_earlier_runs_checkpoint(tmp_path, capsys):

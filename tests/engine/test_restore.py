@@ -72,6 +72,16 @@ def test_a_restored_run_ends_as_the_run_that_saved(tmp_path, controller):
     assert _outcome(rest) == _outcome(first)
 
 
+def test_a_run_without_physics_sleep_restores_too(tmp_path):
+    path = tmp_path / "run.ckpt"
+    sim = Simulation("tiny", controller=CROWDER, seed=3, robots=20, max_ticks=300,
+                     settings={"physics_sleep": False})
+    for _ in range(150):
+        sim.advance()
+    sim.save(path)
+    assert _outcome(Simulation.restore(path)) == _outcome(sim)
+
+
 _RESTORE_ELSEWHERE = """
 import pickle, sys
 sys.path.insert(0, {root!r})
