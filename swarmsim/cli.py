@@ -519,14 +519,14 @@ def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool
         with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
             checkpoint = Path(args.out) / FILE_NAME if args.out else None
             if checkpoint is not None and not resumed:
-                checkpoint.unlink(missing_ok=True)  # an earlier run's: not this one's
+                _remove_checkpoint(checkpoint)  # an earlier run's: not this one's
             on_tick = (_checkpointing(args, recorder, checkpoint) if args.checkpoint_every
                        else recorder.on_tick)
             with recorder:
                 result = sim.run(progress=not args.quiet, on_tick=on_tick)
             if args.out:
                 recorder.write_outputs(args.out, result)
-                checkpoint.unlink(missing_ok=True)  # the outputs hold the whole run now
+                _remove_checkpoint(checkpoint)  # the outputs hold the whole run now
     s = result.summary
     done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
     print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
@@ -534,6 +534,14 @@ def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool
           f"distance {s['total_distance']:.0f}, contacts {s['collisions_robot_robot']}, "
           f"{s['wall_seconds']:.1f}s")
     return 0
+
+
+def _remove_checkpoint(path: Path) -> None:
+    """Remove the checkpoint at ``path`` and the temporary files of its atomic writes
+    (``.NAME.*.tmp``) that a kill during a write left."""
+    path.unlink(missing_ok=True)
+    for tmp in path.parent.glob(f".{path.name}.*.tmp"):
+        tmp.unlink(missing_ok=True)
 
 
 def _check_checkpoint_every(args: argparse.Namespace) -> None:

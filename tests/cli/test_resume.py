@@ -89,8 +89,10 @@ def test_a_run_killed_and_resumed_is_the_run_never_killed(tmp_path, run):
     names = ["coverage.npz", *(["trajectories.npz"] if "--trajectories" in options else [])]
     for name in names:
         assert _same_arrays(cut / name, whole / name), name
-    for folder in (whole, cut):  # a run that ended removed its checkpoint
-        assert not (folder / checkpoint.FILE_NAME).exists()
+    for folder in (whole, cut):  # a run that ended removed its checkpoint (and temporaries)
+        assert sorted(p.name for p in folder.iterdir()) == sorted(p.name for p in
+                                                                  whole.iterdir())
+        assert not list(folder.glob(f"*{checkpoint.FILE_NAME}*"))
 
 
 def _error(argv: list[str], capsys: pytest.CaptureFixture) -> str:
@@ -131,6 +133,8 @@ def test_a_new_run_removes_an_earlier_runs_checkpoint(tmp_path, capsys):
     folder.mkdir()
     stale = folder / checkpoint.FILE_NAME
     stale.write_bytes(b"an earlier run's")
+    half_written = folder / f".{checkpoint.FILE_NAME}.abc123.tmp"  # a kill during a write
+    half_written.write_bytes(b"half")
     assert main(["run", "tiny", "--robots", "5", "--max-ticks", "30", "--quiet", "--out",
                  str(folder)]) == 0
-    assert not stale.exists()
+    assert not stale.exists() and not half_written.exists()
