@@ -513,20 +513,15 @@ def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool
     removes its own."""
     from swarmsim.engine.checkpoint import FILE_NAME
 
-    # only now the folders; a run that ends early in any way removes those it made
-    with runfolder.removed_if_left_empty() as made:
-        _make_output_folders(args, made)
-        with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
-            checkpoint = Path(args.out) / FILE_NAME if args.out else None
-            if checkpoint is not None and not resumed:
-                _remove_checkpoint(checkpoint)  # an earlier run's: not this one's
-            on_tick = (_checkpointing(args, recorder, checkpoint) if args.checkpoint_every
-                       else recorder.on_tick)
-            with recorder:
-                result = sim.run(progress=not args.quiet, on_tick=on_tick)
-            if args.out:
-                recorder.write_outputs(args.out, result)
-                _remove_checkpoint(checkpoint)  # the outputs hold the whole run now
+    checkpoint = Path(args.out) / FILE_NAME if args.out else None
+    try:
+        result = _run_in_folder(args, sim, recorder, checkpoint, resumed)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM: say how to go on, if there is a way
+        if not (args.checkpoint_every and checkpoint.is_file()):
+            raise
+        print(f"swarmsim: interrupted; 'swarmsim run --resume {args.out}' continues the run "
+              "from its last checkpoint", file=sys.stderr)
+        return 130
     s = result.summary
     done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
     print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
@@ -534,6 +529,25 @@ def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool
           f"distance {s['total_distance']:.0f}, contacts {s['collisions_robot_robot']}, "
           f"{s['wall_seconds']:.1f}s")
     return 0
+
+
+def _run_in_folder(args: argparse.Namespace, sim: Any, recorder: Any, checkpoint: Path | None,
+                   resumed: bool) -> Any:
+    """_run_to_end's run: the folders made and locked, the run, its outputs; the RunResult."""
+    # only now the folders; a run that ends early in any way removes those it made
+    with runfolder.removed_if_left_empty() as made:
+        _make_output_folders(args, made)
+        with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
+            if checkpoint is not None and not resumed:
+                _remove_checkpoint(checkpoint)  # an earlier run's: not this one's
+            on_tick = (_checkpointing(args, recorder, checkpoint) if args.checkpoint_every
+                       else recorder.on_tick)
+            with recorder:
+                result = sim.run(progress=not args.quiet, on_tick=on_tick)
+            if checkpoint is not None:
+                recorder.write_outputs(args.out, result)
+                _remove_checkpoint(checkpoint)  # the outputs hold the whole run now
+    return result
 
 
 def _remove_checkpoint(path: Path) -> None:

@@ -53,3 +53,14 @@ class Crowder:
         angle = float(np.arctan2(beacon[1], beacon[0]) + self.rng.normal(0, self.params.noise))
         v = self.params.v
         return Action((v * np.cos(angle), v * np.sin(angle)), {"status": WALKING, "moving": True})
+
+
+class Interrupted(Crowder):
+    """A Crowder whose run is interrupted (as by Ctrl-C) at tick 25."""
+
+    name = "interrupted"
+
+    def step(self, perception: Perception) -> Action:
+        if perception.tick == 25:
+            raise KeyboardInterrupt
+        return super().step(perception)

@@ -138,3 +138,16 @@ def test_a_new_run_removes_an_earlier_runs_checkpoint(tmp_path, capsys):
     assert main(["run", "tiny", "--robots", "5", "--max-ticks", "30", "--quiet", "--out",
                  str(folder)]) == 0
     assert not stale.exists() and not half_written.exists()
+
+
+def test_an_interrupted_run_says_how_to_resume(tmp_path, capsys):
+    folder = tmp_path / "out"
+    argv = ["run", "tiny", "--controller", "tests.resume_bots:Interrupted", "--robots", "5",
+            "--quiet", "--out", str(folder)]
+    assert main([*argv, "--checkpoint-every", "10"]) == 130
+    err = capsys.readouterr().err
+    assert f"'swarmsim run --resume {folder}' continues the run" in err
+    assert err.count("\n") == 1
+    assert checkpoint.read_header(folder / checkpoint.FILE_NAME)["tick"] == 20
+    assert main([*argv, "--checkpoint-every", "50"]) == 130  # before its first checkpoint
+    assert "--resume" not in capsys.readouterr().err
