@@ -72,8 +72,8 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--checkpoint-every", type=int, dest="checkpoint_every", metavar="N",
                    help="keep the run's latest checkpoint in OUT (checkpoint.swarmsim, replaced "
                         "every N ticks, removed when the run ends) for --resume; a run that "
-                        "checkpoints differs slightly from one that does not (see "
-                        "docs/checkpoints.md)")
+                        "checkpoints is not the same run as one that does not, though as "
+                        "deterministic (see docs/checkpoints.md)")
     p.add_argument("--resume", type=Path, metavar="DIR",
                    help="continue the run whose checkpoint DIR holds (after a kill), with the "
                         "options it was started with; writes the outputs it would have written")

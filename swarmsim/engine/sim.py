@@ -693,8 +693,8 @@ class Simulation:
         :meth:`advance`, or from its ``on_tick``): :meth:`restore` continues it, in any
         process. Saving is an event in the run: the run goes on from the state loaded back
         from the file, so it and every restore of the file end identically (summary, time
-        series, robots.csv, positions; not the timing fields), and slightly differently from
-        the same run never saved (docs/checkpoints.md). ConfigError (nothing written) for a
+        series, robots.csv, positions; not the timing fields), though not as the same run
+        never saved would (docs/checkpoints.md). ConfigError (nothing written) for a
         run with a user's loop hook or a part that cannot be pickled (named). Format:
         swarmsim/engine/checkpoint.py."""
         from swarmsim.engine import checkpoint

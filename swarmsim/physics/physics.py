@@ -192,8 +192,7 @@ class Physics:
         parked, and which robots pymunk has asleep (pymunk's pickle leaves that out)."""
         state = {k: v for k, v in self.__dict__.items() if k not in self._RAW_HANDLES}
         if self._sleep:
-            parking = self._parking
-            state["_parking_arrays"] = (parking.parked, parking._zero_before, parking._written)
+            state["_parking_arrays"] = self._parking.bookkeeping
             state["_asleep_at_save"] = self.bodies_asleep()
         return state
 
@@ -210,10 +209,7 @@ class Physics:
         if self._sleep:
             self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
             self._parking = Parking(self._robots, self._controls)
-            parked, zero_before, written = parking_arrays
-            self._parking.parked[:] = parked
-            self._parking._zero_before[:] = zero_before
-            self._parking._written[:] = written
+            self._parking.take_bookkeeping(parking_arrays)
             self._rows_at = -1
             self._calls = chipmunkcalls.body_calls()
             self._robot_at = chipmunkcalls.addresses(self._robots)
