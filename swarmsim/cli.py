@@ -47,7 +47,7 @@ def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
 def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run one simulation",
                        description="Run one simulation and print a one-line summary.")
-    _add_simulation_args(p)
+    _add_simulation_args(p, world_optional=True)
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
                    "coverage.npz and coverage.png there (see docs/outputs.md)")
     p.add_argument("--trajectories", metavar="K",
@@ -69,11 +69,21 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                    help="ring robots that touch something (collision-realism videos)")
     p.add_argument("--snapshot", type=Path, metavar="FILE.png", help="PNG of the last frame")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--checkpoint-every", type=int, dest="checkpoint_every", metavar="N",
+                   help="keep the run's latest checkpoint in OUT (checkpoint.swarmsim, replaced "
+                        "every N ticks, removed when the run ends) for --resume; a run that "
+                        "checkpoints is not the same run as one that does not, though as "
+                        "deterministic (see docs/checkpoints.md)")
+    p.add_argument("--resume", type=Path, metavar="DIR",
+                   help="continue the run whose checkpoint DIR holds (after a kill), with the "
+                        "options it was started with; writes the outputs it would have written")
 
 
-def _add_simulation_args(p: argparse.ArgumentParser) -> None:
-    """The options that build a Simulation (run's and view's; see _run_arguments)."""
-    p.add_argument("world", help="shipped world name (see 'swarmsim worlds') or a .toml path")
+def _add_simulation_args(p: argparse.ArgumentParser, world_optional: bool = False) -> None:
+    """The options that build a Simulation (run's and view's; see _run_arguments). With
+    ``world_optional`` the world may be left out (run's --resume needs none)."""
+    p.add_argument("world", nargs="?" if world_optional else None,
+                   help="shipped world name (see 'swarmsim worlds') or a .toml path")
     p.add_argument("--controller",
                    help="controller name or module:Class (default: the world's, else ggc)")
     p.add_argument("--robots", type=int,
@@ -465,33 +475,54 @@ def _run_arguments(args: argparse.Namespace) -> dict[str, Any]:
 def cmd_run(args: argparse.Namespace) -> int:
     from swarmsim.engine.sim import Simulation
     from swarmsim.kernels.kernelbuild import build_notice
-    from swarmsim.recording import Recorder
     from swarmsim.world.world import load_world
 
+    if args.resume is not None:
+        return _resume_run(args)
+    if args.world is None:
+        raise ConfigError("give the WORLD to run (or --resume DIR)", key="world")
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _frame_every(args, MAX_TICKS)
     if args.video or args.snapshot:
         _check_width(args.width)
     every = _trajectories_every(args)
+    _check_checkpoint_every(args)
     _check_output_paths(args)
     run = _run_arguments(args)
     world = load_world(args.world)
     _check_run_sizes(args, world, Simulation.check(world, **run)[0], every)
     with build_notice(detail=not args.quiet):  # the first run compiles kernels: say so
         sim = Simulation(world, **run)
-    recorder = Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
-                        frame_every=_frame_every(args, sim.config.max_ticks),
-                        color_by=args.color_by, width=args.width,
-                        highlight_contacts=args.highlight_contacts,
-                        trajectories_every=every)  # checks --color-by and the frame's options
-    # only now the folders; a run that ends early in any way removes those it made
-    with runfolder.removed_if_left_empty() as made:
-        _make_output_folders(args, made)
-        with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
-            with recorder:
-                result = sim.run(progress=not args.quiet, on_tick=recorder.on_tick)
-            if args.out:
-                recorder.write_outputs(args.out, result)
+    recorder = _recorder(sim, args, every)
+    return _run_to_end(args, sim, recorder, resumed=False)
+
+
+def _recorder(sim: Any, args: argparse.Namespace, every: int) -> Any:
+    """The run's swarmsim.recording.Recorder (checks --color-by and the frame's options)."""
+    from swarmsim.recording import Recorder
+
+    return Recorder(sim, video=args.video, snapshot=args.snapshot, fps=args.fps,
+                    frame_every=_frame_every(args, sim.config.max_ticks),
+                    color_by=args.color_by, width=args.width,
+                    highlight_contacts=args.highlight_contacts, trajectories_every=every)
+
+
+def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool) -> int:
+    """Run ``sim`` to its end with ``recorder`` (checkpointing every --checkpoint-every
+    ticks), write the outputs in --out and print the one-line summary. A new run (not
+    ``resumed``) removes a checkpoint an earlier run left in --out; a run that ends normally
+    removes its own."""
+    from swarmsim.engine.checkpoint import FILE_NAME
+
+    checkpoint = Path(args.out) / FILE_NAME if args.out else None
+    try:
+        result = _run_in_folder(args, sim, recorder, checkpoint, resumed)
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM: say how to go on, if there is a way
+        if not (args.checkpoint_every and checkpoint.is_file()):
+            raise
+        print(f"swarmsim: interrupted; 'swarmsim run --resume {args.out}' continues the run "
+              "from its last checkpoint", file=sys.stderr)
+        return 130
     s = result.summary
     done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
     print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
@@ -499,6 +530,104 @@ def cmd_run(args: argparse.Namespace) -> int:
           f"distance {s['total_distance']:.0f}, contacts {s['collisions_robot_robot']}, "
           f"{s['wall_seconds']:.1f}s")
     return 0
+
+
+def _run_in_folder(args: argparse.Namespace, sim: Any, recorder: Any, checkpoint: Path | None,
+                   resumed: bool) -> Any:
+    """_run_to_end's run: the folders made and locked, the run, its outputs; the RunResult."""
+    # only now the folders; a run that ends early in any way removes those it made
+    with runfolder.removed_if_left_empty() as made:
+        _make_output_folders(args, made)
+        with runfolder.locked(args.out) if args.out else contextlib.nullcontext():
+            if checkpoint is not None and not resumed:
+                _remove_checkpoint(checkpoint)  # an earlier run's: not this one's
+            on_tick = (_checkpointing(args, recorder, checkpoint) if args.checkpoint_every
+                       else recorder.on_tick)
+            with recorder:
+                result = sim.run(progress=not args.quiet, on_tick=on_tick)
+            if checkpoint is not None:
+                recorder.write_outputs(args.out, result)
+                _remove_checkpoint(checkpoint)  # the outputs hold the whole run now
+    return result
+
+
+def _remove_checkpoint(path: Path) -> None:
+    """Remove the checkpoint at ``path`` and the temporary files of its atomic writes
+    (``.NAME.*.tmp``) that a kill during a write left."""
+    path.unlink(missing_ok=True)
+    for tmp in path.parent.glob(f".{path.name}.*.tmp"):
+        tmp.unlink(missing_ok=True)
+
+
+def _check_checkpoint_every(args: argparse.Namespace) -> None:
+    """Refuse --checkpoint-every that is not a tick count, has no --out to keep the
+    checkpoint in, or comes with --video (a video cannot be resumed)."""
+    if args.checkpoint_every is None:
+        return
+    check_count("--checkpoint-every", args.checkpoint_every, MAX_TICKS, "ticks in one run")
+    if not args.out:
+        raise ConfigError(f"{args.checkpoint_every!r} needs --out (the folder that keeps the "
+                          "checkpoint)", key="--checkpoint-every")
+    if args.video:
+        raise ConfigError("a video cannot be resumed after a kill, so it cannot come with "
+                          "--checkpoint-every: record --trajectories K and make the video with "
+                          "'swarmsim replay'", key="--video")
+
+
+def _checkpointing(args: argparse.Namespace, recorder: Any, path: Path) -> Any:
+    """The run's on_tick: the recorder's, then every --checkpoint-every ticks (unless the
+    run ends at this tick) a checkpoint at ``path`` holding the run, its options and its
+    trajectory samples. Saving re-seats the run on the file (swarmsim/engine/checkpoint.py),
+    and the recorder goes on with the samples loaded back, as a resume does."""
+    from swarmsim.engine import checkpoint
+
+    options = _resume_options(args)
+    every = args.checkpoint_every
+
+    def on_tick(sim: Any) -> None:
+        recorder.on_tick(sim)
+        if sim.tick % every == 0 and sim.finished() is None:
+            extra = checkpoint.save(sim, path, {"options": options,
+                                                "trajectories": recorder.trajectories})
+            recorder.trajectories = extra["trajectories"]
+
+    return on_tick
+
+
+def _resume_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The run options a checkpoint keeps for --resume (all of run's, less --resume and
+    --quiet)."""
+    return {k: v for k, v in vars(args).items() if k not in ("resume", "quiet")}
+
+
+def _resume_run(args: argparse.Namespace) -> int:
+    """``swarmsim run --resume DIR``: continue the run whose checkpoint DIR holds, with the
+    options it was started with (--out is DIR), to the outputs it would have written."""
+    from swarmsim.engine import checkpoint
+    from swarmsim.engine.sim import Simulation
+
+    defaults = vars(build_parser().parse_args(["run"]))
+    given = [k for k, v in _resume_options(args).items() if v != defaults.get(k)]
+    if given:
+        flag = given[0] if given[0] == "world" else "--" + given[0].replace("_", "-")
+        raise ConfigError(f"continues the run with the options it was started with; got "
+                          f"{flag} too", key="--resume")
+    folder = Path(args.resume)
+    path = folder / checkpoint.FILE_NAME
+    if not path.is_file():
+        if (folder / "summary.json").is_file():
+            raise ConfigError(f"the run in {str(folder)!r} has ended (summary.json is "
+                              "written): nothing to resume", key="--resume")
+        raise ConfigError(f"no checkpoint in {str(folder)!r} ({checkpoint.FILE_NAME}): "
+                          "only a run started with --out DIR --checkpoint-every N can be "
+                          "resumed", key="--resume")
+    runfolder.check_free(folder, key="--resume")
+    sim, extra = checkpoint.load(path, Simulation)
+    options = argparse.Namespace(**{**extra["options"], "out": folder, "quiet": args.quiet,
+                                    "resume": folder})
+    recorder = _recorder(sim, options, 0)
+    recorder.trajectories = extra["trajectories"]  # the samples taken before the checkpoint
+    return _run_to_end(options, sim, recorder, resumed=True)
 
 
 def cmd_view(args: argparse.Namespace) -> int:

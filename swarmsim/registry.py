@@ -71,7 +71,7 @@ def resolve_controller(controller: str | type[Any]) -> tuple[type[Any], str]:
 
 def _from_module(name: str) -> type[Any]:
     mod_name, _, cls_name = name.partition(":")
-    _importable_from_here()
+    importable_from_here()
     try:
         mod = importlib.import_module(mod_name)
     except ImportError as exc:
@@ -87,7 +87,7 @@ def _from_module(name: str) -> type[Any]:
     return _check_controller_class(cls, name)
 
 
-def _importable_from_here() -> None:
+def importable_from_here() -> None:
     """Let ``module:Class`` name a module in the current folder, as ``python -m swarmsim``
     does (the installed ``swarmsim`` command does not put the current folder on sys.path).
     Appended, so that it never shadows an installed module."""

@@ -13,6 +13,7 @@ import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -115,6 +116,8 @@ class Simulation:
                  settings: Mapping[str, Any] | None = None):
         self._configure(world, controller, robots, groups, seed, d_cover, max_ticks, settings)
         self._setup()
+        self.engine_hooks = len(self.hooks)
+        """How many of ``hooks`` the run made itself (the rest are a user's)."""
 
     @classmethod
     def check(cls, world: World | str, controller: str | type | None = None,
@@ -684,6 +687,34 @@ class Simulation:
                         start_groups=self.start_groups.copy(),
                         start_leaders=self.start_leaders.copy())
 
+
+    def save(self, path: str | Path) -> None:
+        """Write the run's whole state to ``path`` (atomically), between two ticks (after
+        :meth:`advance`, or from its ``on_tick``): :meth:`restore` continues it, in any
+        process. Saving is an event in the run: the run goes on from the state loaded back
+        from the file, so it and every restore of the file end identically (summary, time
+        series, robots.csv, positions; not the timing fields), though not as the same run
+        never saved would (docs/checkpoints.md). ConfigError (nothing written) for a
+        run with a user's loop hook or a part that cannot be pickled (named). Format:
+        swarmsim/engine/checkpoint.py."""
+        from swarmsim.engine import checkpoint
+
+        checkpoint.save(self, path)
+
+    @classmethod
+    def restore(cls, path: str | Path) -> Simulation:
+        """The run saved at ``path`` by :meth:`save`, at the tick it was saved. ConfigError
+        (one line naming the file) if it is not a checkpoint, is truncated or damaged, or was
+        written by another code version."""
+        from swarmsim.engine import checkpoint
+
+        return checkpoint.load(path, cls)[0]
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The run's state for a copy (pickle), without open renderers."""
+        from swarmsim.engine import checkpoint
+
+        return checkpoint.run_state(self)
 
     def render(self, color_by: str | None = None, width: int = 800, **options: Any
                ) -> np.ndarray:

@@ -177,6 +177,18 @@ class Parking:
         self._zero_before = np.zeros(n, dtype=bool)
         self._written = np.zeros((n, 2))  # the control bodies' velocities, units per tick
 
+    @property
+    def bookkeeping(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(parked, zero command last tick, control velocities written): what a copy of the
+        run needs to park and write as this one would (see :meth:`take_bookkeeping`)."""
+        return self.parked, self._zero_before, self._written
+
+    def take_bookkeeping(self, bookkeeping: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
+        """Take another Parking's :attr:`bookkeeping` (of the same robots, whose control
+        bodies are already parked as it says)."""
+        parked, zero_before, written = bookkeeping
+        self.parked[:], self._zero_before[:], self._written[:] = parked, zero_before, written
+
     def command(self, velocities: np.ndarray) -> None:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""
         v = c_array(velocities, np.float64, writeable=True)

@@ -181,6 +181,41 @@ class Physics:
             self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
             self._robot_at = chipmunkcalls.addresses(self._robots)
 
+    _RAW_HANDLES = ("_buf", "_calls", "_robot_at", "_rows", "_parking", "robot_rows",
+                    "control_rows", "_robot_of_body", "_robot_ids", "_cmd")
+    """Attributes that hold cffi buffers, raw Chipmunk addresses or pymunk body ids (which a
+    loaded copy's bodies do not share): left out of the pickle and rebuilt from the Space."""
+
+    def __getstate__(self) -> dict:
+        """The state a pickle (a checkpoint: swarmsim/engine/checkpoint.py) keeps: the Space
+        (pymunk pickles it, cached contacts included), the run's bookkeeping, which robots are
+        parked, and which robots pymunk has asleep (pymunk's pickle leaves that out)."""
+        state = {k: v for k, v in self.__dict__.items() if k not in self._RAW_HANDLES}
+        if self._sleep:
+            state["_parking_arrays"] = self._parking.bookkeeping
+            state["_asleep_at_save"] = self.bodies_asleep()
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        """Rebuild the handles from the loaded Space, and put back to sleep, one by one in
+        robot order (``Body.sleep``: each its own sleeping group, idle time zero), the robots
+        that were asleep. Every load of the same bytes does exactly this, so every load steps
+        alike (not exactly like the Space that was pickled: see checkpoint.py)."""
+        parking_arrays = state.pop("_parking_arrays", None)
+        asleep = state.pop("_asleep_at_save", None)
+        self.__dict__.update(state)
+        self._index_rows()
+        self._buf = pb.Buffer()
+        if self._sleep:
+            self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
+            self._parking = Parking(self._robots, self._controls)
+            self._parking.take_bookkeeping(parking_arrays)
+            self._rows_at = -1
+            self._calls = chipmunkcalls.body_calls()
+            self._robot_at = chipmunkcalls.addresses(self._robots)
+            for i in np.flatnonzero(asleep).tolist():
+                self._robots[i].sleep()
+
     def _add_walls(self, world: World) -> None:
         static = self.space.static_body
         xmin, ymin, xmax, ymax = world.arena
