@@ -54,7 +54,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
                    help="also write OUT/trajectories.npz: every robot's position, status and "
                         "colouring fields, contacts and the coverage raster's changes every K "
                         "ticks, for 'swarmsim replay'; kept in memory until the run ends "
-                        "(about N x 22 bytes per sample for GGC; docs/outputs.md) (needs --out)")
+                        "(about N x 24 bytes per sample for GGC; docs/outputs.md) (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30,
                    help=f"video frames per second (default 30, at most {MAX_FPS})")

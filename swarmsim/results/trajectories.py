@@ -43,8 +43,8 @@ run gave the robots at the start), the world (``world_name``, ``world_arena`` (4
 ``grid_y0``, ``grid_dx``, ``grid_dy``, ``grid_radius``).
 
 Samples are kept in memory until saved. A sample costs, per robot, 16 bytes (position) + 1
-(status) + the fields' bytes (GGC: gradient 2, group 2, leader 1) + 2 bits (contact and
-failure): 22.25 bytes for GGC (``bytes_per_robot``); and per sample 24 bytes (tick, coverage,
+(status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 2 bits (contact and
+failure): 24.25 bytes for GGC (:func:`sample_cost`); and per sample 24 bytes (tick, coverage,
 offset) plus the changed raster cells, at most the raster's cells or two robot stencils per
 robot, 2 or 4 bytes each (``memory_bytes`` counts this bound; :func:`check_memory` refuses
 more than MAX_TRAJECTORY_BYTES). Files written before ``format`` 2 hold only ``ticks``,
