@@ -27,11 +27,20 @@ import numpy as np
 from swarmsim.results.replay import Recording
 
 
+def new_renderer(recording: Recording, color_by: str | None = None, **options: Any) -> Any:
+    """A swarmsim.render.Renderer that draws ``recording``'s Snapshots as the live run drew
+    them; ``options`` (width, highlight_contacts, ...) go to the Renderer. ConfigError for a
+    colouring the run did not record."""
+    from swarmsim.render import Renderer
+
+    return Renderer(**recording.renderer_arguments(color_by), **options)
+
+
 def replay_frames(recording: Recording, **render_options: Any) -> Iterator[np.ndarray]:
     """The (H, W, 3) uint8 frame of every recorded sample, in order; ``render_options`` go to
     the Renderer (color_by, width, highlight_contacts, ...). Each array is read-only and valid
     until the next one is drawn (copy it to keep it)."""
-    renderer = recording.new_renderer(**render_options)
+    renderer = new_renderer(recording, **render_options)
     for snap in recording.snapshots():
         yield renderer.draw(snap)
 
@@ -66,7 +75,7 @@ def replay_png(recording: Recording, path: str | Path, tick: int | None = None,
     from swarmsim.render import save_png
 
     index = recording.samples - 1 if tick is None else recording.index_of(tick)
-    renderer = recording.new_renderer(**render_options)
+    renderer = new_renderer(recording, **render_options)
     return save_png(renderer.draw(recording.snapshot(index)), path)
 
 

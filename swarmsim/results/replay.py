@@ -3,10 +3,11 @@ without simulating it (``swarmsim replay``; swarmsim.results.trajectories writes
 
 Python API::
 
+    from swarmsim.render import Renderer
     from swarmsim.results.replay import Recording
 
     rec = Recording.load("out/k")              # a run folder (or its trajectories.npz)
-    renderer = rec.new_renderer(color_by="group", width=640)
+    renderer = Renderer(**rec.renderer_arguments(color_by="group"), width=640)
     for snap in rec.snapshots():               # one Snapshot per recorded sample, in order
         frame = renderer.draw(snap)
 
@@ -151,16 +152,15 @@ class Recording:
         return CoverageGrid(x0, y0, dx, dy, inside, np.column_stack([gx[inside], gy[inside]]),
                             float(a["grid_radius"]))
 
-    def new_renderer(self, **options: Any) -> Any:
-        """A swarmsim.render.Renderer of this run's world and raster that colours and marks
-        robots as the run's controller did; ``options`` go to the Renderer (width,
-        color_by, ...). ConfigError for a colouring that was not recorded."""
-        from swarmsim.render import Renderer
-
-        self.offered_colourings(options.get("color_by"))
-        return Renderer(self.world, self.grid, colourings=self.colourings,
-                        leader_field=self._field_name("leader_field"),
-                        group_field=self._field_name("group_field"), **options)
+    def renderer_arguments(self, color_by: str | None = None) -> dict[str, Any]:
+        """The swarmsim.render.Renderer arguments that draw this run as its controller did:
+        world, grid, colourings, leader and group fields, ``color_by``. ConfigError for a
+        colouring that was not recorded (swarmsim.replay.new_renderer builds the Renderer:
+        results does not import render)."""
+        self.offered_colourings(color_by)
+        return {"world": self.world, "grid": self.grid, "colourings": self.colourings,
+                "leader_field": self._field_name("leader_field"),
+                "group_field": self._field_name("group_field"), "color_by": color_by}
 
     # --- samples -------------------------------------------------------------------------------
     def index_of(self, tick: Any) -> int:
