@@ -562,8 +562,7 @@ def _check_replay_output(key: str, path: Path, suffix: str) -> None:
 
 def cmd_replay(args: argparse.Namespace) -> int:
     """Draw a recorded run again (swarmsim.replay): its video, or one sample as a PNG."""
-    from swarmsim.replay import replay_png, replay_video
-    from swarmsim.results.replay import Recording
+    from swarmsim.replay import Recording, replay_png, replay_video
 
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _check_width(args.width)

@@ -1,5 +1,5 @@
 """Trajectories: what a run looked like every K ticks, saved as one npz file that
-``swarmsim replay`` draws again without simulating (swarmsim.results.replay).
+``swarmsim replay`` draws again without simulating (swarmsim.replay).
 
 Python API::
 

@@ -14,8 +14,7 @@ import swarmsim.render as render_module
 from swarmsim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.recording import Recorder
-from swarmsim.replay import new_renderer, replay_frames, replay_png, replay_video
-from swarmsim.results.replay import Recording
+from swarmsim.replay import Recording, new_renderer, replay_frames, replay_png, replay_video
 from swarmsim.results.trajectories import Trajectories, load_trajectories, sample_cost
 from tests.conftest import small_world
 
