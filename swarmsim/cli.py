@@ -114,6 +114,9 @@ def _add_replay_parser(sub: argparse._SubParsersAction) -> None:
     what.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4")
     what.add_argument("--snapshot", type=Path, metavar="FILE.png",
                       help="write a PNG of one recorded sample (--tick; default the last)")
+    what.add_argument("--view", action="store_true",
+                      help="step through the samples in the live viewer (keys as in 'view'; "
+                           ". steps one sample; needs a display)")
     p.add_argument("--tick", type=int, help="the recorded tick --snapshot draws")
     p.add_argument("--fps", type=int, default=30,
                    help=f"video frames per second (default 30, at most {MAX_FPS})")
@@ -560,20 +563,46 @@ def _check_replay_output(key: str, path: Path, suffix: str) -> None:
     _check_folder(key, path.parent)
 
 
+def _replay_recording(args: argparse.Namespace) -> Any:
+    """The recording replay's options ask for, its frame width and colouring checked."""
+    from swarmsim.replay import Recording
+
+    recording = Recording.load(args.run_dir)
+    _check_width(args.width, recording.world.arena)
+    recording.offered_colourings(args.color_by)
+    return recording
+
+
+def _replay_view(args: argparse.Namespace) -> int:
+    """``replay --view``: the live viewer stepping through the recorded samples."""
+    from swarmsim.render.viewer import display_problem
+
+    problem = display_problem(os.environ, sys.platform)  # before reading the recording
+    if problem:
+        raise ConfigError(problem)
+    from swarmsim.replay import replay_view
+
+    recording = _replay_recording(args)
+    viewer = replay_view(recording, width=args.width, color_by=args.color_by)
+    print(f"{args.run_dir}: stopped at tick {viewer.sim.tick}"
+          + "".join(f"; saved {p}" for p in viewer.saved))
+    return 0
+
+
 def cmd_replay(args: argparse.Namespace) -> int:
     """Draw a recorded run again (swarmsim.replay): its video, or one sample as a PNG."""
-    from swarmsim.replay import Recording, replay_png, replay_video
+    from swarmsim.replay import replay_png, replay_video
 
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _check_width(args.width)
     if args.tick is not None and not args.snapshot:
-        raise ConfigError("draws one sample for --snapshot; --video draws them all",
+        raise ConfigError("draws one sample for --snapshot; --video and --view show them all",
                           key="--tick")
+    if args.view:
+        return _replay_view(args)
     key, path = ("--video", args.video) if args.video else ("--snapshot", args.snapshot)
     _check_replay_output(key, path, ".mp4" if args.video else ".png")
-    recording = Recording.load(args.run_dir)
-    _check_width(args.width, recording.world.arena)
-    recording.offered_colourings(args.color_by)
+    recording = _replay_recording(args)
     if args.snapshot and args.tick is not None:
         recording.index_of(args.tick)
     options = {"color_by": args.color_by, "width": args.width,

@@ -22,12 +22,14 @@ Python API::
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -210,7 +212,9 @@ class Recording:
             out[n] = a[FIELD_PREFIX + n][index]
         return out
 
-    def _flags(self, key: str, index: int) -> np.ndarray:
+    def flags(self, key: str, index: int) -> np.ndarray:
+        """(N,) bool flags ``key`` (``in_contact_bits``, ``failed_bits``, ``asleep_bits``) of
+        sample ``index``."""
         return np.unpackbits(self.arrays[key][index], count=self.n_robots).astype(bool)
 
     def _snapshot(self, index: int, covered: np.ndarray) -> Snapshot:
@@ -220,8 +224,8 @@ class Recording:
                         statuses=tuple(str(s) for s in a["status_names"].tolist()),
                         radius=float(a["radius"]), coverage=float(a["coverage"][index]),
                         covered=covered.reshape(self.grid.shape),
-                        in_contact=self._flags("in_contact_bits", index),
-                        failed=self._flags("failed_bits", index),
+                        in_contact=self.flags("in_contact_bits", index),
+                        failed=self.flags("failed_bits", index),
                         start_groups=a["start_groups"].astype(np.int64),
                         start_leaders=a["start_leaders"].copy())
 
@@ -293,3 +297,75 @@ def _progress_bar(total: int) -> Any:
     interval = 0.5 if sys.stderr.isatty() else 30.0
     return tqdm(total=total, initial=1, unit="frame", desc="replay", file=sys.stderr,
                 dynamic_ncols=True, leave=False, mininterval=interval)
+
+
+END_OF_RECORDING = "end of the recording"
+
+
+class ReplayRun:
+    """A recording shown in the live viewer (swarmsim.render.viewer.Viewer) in place of a
+    Simulation: each ``advance`` moves to the next recorded sample, so the viewer's step key
+    moves one sample, ``+`` / ``-`` change the samples per frame, ``c`` cycles the recorded
+    colourings and a click selects a robot, as live.
+
+    It offers what the viewer reads of a Simulation: ``tick``, ``positions``, ``messages``,
+    ``asleep``, ``stop_reason`` (END_OF_RECORDING after the last sample), ``snapshot``,
+    ``advance``, ``offered_colourings``, ``new_renderer``, ``info.group_field``. A recording
+    holds no commanded velocities nor listening ranges: ``velocities`` and ``listen`` are NaN
+    (the panel shows nan; no lines are drawn to heard robots).
+    """
+
+    def __init__(self, recording: Recording):
+        self.recording = recording
+        self.n = recording.n_robots
+        self.info = SimpleNamespace(group_field=recording.renderer_arguments()["group_field"])
+        self.velocities = np.full((self.n, 2), np.nan)
+        self.listen = np.full(self.n, np.nan)
+        self._samples = recording.snapshots()
+        self._index = 0
+        self._snap = next(self._samples)
+        self.stop_reason: str | None = None if recording.samples > 1 else END_OF_RECORDING
+
+    @property
+    def tick(self) -> int:
+        return self._snap.tick
+
+    @property
+    def positions(self) -> np.ndarray:
+        return self._snap.positions
+
+    @property
+    def messages(self) -> np.ndarray:
+        return self._snap.messages
+
+    @property
+    def asleep(self) -> np.ndarray:
+        return self.recording.flags("asleep_bits", self._index)
+
+    def advance(self) -> str | None:
+        """Move to the next recorded sample; the stop reason (END_OF_RECORDING at the last)."""
+        if self.stop_reason is None:
+            self._snap = next(self._samples)
+            self._index += 1
+            if self._index == self.recording.samples - 1:
+                self.stop_reason = END_OF_RECORDING
+        return self.stop_reason
+
+    def snapshot(self, with_coverage: bool = True) -> Snapshot:
+        """The current sample (without the covered raster when ``with_coverage`` is False)."""
+        return self._snap if with_coverage else dataclasses.replace(self._snap, covered=None)
+
+    def offered_colourings(self, color_by: str | None = None) -> tuple[str, ...]:
+        return self.recording.offered_colourings(color_by)
+
+    def new_renderer(self, **options: Any) -> Any:
+        return new_renderer(self.recording, **options)
+
+
+def replay_view(recording: Recording, width: int = 800, color_by: str | None = None,
+                max_frames: int | None = None) -> Any:
+    """Open the live viewer on ``recording`` (see :class:`ReplayRun`) until the user quits
+    (or ``max_frames`` frames); returns the closed Viewer. ConfigError without a display."""
+    from swarmsim.render.viewer import view
+
+    return view(ReplayRun(recording), width=width, color_by=color_by, max_frames=max_frames)

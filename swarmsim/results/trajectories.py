@@ -25,8 +25,9 @@ Per sample (T samples: tick 0 or the tick sampling began, every multiple of K, t
   offers (``colouring_names`` / ``colouring_kinds``: "scale" or "category") and its leader and
   group fields (``leader_field`` / ``group_field``, "" for none): GGC's ``field_gradient``,
   ``field_group``, ``field_leader``.
-- ``in_contact_bits``, ``failed_bits`` (T, ceil(N / 8)) uint8: the (N,) bool flags packed
-  with ``np.packbits`` (``np.unpackbits(row, count=N)`` reads them).
+- ``in_contact_bits``, ``failed_bits``, ``asleep_bits`` (T, ceil(N / 8)) uint8: the (N,)
+  bool flags (touching something, failed, asleep) packed with ``np.packbits``
+  (``np.unpackbits(row, count=N)`` reads them).
 - ``coverage`` (T,) float64: coverage P(t).
 - ``covered_changes`` (C,) uint16 (uint32 when the raster has more than 65,535 cells) and
   ``covered_change_offsets`` (T + 1,) int64: the flat indices (row-major, as ``grid_inside``)
@@ -43,8 +44,8 @@ run gave the robots at the start), the world (``world_name``, ``world_arena`` (4
 ``grid_y0``, ``grid_dx``, ``grid_dy``, ``grid_radius``).
 
 Samples are kept in memory until saved. A sample costs, per robot, 16 bytes (position) + 1
-(status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 2 bits (contact and
-failure): 24.25 bytes for GGC (:func:`sample_cost`); and per sample 24 bytes (tick, coverage,
+(status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 3 bits (contact, failure,
+sleep): 24.375 bytes for GGC (:func:`sample_cost`); and per sample 24 bytes (tick, coverage,
 offset) plus the changed raster cells, at most the raster's cells or two robot stencils per
 robot, 2 or 4 bytes each (``memory_bytes`` counts this bound; :func:`check_memory` refuses
 more than MAX_TRAJECTORY_BYTES). Files written before ``format`` 2 hold only ``ticks``,
@@ -71,7 +72,7 @@ FORMAT = 2
 replay (positions and statuses only)."""
 POSITION_BYTES = 16  # float64 x, y
 STATUS_BYTES = 1
-FLAG_BYTES = 2 / 8  # in_contact and failed, one bit each
+FLAG_BYTES = 3 / 8  # in_contact, failed and asleep, one bit each
 BYTES_PER_ROBOT = POSITION_BYTES + STATUS_BYTES + FLAG_BYTES
 """A sample's bytes per robot without the controller's fields: the least any run keeps."""
 SAMPLE_BYTES = 24  # tick int64, coverage float64, change offset int64
@@ -175,6 +176,7 @@ class Trajectories:
         self._field_values: dict[str, list[np.ndarray]] = {n: [] for n in self._fields}
         self._in_contact: list[np.ndarray] = []
         self._failed: list[np.ndarray] = []
+        self._asleep: list[np.ndarray] = []
         self._coverage: list[float] = []
         self._changes: list[np.ndarray] = []
         self._covered = np.zeros(sim.grid.inside.size, dtype=bool)
@@ -192,6 +194,7 @@ class Trajectories:
             self._field_values[name].append(snap.messages[name].copy())
         self._in_contact.append(np.packbits(np.asarray(snap.in_contact, dtype=bool)))
         self._failed.append(np.packbits(np.asarray(snap.failed, dtype=bool)))
+        self._asleep.append(np.packbits(np.asarray(sim.asleep, dtype=bool)))
         self._coverage.append(float(snap.coverage))
         covered = np.asarray(snap.covered, dtype=bool).ravel()
         self._changes.append(np.flatnonzero(covered != self._covered).astype(self._change_dtype))
@@ -218,6 +221,7 @@ class Trajectories:
                **{FIELD_PREFIX + n: np.stack(v) for n, v in self._field_values.items()},
                "in_contact_bits": np.stack(self._in_contact),
                "failed_bits": np.stack(self._failed),
+               "asleep_bits": np.stack(self._asleep),
                "coverage": np.asarray(self._coverage, dtype=np.float64),
                "covered_changes": np.concatenate(self._changes),
                "covered_change_offsets": np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)}

@@ -199,7 +199,7 @@ def test_the_memory_bound_holds_what_a_sample_keeps(ggc_run):
     sim = Simulation(small_world(), controller="ggc", robots=30, groups=2, seed=3,
                      max_ticks=TICKS)
     cost = sample_cost(sim)
-    assert cost.per_robot == 16 + 1 + 4 + 2 + 1 + 0.25  # GGC: gradient i4, group i2, leader
+    assert cost.per_robot == 16 + 1 + 4 + 2 + 1 + 3 / 8  # GGC: gradient i4, group i2, leader
     data = load_trajectories(ggc_run / "trajectories.npz")
     per_sample = [k for k in data if data[k].ndim >= 1 and data[k].shape[0] == 14
                   and k != "covered_change_offsets"]
