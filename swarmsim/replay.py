@@ -42,6 +42,13 @@ from swarmsim.results.trajectories import FIELD_PREFIX, FILE_NAME, FORMAT
 from swarmsim.world.world import World
 
 RERUN = "run it again with --trajectories K (and --out)"
+REQUIRED = ("ticks", "positions", "statuses", "status_names", "in_contact_bits", "failed_bits",
+            "asleep_bits", "coverage", "covered_changes", "covered_change_offsets",
+            "controller", "colouring_names", "colouring_kinds", "leader_field", "group_field",
+            "radius", "start_groups", "start_leaders", "world_name", "world_arena",
+            "world_target", "world_spawns", "world_obstacles", "world_beacon", "grid_inside",
+            "grid_x0", "grid_y0", "grid_dx", "grid_dy", "grid_radius")
+"""The arrays of a format-2 file that replay reads (swarmsim.results.trajectories)."""
 
 
 def trajectories_path(run: str | Path) -> Path:
@@ -92,6 +99,10 @@ class Recording:
         if int(arrays["format"]) != FORMAT:
             raise ConfigError(f"{str(path)!r} has format {int(arrays['format'])}; this "
                               f"swarmsim reads format {FORMAT}; {RERUN}", key="RUN_DIR")
+        missing = [k for k in REQUIRED if k not in arrays]
+        if missing:
+            raise ConfigError(f"{str(path)!r} lacks the arrays {', '.join(missing)} of format "
+                              f"{FORMAT}; {RERUN}", key="RUN_DIR")
         return cls(path, arrays)
 
     # --- what the run was ----------------------------------------------------------------------

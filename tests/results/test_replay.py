@@ -171,6 +171,23 @@ def test_a_file_from_before_replay_is_refused(tmp_path):
     assert "--trajectories K" in str(err.value)
 
 
+def test_a_file_missing_an_array_is_refused_naming_it(ggc_run, tmp_path):
+    data = load_trajectories(ggc_run / "trajectories.npz")
+    del data["asleep_bits"], data["coverage"]
+    np.savez(tmp_path / "trajectories.npz", **data)
+    with pytest.raises(ConfigError, match="lacks the arrays asleep_bits, coverage"):
+        Recording.load(tmp_path)
+
+
+def test_the_arrays_replay_reads_are_those_a_recording_writes(ggc_run):
+    from swarmsim.replay import REQUIRED
+
+    data = load_trajectories(ggc_run / "trajectories.npz")
+    assert set(REQUIRED) <= set(data)
+    assert set(data) - set(REQUIRED) == {"format", "field_gradient", "field_group",
+                                         "field_leader"}
+
+
 def test_a_folder_without_trajectories_is_refused(tmp_path):
     with pytest.raises(ConfigError, match="no trajectories.npz .*--trajectories K"):
         Recording.load(tmp_path)
