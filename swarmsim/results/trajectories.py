@@ -45,8 +45,9 @@ run gave the robots at the start), the world (``world_name``, ``world_arena`` (4
 
 Samples are kept in memory until saved. A sample costs, per robot, 16 bytes (position) + 1
 (status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 3 bits (contact, failure,
-sleep): 24.375 bytes for GGC (:func:`sample_cost`); and per sample 24 bytes (tick, coverage,
-offset) plus the changed raster cells, at most the raster's cells or two robot stencils per
+sleep): 24.375 bytes for GGC (:func:`sample_cost`); and per sample 71 bytes (the tick and
+coverage objects, the flags' rounding) and at most 136 for each of its arrays (numpy's header
+and a list slot; 9 arrays for GGC), plus the changed raster cells, at most the raster's cells or two robot stencils per
 robot, 2 or 4 bytes each (``memory_bytes`` counts this bound; :func:`check_memory` refuses
 more than MAX_TRAJECTORY_BYTES). Files written before ``format`` 2 hold only ``ticks``,
 ``positions`` (float32), ``statuses`` and ``status_names``.
@@ -75,7 +76,12 @@ STATUS_BYTES = 1
 FLAG_BYTES = 3 / 8  # in_contact, failed and asleep, one bit each
 BYTES_PER_ROBOT = POSITION_BYTES + STATUS_BYTES + FLAG_BYTES
 """A sample's bytes per robot without the controller's fields: the least any run keeps."""
-SAMPLE_BYTES = 24  # tick int64, coverage float64, change offset int64
+ARRAY_BYTES = 128 + 8
+"""What each array a sample keeps costs beside its data: numpy's header (sys.getsizeof of an
+empty 2-D array; 112 for 1-D) and its slot in a list."""
+FIXED_ARRAYS = 6  # position, status, three flags, changed cells; plus one per field
+SAMPLE_BYTES = 28 + 24 + 2 * 8 + 3  # the tick (int) and coverage (float) objects, their
+# slots, and the three flag arrays' last bytes (packbits rounds N / 8 up)
 FIELD_PREFIX = "field_"
 
 
@@ -101,7 +107,7 @@ class SampleCost:
     bytes once, and at most ``max_changes`` changed raster cells of ``change_bytes`` each."""
 
     per_robot: float = BYTES_PER_ROBOT
-    per_sample: int = SAMPLE_BYTES
+    per_sample: int = SAMPLE_BYTES + FIXED_ARRAYS * ARRAY_BYTES
     max_changes: int = 0
     change_bytes: int = 2
 
@@ -147,7 +153,9 @@ def sample_cost(sim: Any) -> SampleCost:
     rows, cols = grid.shape
     stencil = (2 * math.ceil(grid.radius / grid.dy) + 3) * (2 * math.ceil(grid.radius / grid.dx)
                                                             + 3)
+    arrays = FIXED_ARRAYS + len(recorded_fields(sim))
     return SampleCost(per_robot=BYTES_PER_ROBOT + fields,
+                      per_sample=SAMPLE_BYTES + arrays * ARRAY_BYTES,
                       max_changes=min(rows * cols, 2 * sim.n * stencil),
                       change_bytes=np.dtype(change_dtype(rows * cols)).itemsize)
 

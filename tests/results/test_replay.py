@@ -4,6 +4,8 @@ is refused in one line."""
 
 from __future__ import annotations
 
+import dataclasses
+import sys
 from pathlib import Path
 from typing import ClassVar, Self
 
@@ -15,7 +17,12 @@ from swarmsim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.recording import Recorder
 from swarmsim.replay import Recording, new_renderer, replay_frames, replay_png, replay_video
-from swarmsim.results.trajectories import Trajectories, load_trajectories, sample_cost
+from swarmsim.results.trajectories import (
+    Trajectories,
+    load_trajectories,
+    memory_bytes,
+    sample_cost,
+)
 from tests.conftest import small_world
 
 EVERY = 20
@@ -212,16 +219,26 @@ def test_recording_changes_nothing_in_the_run():
     assert run(True) == run(False)
 
 
-def test_the_memory_bound_holds_what_a_sample_keeps(ggc_run):
+def test_the_memory_bound_holds_what_the_samples_keep():
+    """The bound check_memory applies is at least what a recording holds: its arrays (data and
+    headers, sys.getsizeof) and the tick and coverage objects, sampled every tick."""
     sim = Simulation(small_world(), controller="ggc", robots=30, groups=2, seed=3,
                      max_ticks=TICKS)
     cost = sample_cost(sim)
     assert cost.per_robot == 16 + 1 + 4 + 2 + 1 + 3 / 8  # GGC: gradient i4, group i2, leader
-    data = load_trajectories(ggc_run / "trajectories.npz")
-    per_sample = [k for k in data if data[k].ndim >= 1 and data[k].shape[0] == 14
-                  and k != "covered_change_offsets"]
-    kept = sum(data[k].nbytes for k in per_sample) + data["covered_changes"].nbytes
-    assert kept <= cost.bytes(30) * 14
+    tracks = Trajectories(sim, every=1)
+    sim.run(on_tick=tracks.on_tick)
+    kept = sum(sys.getsizeof(a) + 8 for name, rows in vars(tracks).items()
+               if name.startswith("_") and isinstance(rows, list)
+               for a in rows if isinstance(a, np.ndarray))
+    kept += sum(sys.getsizeof(a) + 8 for rows in tracks._field_values.values() for a in rows)
+    kept += sum(sys.getsizeof(v) + 8 for v in (*tracks._ticks, *tracks._coverage))
+    assert tracks.samples == TICKS + 1
+    assert kept <= memory_bytes(1, 30, TICKS, cost)
+    # without the changed cells (bounded by the worst case) the count is close, not far above
+    changes = sum(a.nbytes for a in tracks._changes)
+    fixed = memory_bytes(1, 30, TICKS, dataclasses.replace(cost, max_changes=0))
+    assert 0.9 * fixed <= kept - changes <= fixed
 
 
 def test_replay_video_leaves_nothing_when_drawing_fails(ggc_run, tmp_path):
