@@ -590,35 +590,41 @@ def _replay_view(args: argparse.Namespace) -> int:
 
 
 def cmd_replay(args: argparse.Namespace) -> int:
-    """Draw a recorded run again (swarmsim.replay): its video, or one sample as a PNG."""
-    from swarmsim.replay import replay_png, replay_video
-
+    """Draw a recorded run again (swarmsim.replay): its video, one sample as a PNG, or the
+    samples in the live viewer."""
     check_count("--fps", args.fps, MAX_FPS, "video frames per second")
     _check_width(args.width)
     if args.tick is not None and not args.snapshot:
         raise ConfigError("draws one sample for --snapshot; --video and --view show them all",
                           key="--tick")
     if args.view:
+        if args.highlight_contacts:
+            raise ConfigError("is for --video and --snapshot; the viewer draws no contact "
+                              "rings", key="--highlight-contacts")
         return _replay_view(args)
     key, path = ("--video", args.video) if args.video else ("--snapshot", args.snapshot)
     _check_replay_output(key, path, ".mp4" if args.video else ".png")
     recording = _replay_recording(args)
     if args.snapshot and args.tick is not None:
         recording.index_of(args.tick)
-    options = {"color_by": args.color_by, "width": args.width,
-               "highlight_contacts": args.highlight_contacts}
     with runfolder.removed_if_left_empty() as made:
         _make_folder(key, path.parent, made)
-        if args.video:
-            frames = replay_video(recording, path, fps=args.fps, progress=not args.quiet,
-                                  **options)
-            print(f"{path}: {frames} frames, ticks {int(recording.ticks[0])} to "
-                  f"{int(recording.ticks[-1])}")
-        else:
-            replay_png(recording, path, tick=args.tick, **options)
-            tick = args.tick if args.tick is not None else int(recording.ticks[-1])
-            print(f"{path}: tick {tick}")
+        print(_replay_write(args, recording, path))
     return 0
+
+
+def _replay_write(args: argparse.Namespace, recording: Any, path: Path) -> str:
+    """Write replay's --video or --snapshot at ``path``; the line that says what it wrote."""
+    from swarmsim.replay import replay_png, replay_video
+
+    options = {"color_by": args.color_by, "width": args.width,
+               "highlight_contacts": args.highlight_contacts}
+    ticks = recording.ticks
+    if args.video:
+        frames = replay_video(recording, path, fps=args.fps, progress=not args.quiet, **options)
+        return f"{path}: {frames} frames, ticks {int(ticks[0])} to {int(ticks[-1])}"
+    replay_png(recording, path, tick=args.tick, **options)
+    return f"{path}: tick {args.tick if args.tick is not None else int(ticks[-1])}"
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:

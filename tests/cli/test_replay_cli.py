@@ -67,6 +67,8 @@ def test_a_snapshot_at_a_recorded_tick(recorded, capsys):
     (["--video", "x.mp4", "--color-by", "hops"], ["--color-by", "'hops'", "gradient, group"]),
     (["--video", "x.avi"], ["--video", ".mp4"]),
     (["--snapshot", "x.jpg"], ["--snapshot", ".png"]),
+    (["--view", "--highlight-contacts"], ["--highlight-contacts", "--video"]),
+    (["--view", "--tick", "30"], ["--tick", "--snapshot"]),
 ])
 def test_bad_options_are_one_line_and_leave_nothing(recorded, tmp_path, monkeypatch, capsys,
                                                     args, words):
