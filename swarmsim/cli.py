@@ -577,9 +577,12 @@ def _replay_view(args: argparse.Namespace) -> int:
     """``replay --view``: the live viewer stepping through the recorded samples."""
     from swarmsim.render.viewer import display_problem
 
-    problem = display_problem(os.environ, sys.platform)  # before reading the recording
-    if problem:
-        raise ConfigError(problem)
+    if display_problem(os.environ, sys.platform):  # before reading the recording
+        run = str(args.run_dir)
+        raise ConfigError("no display to open the viewer on (DISPLAY and WAYLAND_DISPLAY are "
+                          f"unset): write a video with 'swarmsim replay {run} --video "
+                          f"FILE.mp4', or run the viewer under a virtual X server: xvfb-run "
+                          f"swarmsim replay {run} --view")
     from swarmsim.replay import replay_view
 
     recording = _replay_recording(args)

@@ -86,7 +86,9 @@ def test_without_a_display_replay_view_is_one_line(run_dir, monkeypatch, capsys)
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     assert main(["replay", str(run_dir), "--view"]) == 2
-    assert "no display" in one_error_line(capsys)
+    line = one_error_line(capsys)
+    assert "no display" in line and f"xvfb-run swarmsim replay {run_dir} --view" in line
+    assert f"swarmsim replay {run_dir} --video FILE.mp4" in line
 
 
 def test_a_selected_robot_shows_its_recorded_state(viewer, run_dir):
