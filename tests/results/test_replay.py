@@ -205,16 +205,24 @@ def test_a_folder_without_trajectories_is_refused(tmp_path):
         Recording.load(tmp_path)
 
 
-def test_recording_changes_nothing_in_the_run():
+@pytest.mark.parametrize("controller", ["ggc", "tests.early_end_bots:Crowd"])
+def test_recording_changes_nothing_in_the_run(controller):
+    """GGC, and a user's controller whose robots push each other (contacts read each sample):
+    the same summary, time series, robots and positions with and without recording."""
     def run(record: bool) -> dict:
-        sim = Simulation(small_world(), controller="ggc", robots=30, groups=2, seed=5,
-                         max_ticks=120)
+        groups = {"groups": 2} if controller == "ggc" else {}
+        sim = Simulation(small_world(), controller=controller, robots=30, seed=5,
+                         max_ticks=TICKS, **groups)
         tracks = Trajectories(sim, every=7) if record else None
         result = sim.run(on_tick=tracks.on_tick if tracks else None)
         if tracks is not None:  # the engine's own numbers, to the last bit
             assert np.array_equal(tracks.arrays()["positions"][-1], sim.positions)
+            if controller != "ggc":
+                assert tracks.arrays()["in_contact_bits"].any()
         return {k: v for k, v in result.summary.items()
-                if k not in ("wall_seconds", "cpu_seconds")} | {"rows": result.timeseries}
+                if k not in ("wall_seconds", "cpu_seconds")} | {
+                    "rows": result.timeseries, "robots": result.robots,
+                    "positions": sim.positions.tobytes()}
 
     assert run(True) == run(False)
 
