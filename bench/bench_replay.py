@@ -1,8 +1,8 @@
 """What ``swarmsim replay`` costs against the run it draws again.
 
-For each seed: the run recorded with ``--trajectories EVERY``; the same run with a live
-``--video`` (a frame every EVERY ticks, for comparison); then ``swarmsim replay RUN --video``
-of the recording. Each is a fresh ``swarmsim`` process (start-up included, as a user would
+For each seed: the run without any output but --out (what recording adds to it); the run
+recorded with ``--trajectories EVERY``; the same run with a live ``--video`` (a frame every
+EVERY ticks, for comparison); then ``swarmsim replay RUN --video`` of the recording. Each is a fresh ``swarmsim`` process (start-up included, as a user would
 see it); wall and CPU seconds (the child's user + system time) per seed, the ratios run /
 replay, and their medians. It also says whether the replayed MP4 has the same bytes as the
 live one (same frames, same encoder: it should).
@@ -51,7 +51,8 @@ def bench_seed(world: str, seed: int, every: int, max_ticks: int | None, work: P
     if max_ticks:
         common += ["--max-ticks", str(max_ticks)]
     run_dir, live, again = work / f"run-{seed}", work / f"live-{seed}.mp4", work / f"re-{seed}.mp4"
-    out = {"run --trajectories": timed(["run", *common, "--out", str(run_dir),
+    out = {"run": timed(["run", *common, "--out", str(work / f"plain-{seed}")]),
+           "run --trajectories": timed(["run", *common, "--out", str(run_dir),
                                          "--trajectories", str(every)]),
            "run --video": timed(["run", *common, "--out", str(work / f"v-{seed}"), "--video",
                                  str(live), "--frame-every", str(every)]),
