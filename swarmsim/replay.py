@@ -261,8 +261,8 @@ def new_renderer(recording: Recording, color_by: str | None = None, **options: A
 
 def replay_frames(recording: Recording, **render_options: Any) -> Iterator[np.ndarray]:
     """The (H, W, 3) uint8 frame of every recorded sample, in order; ``render_options`` go to
-    the Renderer (color_by, width, highlight_contacts, ...). Each array is read-only and valid
-    until the next one is drawn (copy it to keep it)."""
+    the Renderer (color_by, width, highlight_contacts, ...). Each is a new read-only array
+    (Renderer.draw); ``.copy()`` it to draw on it."""
     renderer = new_renderer(recording, **render_options)
     for snap in recording.snapshots():
         yield renderer.draw(snap)
