@@ -1,5 +1,5 @@
-"""Command line: ``swarmsim run | view | sweep | reproduce | study | worlds | make-world |
-controllers | params``.
+"""Command line: ``swarmsim run | view | replay | sweep | reproduce | study | worlds |
+make-world | controllers | params``.
 
 Every input error prints one line naming the file, key and value, and exits with status 2; a
 controller's mistake, one line naming the controller, the robot and the tick (then, if the
@@ -51,9 +51,10 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
                    "coverage.npz and coverage.png there (see docs/outputs.md)")
     p.add_argument("--trajectories", metavar="K",
-                   help="also write OUT/trajectories.npz: every robot's position (and status) "
-                        "every K ticks, compressed; kept in memory until the run ends: "
-                        "N x 9 bytes per sample, (ticks / K + 2) samples (needs --out)")
+                   help="also write OUT/trajectories.npz: every robot's position, status and "
+                        "colouring fields, contacts and the coverage raster's changes every K "
+                        "ticks, for 'swarmsim replay'; kept in memory until the run ends "
+                        "(about N x 24 bytes per sample for GGC; docs/outputs.md) (needs --out)")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30,
                    help=f"video frames per second (default 30, at most {MAX_FPS})")
@@ -110,6 +111,34 @@ def _add_view_parser(sub: argparse._SubParsersAction) -> None:
                         "(c cycles them)")
     p.add_argument("--width", type=int, default=800,
                    help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
+
+
+def _add_replay_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("replay", help="draw a recorded run again, without simulating it",
+                       description="Draw a run recorded with 'swarmsim run ... --out DIR "
+                       "--trajectories K' again from DIR/trajectories.npz: one frame per "
+                       "recorded sample, in any colouring the run recorded, width and frame "
+                       "rate (see docs/replay.md).")
+    p.add_argument("run_dir", metavar="RUN_DIR", type=Path,
+                   help="the run's --out folder (or its trajectories.npz)")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4")
+    what.add_argument("--snapshot", type=Path, metavar="FILE.png",
+                      help="write a PNG of one recorded sample (--tick; default the last)")
+    what.add_argument("--view", action="store_true",
+                      help="step through the samples in the live viewer (keys as in 'view'; "
+                           ". steps one sample; needs a display)")
+    p.add_argument("--tick", type=int, help="the recorded tick --snapshot draws")
+    p.add_argument("--fps", type=int, default=30,
+                   help=f"video frames per second (default 30, at most {MAX_FPS})")
+    p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
+                   help="robot colouring: status, or a field the run recorded (default: the "
+                        "controller's first)")
+    p.add_argument("--width", type=int, default=800,
+                   help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
+    p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
+                   help="ring robots that touch something")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _add_executor_args(p: argparse.ArgumentParser) -> None:
@@ -220,6 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     _add_run_parser(sub)
     _add_view_parser(sub)
+    _add_replay_parser(sub)
     _add_sweep_parsers(sub)
     _add_study_parser(sub)
     wp = sub.add_parser("worlds", help="list shipped worlds, or describe your own world files",
@@ -654,6 +684,82 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_replay_output(key: str, path: Path, suffix: str) -> None:
+    """Refuse replay's output file: another suffix, a folder, a folder that cannot be made."""
+    if path.suffix.lower() != suffix:
+        raise ConfigError(f"must be a {suffix} file, got {str(path)!r}", key=key)
+    if path.is_dir():
+        raise ConfigError(f"{str(path)!r} is a folder; give a file name", key=key)
+    _check_folder(key, path.parent)
+
+
+def _replay_recording(args: argparse.Namespace) -> Any:
+    """The recording replay's options ask for, its frame width and colouring checked."""
+    from swarmsim.replay import Recording
+
+    recording = Recording.load(args.run_dir)
+    _check_width(args.width, recording.world.arena)
+    recording.offered_colourings(args.color_by)
+    return recording
+
+
+def _replay_view(args: argparse.Namespace) -> int:
+    """``replay --view``: the live viewer stepping through the recorded samples."""
+    from swarmsim.render.viewer import display_problem
+
+    if display_problem(os.environ, sys.platform):  # before reading the recording
+        run = str(args.run_dir)
+        raise ConfigError("no display to open the viewer on (DISPLAY and WAYLAND_DISPLAY are "
+                          f"unset): write a video with 'swarmsim replay {run} --video "
+                          f"FILE.mp4', or run the viewer under a virtual X server: xvfb-run "
+                          f"swarmsim replay {run} --view")
+    from swarmsim.replay import replay_view
+
+    recording = _replay_recording(args)
+    viewer = replay_view(recording, width=args.width, color_by=args.color_by)
+    print(f"{args.run_dir}: stopped at tick {viewer.sim.tick}"
+          + "".join(f"; saved {p}" for p in viewer.saved))
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    """Draw a recorded run again (swarmsim.replay): its video, one sample as a PNG, or the
+    samples in the live viewer."""
+    check_count("--fps", args.fps, MAX_FPS, "video frames per second")
+    _check_width(args.width)
+    if args.tick is not None and not args.snapshot:
+        raise ConfigError("draws one sample for --snapshot; --video and --view show them all",
+                          key="--tick")
+    if args.view:
+        if args.highlight_contacts:
+            raise ConfigError("is for --video and --snapshot; the viewer draws no contact "
+                              "rings", key="--highlight-contacts")
+        return _replay_view(args)
+    key, path = ("--video", args.video) if args.video else ("--snapshot", args.snapshot)
+    _check_replay_output(key, path, ".mp4" if args.video else ".png")
+    recording = _replay_recording(args)
+    if args.snapshot and args.tick is not None:
+        recording.index_of(args.tick)
+    with runfolder.removed_if_left_empty() as made:
+        _make_folder(key, path.parent, made)
+        print(_replay_write(args, recording, path))
+    return 0
+
+
+def _replay_write(args: argparse.Namespace, recording: Any, path: Path) -> str:
+    """Write replay's --video or --snapshot at ``path``; the line that says what it wrote."""
+    from swarmsim.replay import replay_png, replay_video
+
+    options = {"color_by": args.color_by, "width": args.width,
+               "highlight_contacts": args.highlight_contacts}
+    ticks = recording.ticks
+    if args.video:
+        frames = replay_video(recording, path, fps=args.fps, progress=not args.quiet, **options)
+        return f"{path}: {frames} frames, ticks {int(ticks[0])} to {int(ticks[-1])}"
+    replay_png(recording, path, tick=args.tick, **options)
+    return f"{path}: tick {args.tick if args.tick is not None else int(ticks[-1])}"
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     from swarmsim.experiments import load_spec, run_sweep
     from swarmsim.experiments.executors import check_workers
@@ -788,6 +894,8 @@ def _command(args: argparse.Namespace) -> int:
         return _dispatch(args)
     if args.command == "view":
         return cmd_view(args)
+    if args.command == "replay":
+        return cmd_replay(args)
     return cmd_run(args)
 
 

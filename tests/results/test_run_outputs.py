@@ -61,7 +61,7 @@ def test_robots_csv_has_final_state_distance_and_contacts(corridor_run):
 def test_trajectories_sample_every_k_ticks_and_the_end(corridor_run):
     data = load_trajectories(corridor_run / "trajectories.npz")
     assert data["ticks"].tolist() == list(range(0, 201, 25))
-    assert data["positions"].shape == (9, 60, 2) and data["positions"].dtype == np.float32
+    assert data["positions"].shape == (9, 60, 2) and data["positions"].dtype == np.float64
     assert data["statuses"].shape == (9, 60) and data["statuses"].dtype == np.int8
     assert data["status_names"][0] == "Initial"
     steps = np.hypot(*np.diff(data["positions"], axis=0).T)  # (60, 8)
