@@ -37,6 +37,10 @@ if TYPE_CHECKING:  # the engine's modules load numba: only the commands that run
     from swarmsim.engine.config import SimConfig
 
 
+VIEWER_CLOSED = "viewer_closed"
+"""summary.json's stop_reason of a run `swarmsim view --out` wrote before it ended."""
+
+
 def _parse_set(pairs: Sequence[str], **options: Any) -> dict[str, Any]:
     """The ``--set KEY=VALUE`` pairs as settings; see swarmsim.engine.config.settings_from_pairs."""
     from swarmsim.engine.config import settings_from_pairs
@@ -48,13 +52,7 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run one simulation",
                        description="Run one simulation and print a one-line summary.")
     _add_simulation_args(p, world_optional=True)
-    p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
-                   "coverage.npz and coverage.png there (see docs/outputs.md)")
-    p.add_argument("--trajectories", metavar="K",
-                   help="also write OUT/trajectories.npz: every robot's position, status and "
-                        "colouring fields, contacts and the coverage raster's changes every K "
-                        "ticks, for 'swarmsim replay'; kept in memory until the run ends "
-                        "(about N x 24 bytes per sample for GGC; docs/outputs.md) (needs --out)")
+    _add_output_args(p, "")
     p.add_argument("--video", type=Path, metavar="FILE.mp4", help="write an MP4 of the run")
     p.add_argument("--fps", type=int, default=30,
                    help=f"video frames per second (default 30, at most {MAX_FPS})")
@@ -78,6 +76,17 @@ def _add_run_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--resume", type=Path, metavar="DIR",
                    help="continue the run whose checkpoint DIR holds (after a kill), with the "
                         "options it was started with; writes the outputs it would have written")
+
+
+def _add_output_args(p: argparse.ArgumentParser, when: str) -> None:
+    """--out and --trajectories (run's and view's); ``when`` says when the files are written."""
+    p.add_argument("--out", type=Path, help="write summary.json, timeseries.csv, robots.csv, "
+                   f"coverage.npz and coverage.png there{when} (see docs/outputs.md)")
+    p.add_argument("--trajectories", metavar="K",
+                   help="also write OUT/trajectories.npz: every robot's position, status and "
+                        "colouring fields, contacts and the coverage raster's changes every K "
+                        "ticks, for 'swarmsim replay'; kept in memory until the run ends "
+                        "(about N x 24 bytes per sample for GGC; docs/outputs.md) (needs --out)")
 
 
 def _add_simulation_args(p: argparse.ArgumentParser, world_optional: bool = False) -> None:
@@ -111,6 +120,7 @@ def _add_view_parser(sub: argparse._SubParsersAction) -> None:
                         "(c cycles them)")
     p.add_argument("--width", type=int, default=800,
                    help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
+    _add_output_args(p, " when the window closes (the run as far as it went)")
 
 
 def _add_replay_parser(sub: argparse._SubParsersAction) -> None:
@@ -489,9 +499,7 @@ def _check_run_sizes(args: argparse.Namespace, world: Any, config: SimConfig, ev
     if args.video or args.snapshot:
         _check_width(args.width, world.arena)
     if every:
-        from swarmsim.results.trajectories import check_memory
-
-        check_memory(every, config.robots, config.max_ticks, key="--trajectories")
+        _check_trajectory_memory(every, config)
 
 
 def _run_arguments(args: argparse.Namespace) -> dict[str, Any]:
@@ -673,15 +681,52 @@ def cmd_view(args: argparse.Namespace) -> int:
     from swarmsim.world.world import load_world
 
     _check_width(args.width)
+    every = _trajectories_every(args)
+    if args.out:
+        _check_folder("--out", args.out)
+        runfolder.check_free(args.out)
     run = _run_arguments(args)
     world = load_world(args.world)
     _check_width(args.width, world.arena)
+    if every:
+        _check_trajectory_memory(every, Simulation.check(world, **run)[0])
     with build_notice(detail=True):
         sim = Simulation(world, **run)
-    viewer = view(sim, width=args.width, color_by=args.color_by)
+    recorder = _view_recorder(sim, args, every)
+    viewer = view(sim, width=args.width, color_by=args.color_by,
+                  on_tick=recorder.on_tick if recorder else None)
+    written = _write_viewed_run(args.out, sim, recorder) if recorder else None
     print(f"{sim.world.name} {sim.controller_name}: stopped at tick {sim.tick}"
-          + "".join(f"; saved {p}" for p in viewer.saved))
+          + "".join(f"; saved {p}" for p in viewer.saved)
+          + (f"; wrote {written}" if written else ""))
     return 0
+
+
+def _check_trajectory_memory(every: int, config: SimConfig) -> None:
+    """Refuse --trajectories K whose samples would not fit in memory (run's and view's)."""
+    from swarmsim.results.trajectories import check_memory
+
+    check_memory(every, config.robots, config.max_ticks, key="--trajectories")
+
+
+def _view_recorder(sim: Any, args: argparse.Namespace, every: int) -> Any:
+    """The viewed run's Recorder when --out is given (its trajectory samples with
+    --trajectories), else None."""
+    from swarmsim.recording import Recorder
+
+    return Recorder(sim, trajectories_every=every) if args.out else None
+
+
+def _write_viewed_run(out: Path, sim: Any, recorder: Any) -> Path:
+    """Write the viewed run's outputs in ``out`` as far as it went (a run the window closed
+    before it ended has stop_reason VIEWER_CLOSED in summary.json)."""
+    result = sim.result()
+    if result.summary["stop_reason"] is None:
+        result.summary["stop_reason"] = VIEWER_CLOSED
+    with runfolder.removed_if_left_empty() as made:
+        _make_folder("--out", out, made)
+        with runfolder.locked(out):
+            return recorder.write_outputs(out, result)
 
 
 def _check_replay_output(key: str, path: Path, suffix: str) -> None:

@@ -25,7 +25,7 @@ from __future__ import annotations
 import dataclasses
 import sys
 import zipfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -353,13 +353,16 @@ class ReplayRun:
     def asleep(self) -> np.ndarray:
         return self.recording.flags("asleep_bits", self._index)
 
-    def advance(self) -> str | None:
-        """Move to the next recorded sample; the stop reason (END_OF_RECORDING at the last)."""
+    def advance(self, on_tick: Callable[[ReplayRun], None] | None = None) -> str | None:
+        """Move to the next recorded sample, then ``on_tick(self)`` if given (as
+        Simulation.advance); the stop reason (END_OF_RECORDING at the last)."""
         if self.stop_reason is None:
             self._snap = next(self._samples)
             self._index += 1
             if self._index == self.recording.samples - 1:
                 self.stop_reason = END_OF_RECORDING
+            if on_tick is not None:
+                on_tick(self)
         return self.stop_reason
 
     def snapshot(self, with_coverage: bool = True) -> Snapshot:

@@ -642,6 +642,12 @@ class Simulation:
             self.cpu_seconds += time.process_time() - start_cpu
             if bar is not None:
                 bar.close()
+        return self.result()
+
+    def result(self) -> RunResult:
+        """The run as it stands now (at its end, what ``run`` returns): the summary, the time
+        series with a row for this tick, and robots.csv's rows. A run not yet ended has
+        ``stop_reason`` None in its summary."""
         self.metrics.record(self.tick, force=True)
         return RunResult(self.summary(), list(self.metrics.rows),
                          self.metrics.robot_rows(self.final_state()))

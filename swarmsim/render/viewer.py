@@ -333,16 +333,20 @@ class Viewer:
         width: frame width in pixels (the Renderer's rule: even, >= 64).
         color_by: the colouring to start with (None: the controller's first).
         save_dir: folder the ``s`` key saves PNGs into (``view-tick{T}.png``).
+        on_tick: called after every tick the viewer runs, as ``Simulation.run``'s on_tick
+            (a recorder's, to keep what ``swarmsim replay`` needs).
     Raises ConfigError (the NO_DISPLAY line) when there is no display to open a window on.
     """
 
     def __init__(self, sim: Simulation, width: int = 800, color_by: str | None = None,
-                 save_dir: str | os.PathLike[str] = "."):
+                 save_dir: str | os.PathLike[str] = ".",
+                 on_tick: Callable[[Simulation], None] | None = None):
         problem = display_problem(os.environ, sys.platform)
         if problem:
             raise ConfigError(problem)
         offered = sim.offered_colourings(color_by)
         self.sim = sim
+        self.on_tick = on_tick
         self.renderer = sim.new_renderer(width=width, color_by=color_by)
         self.state = initial_state(offered, self.renderer.color_by, self.renderer.size)
         self.save_dir = Path(save_dir)
@@ -379,7 +383,7 @@ class Viewer:
         for _ in range(ticks):
             if sim.stop_reason is not None:
                 break
-            sim.advance()
+            sim.advance(self.on_tick)
         if state.steps:
             self.state = dataclasses.replace(state, steps=0)
 
@@ -549,10 +553,12 @@ def _open_window(width: int, height: int) -> pygame.Surface:
 
 
 def view(sim: Simulation, width: int = 800, color_by: str | None = None,
-         max_frames: int | None = None) -> Viewer:
+         max_frames: int | None = None,
+         on_tick: Callable[[Simulation], None] | None = None) -> Viewer:
     """Open a window on ``sim`` and run it live until the user quits (or ``max_frames``
-    frames are shown); returns the closed Viewer (its ``saved`` PNGs, ``frames``)."""
-    viewer = Viewer(sim, width=width, color_by=color_by)
+    frames are shown), calling ``on_tick`` after each tick; returns the closed Viewer (its
+    ``saved`` PNGs, ``frames``)."""
+    viewer = Viewer(sim, width=width, color_by=color_by, on_tick=on_tick)
     try:
         viewer.loop(max_frames)
     finally:
