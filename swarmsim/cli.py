@@ -118,8 +118,9 @@ def _add_view_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="colouring to start with: status, or a field the controller offers "
                         "(c cycles them)")
-    p.add_argument("--width", type=int, default=800,
-                   help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
+    p.add_argument("--width", type=int,
+                   help="frame width in px (default 800, or narrower so that the window fits "
+                        f"the screen; even, 64 to {MAX_FRAME_SIDE:,})")
     _add_output_args(p, " when the window closes (the run as far as it went)")
 
 
@@ -144,8 +145,9 @@ def _add_replay_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--color-by", default=None, dest="color_by", metavar="FIELD",
                    help="robot colouring: status, or a field the run recorded (default: the "
                         "controller's first)")
-    p.add_argument("--width", type=int, default=800,
-                   help=f"frame width in px (default 800; even, 64 to {MAX_FRAME_SIDE:,})")
+    p.add_argument("--width", type=int,
+                   help="frame width in px (default 800; --view: narrower if the window would "
+                        f"not fit the screen; even, 64 to {MAX_FRAME_SIDE:,})")
     p.add_argument("--highlight-contacts", action="store_true", dest="highlight_contacts",
                    help="ring robots that touch something")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -421,11 +423,15 @@ def _trajectories_every(args: argparse.Namespace) -> int:
     return every
 
 
-def _check_width(width: int, arena: tuple[float, float, float, float] | None = None) -> None:
+def _check_width(width: int | None,
+                 arena: tuple[float, float, float, float] | None = None) -> None:
     """Refuse a frame width the renderer cannot draw (and, given the ``arena``, a frame height
-    it would make), before the run rather than at its first frame."""
+    it would make), before the run rather than at its first frame. None (the viewer's: fitted
+    to the screen) passes."""
     from swarmsim.render.frame import check_width, frame_size
 
+    if width is None:
+        return
     try:
         check_width(width) if arena is None else frame_size(arena, width)
     except ValueError as exc:
@@ -793,9 +799,10 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 def _replay_write(args: argparse.Namespace, recording: Any, path: Path) -> str:
     """Write replay's --video or --snapshot at ``path``; the line that says what it wrote."""
+    from swarmsim.render.frame import DEFAULT_WIDTH
     from swarmsim.replay import replay_png, replay_video
 
-    options = {"color_by": args.color_by, "width": args.width,
+    options = {"color_by": args.color_by, "width": args.width or DEFAULT_WIDTH,
                "highlight_contacts": args.highlight_contacts}
     ticks = recording.ticks
     if args.video:

@@ -328,6 +328,7 @@ class ReplayRun:
 
     def __init__(self, recording: Recording):
         self.recording = recording
+        self.world = recording.world
         self.n = recording.n_robots
         self.info = SimpleNamespace(group_field=recording.renderer_arguments()["group_field"])
         self.velocities = np.full((self.n, 2), np.nan)
@@ -376,7 +377,7 @@ class ReplayRun:
         return new_renderer(self.recording, **options)
 
 
-def replay_view(recording: Recording, width: int = 800, color_by: str | None = None,
+def replay_view(recording: Recording, width: int | None = None, color_by: str | None = None,
                 max_frames: int | None = None) -> Any:
     """Open the live viewer on ``recording`` (see :class:`ReplayRun`) until the user quits
     (or ``max_frames`` frames); returns the closed Viewer. ConfigError without a display."""

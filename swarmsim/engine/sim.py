@@ -736,7 +736,7 @@ class Simulation:
             self._renderer_key = key
         return self._renderer.draw(self.snapshot())
 
-    def view(self, width: int = 800, color_by: str | None = None,
+    def view(self, width: int | None = None, color_by: str | None = None,
              max_frames: int | None = None) -> Any:
         """Run this simulation live in a window until the user quits (or ``max_frames``
         frames); returns the closed swarmsim.render.viewer.Viewer. ConfigError when there is

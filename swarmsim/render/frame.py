@@ -57,6 +57,10 @@ from swarmsim.world.world import World
 MIN_WIDTH = 64
 
 
+DEFAULT_WIDTH = 800
+"""px, a frame's width unless asked otherwise."""
+
+
 def check_width(width: Any) -> None:
     """Raise ValueError unless ``width`` (pixels) is an even integer in [MIN_WIDTH,
     MAX_FRAME_SIDE] (H.264 needs even frame sides)."""
@@ -118,7 +122,7 @@ class Renderer:
         min_radius_px: smallest robot disc radius in pixels (robots are tiny at paper scale).
     """
 
-    def __init__(self, world: World, grid: CoverageGrid | None = None, width: int = 800,
+    def __init__(self, world: World, grid: CoverageGrid | None = None, width: int = DEFAULT_WIDTH,
                  color_by: str | None = None, show_coverage: bool = True,
                  highlight_contacts: bool = False, legend: bool = True, *, hud: bool = True,
                  on_target: Callable[[Snapshot], int] | None = None,

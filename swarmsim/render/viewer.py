@@ -48,6 +48,8 @@ HELP_LINES = ("space pause  . step  +/- speed", "c colour  o coverage  s save PN
               "wheel zoom  drag pan  0/r reset view", "click a robot to inspect it")
 MAX_TICKS_PER_FRAME = 4096
 MAX_ZOOM = 16.0  # the most the camera magnifies the frame
+SCREEN_MARGIN = (16, 96)  # px of the screen (across, down) left for window borders, title, task bar
+MIN_FITTED_WIDTH = 320  # px, the narrowest frame fitting to a small screen makes
 ZOOM_STEP = 1.25  # magnification per notch of the mouse wheel
 DRAG_THRESHOLD = 4  # px: a press that moves farther than this pans instead of selecting
 FRAMES_PER_SECOND = 30  # the window's redraw cap
@@ -313,7 +315,8 @@ def robot_lines(snapshot: Snapshot, robot: int, velocity: np.ndarray | None,
         lines.append(f"velocity ({velocity[0]:+.3f}, {velocity[1]:+.3f})")
     lines.append("broadcast:")
     for name in row.dtype.names:
-        lines.append(f"  {name} = {_shown(row[name])}")
+        if np.size(row[name]):  # a field of no elements (one per group of none) says nothing
+            lines.append(f"  {name} = {_shown(row[name])}")
     return lines
 
 
@@ -330,7 +333,9 @@ class Viewer:
 
     Args:
         sim: the simulation to run and show (it may already have run some ticks).
-        width: frame width in pixels (the Renderer's rule: even, >= 64).
+        width: frame width in pixels (the Renderer's rule: even, >= 64); None: the
+            Renderer's DEFAULT_WIDTH, or less so that the window fits the screen
+            (:func:`fitted_width`).
         color_by: the colouring to start with (None: the controller's first).
         save_dir: folder the ``s`` key saves PNGs into (``view-tick{T}.png``).
         on_tick: called after every tick the viewer runs, as ``Simulation.run``'s on_tick
@@ -338,7 +343,7 @@ class Viewer:
     Raises ConfigError (the NO_DISPLAY line) when there is no display to open a window on.
     """
 
-    def __init__(self, sim: Simulation, width: int = 800, color_by: str | None = None,
+    def __init__(self, sim: Simulation, width: int | None = None, color_by: str | None = None,
                  save_dir: str | os.PathLike[str] = ".",
                  on_tick: Callable[[Simulation], None] | None = None):
         problem = display_problem(os.environ, sys.platform)
@@ -347,6 +352,8 @@ class Viewer:
         offered = sim.offered_colourings(color_by)
         self.sim = sim
         self.on_tick = on_tick
+        if width is None:
+            width = fitted_width(sim.world.arena, _screen_size())
         self.renderer = sim.new_renderer(width=width, color_by=color_by)
         self.state = initial_state(offered, self.renderer.color_by, self.renderer.size)
         self.save_dir = Path(save_dir)
@@ -465,7 +472,7 @@ class Viewer:
             lines += robot_lines(snap, robot, sim.velocities[robot], sim.info.group_field,
                                  bool(sim.asleep[robot]))
             heard = in_range(snap.positions, snap.failed, robot, float(sim.listen[robot]))
-            lines.insert(-len(snap.messages.dtype.names) - 1,
+            lines.insert(lines.index("broadcast:"),
                          f"hears {len(heard)} (range {sim.listen[robot]:.3g})")
         return lines
 
@@ -529,15 +536,57 @@ def _wrap(line: str, width: int, font: Any) -> list[str]:
     return parts
 
 
-def _open_window(width: int, height: int) -> pygame.Surface:
-    """Open the window; under HEADLESS_ENV=1 on SDL's dummy driver. ConfigError if SDL cannot
-    open one."""
+def fitted_width(arena: tuple[float, float, float, float], screen: tuple[int, int] | None,
+                 wanted: int | None = None) -> int:
+    """The frame width, ``wanted`` px (None: the Renderer's DEFAULT_WIDTH) or less (even, at least MIN_FITTED_WIDTH), at which
+    the viewer's window (the frame of ``arena`` and the panel) fits a ``screen`` of (width,
+    height) px less SCREEN_MARGIN; ``wanted`` when the screen is unknown (None)."""
+    from swarmsim.render.frame import DEFAULT_WIDTH
+    from swarmsim.render.frame import frame_size as frame_px
+
+    wanted = DEFAULT_WIDTH if wanted is None else wanted
+    if screen is None:
+        return wanted
+    room_w, room_h = screen[0] - SCREEN_MARGIN[0] - PANEL_WIDTH, screen[1] - SCREEN_MARGIN[1]
+    width = wanted
+    while width > MIN_FITTED_WIDTH:
+        frame_w, frame_h = frame_px(arena, width)
+        if frame_w <= room_w and frame_h <= room_h:
+            break
+        width -= 16
+    return max(width, MIN_FITTED_WIDTH)
+
+
+def _screen_size() -> tuple[int, int] | None:
+    """The desktop's size in px (the first display's), or None under HEADLESS_ENV or when SDL
+    cannot tell."""
+    if os.environ.get(HEADLESS_ENV) == "1":
+        return None
+    _choose_video_driver()
+    import pygame
+
+    try:
+        pygame.display.init()
+        sizes = pygame.display.get_desktop_sizes()
+    except pygame.error:
+        return None
+    return tuple(sizes[0]) if sizes else None  # type: ignore[return-value]
+
+
+def _choose_video_driver() -> None:
+    """SDL's dummy driver under HEADLESS_ENV=1, else SDL's own choice."""
     # swarmsim.render.frame sets SDL_VIDEODRIVER=dummy for headless frames unless the user
     # chose a driver: a real window needs SDL's own choice back
     if os.environ.get(HEADLESS_ENV) == "1":
         os.environ["SDL_VIDEODRIVER"] = "dummy"
     elif os.environ.get("SDL_VIDEODRIVER") == "dummy":
         del os.environ["SDL_VIDEODRIVER"]
+
+
+def _open_window(width: int, height: int) -> pygame.Surface:
+    """Open the window; under HEADLESS_ENV=1 on SDL's dummy driver. ConfigError if SDL cannot
+    open one."""
+    _choose_video_driver()
     import pygame
 
     pygame.display.init()
@@ -552,7 +601,7 @@ def _open_window(width: int, height: int) -> pygame.Surface:
     return window
 
 
-def view(sim: Simulation, width: int = 800, color_by: str | None = None,
+def view(sim: Simulation, width: int | None = None, color_by: str | None = None,
          max_frames: int | None = None,
          on_tick: Callable[[Simulation], None] | None = None) -> Viewer:
     """Open a window on ``sim`` and run it live until the user quits (or ``max_frames``

@@ -331,3 +331,29 @@ def test_frame_to_world_inverts_world_to_pixel(viewer):
     points = np.array([[0.0, 0.0], [3.5, -2.25], [-7.0, 11.0]])
     np.testing.assert_allclose(
         vw.frame_to_world(viewer.renderer, viewer.renderer.world_to_pixel(points)), points)
+
+
+# --- fitting the screen -------------------------------------------------------------------------
+
+def test_the_window_fits_a_small_screen_and_keeps_its_width_on_a_large_one():
+    from swarmsim.render.frame import DEFAULT_WIDTH, frame_size
+    from swarmsim.world import load_world
+
+    arena = load_world("K").arena  # taller than wide
+    assert vw.fitted_width(arena, None) == DEFAULT_WIDTH
+    assert vw.fitted_width(arena, (3840, 2160)) == DEFAULT_WIDTH
+    width = vw.fitted_width(arena, (1366, 768))
+    w, h = frame_size(arena, width)
+    assert width < DEFAULT_WIDTH and h <= 768 - vw.SCREEN_MARGIN[1]
+    assert w + vw.PANEL_WIDTH <= 1366 - vw.SCREEN_MARGIN[0]
+    assert frame_size(arena, width + 16)[1] > 768 - vw.SCREEN_MARGIN[1]  # the widest that fits
+    assert vw.fitted_width(arena, (200, 150)) == vw.MIN_FITTED_WIDTH
+
+
+def test_a_field_of_no_elements_is_not_listed(viewer):
+    snap = viewer.sim.snapshot()
+    empty = [n for n in snap.messages.dtype.names if not np.size(snap.messages[0][n])]
+    lines = vw.robot_lines(snap, 0, None, "group")
+    assert empty, "GGC's per-group fields of no groups are the case this test is about"
+    assert not any(line.strip().startswith(f"{n} =") for n in empty for line in lines)
+    assert any(line.strip().startswith("gradient =") for line in lines)
