@@ -43,7 +43,9 @@ class SpaceState:
     Attributes:
         bodies: (B, 9) float64, one row per body given to :func:`read_space` (in its order),
             the fields of :data:`BODY_FIELDS`.
-        arbiters: Chipmunk's cached arbiters, in the cache's order, each a tuple: the
+        arbiters: Chipmunk's cached arbiters, ordered by their shapes (the cache's own order
+            follows memory addresses, which differ from process to process; the order they
+            are added back in is the order the solver first meets them), each a tuple: the
             indices of its two shapes in ``space.shapes``, then its restitution, friction,
             surface velocity (x, y), normal (x, y), swapped, stamp, state, and its contacts
             (each r1 x, y, r2 x, y, then :data:`_CONTACT_FIELDS`, then its hash).
@@ -112,12 +114,12 @@ def _read_arbiters(space: pymunk.Space) -> tuple:
         arbiters.append((shape_index[_address(arb.a)], shape_index[_address(arb.b)], arb.e,
                          arb.u, arb.surface_vr.x, arb.surface_vr.y, arb.n.x, arb.n.y,
                          arb.swapped, arb.stamp, arb.state, contacts))
-    return tuple(arbiters)
+    return tuple(sorted(arbiters, key=lambda arbiter: arbiter[:2]))
 
 
 def _add_arbiters(space: pymunk.Space, arbiters: tuple) -> None:
     """Chipmunk arbiters made from :attr:`SpaceState.arbiters`, added to ``space``'s cache
-    in their order (as pymunk's own unpickling of a Space does)."""
+    in their order, as pymunk's own unpickling of a Space adds them."""
     shapes = list(space.shapes)
     for a, b, e, u, svx, svy, nx, ny, swapped, stamp, state, contacts in arbiters:
         arb = lib.cpArbiterNew(shapes[a]._shape, shapes[b]._shape)  # sets the bodies too

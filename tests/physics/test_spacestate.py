@@ -59,6 +59,8 @@ def test_a_loaded_physics_holds_the_saved_state(sleep):
     assert np.array_equal(got.bodies, saved.bodies)
     assert (got.stamp, got.time_step) == (saved.stamp, saved.time_step)
     assert _contacts(first) and _contacts(loaded) == _contacts(first)
+    pairs = [arbiter[:2] for arbiter in saved.arbiters]  # in an order that is the same in
+    assert pairs == sorted(pairs)  # every process (not the cache's: by memory address)
     assert np.array_equal(loaded.parked, first.parked)
     assert np.array_equal(loaded.bodies_asleep(), first.bodies_asleep())
     assert [b.body_type for b in loaded._controls] == [b.body_type for b in first._controls]
