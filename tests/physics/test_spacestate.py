@@ -2,6 +2,7 @@
 made again that holds the saved state: every body's motion, the cached contacts, which
 robots are parked and asleep; and every load of the same bytes steps alike."""
 
+import math
 import pickle
 
 import numpy as np
@@ -48,9 +49,13 @@ def _step(physics: Physics, ticks: int) -> bytes:
     return physics.read()[0].tobytes()
 
 
-@pytest.mark.parametrize("sleep", [True, False], ids=["physics sleep", "no physics sleep"])
-def test_a_loaded_physics_holds_the_saved_state(sleep):
-    first = _run(PhysicsConfig(physics_sleep=sleep))
+@pytest.mark.parametrize("config", [PhysicsConfig(physics_sleep=True),
+                                    PhysicsConfig(physics_sleep=False),
+                                    PhysicsConfig(spin_traction=math.inf)],
+                         ids=["physics sleep", "no physics sleep", "robots never turn"])
+def test_a_loaded_physics_holds_the_saved_state(config):
+    first = _run(config)
+    sleep = config.physics_sleep
     bodies = first._robots + first._controls
     data = pickle.dumps(first)
     loaded = pickle.loads(data)
