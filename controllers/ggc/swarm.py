@@ -227,8 +227,16 @@ class GGCSwarm:
         return self._driver_fn
 
     def __getstate__(self) -> dict:
-        """A copy (pickle) without the compiled entry point, which is looked up again."""
-        return {**self.__dict__, "_driver_types": None, "_driver_fn": decide_chunk}
+        """A copy (pickle) without the compiled entry point, which is looked up again, and
+        without the driver's saved rows (scratch: a chunk writes each row before it reads
+        it back, within one :meth:`decide`), which are made again."""
+        state = {**self.__dict__, "_driver_types": None, "_driver_fn": decide_chunk}
+        del state["_saved"]
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._saved = np.empty(len(self.state), dtype=self.state.dtype)
 
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, probes: Probes) -> None:

@@ -1,18 +1,19 @@
 """Checkpoints: a run's whole state in a file, to continue it later, in this or another process.
 
-A checkpoint holds the Simulation's state as it is between two ticks: the pymunk Space
-(pymunk pickles it: bodies, joints, shapes and its cached contacts), every controller's
-state, every random stream, the metrics, the time series so far, the engine's wake and sleep
-state, and which robots pymunk has put to sleep; plus, optionally, the caller's own
-``extra`` (the command line keeps its options and trajectory samples there).
+A checkpoint holds the Simulation's state as it is between two ticks: the physics (what
+varies in the pymunk Space: every body's motion and the Space's cached contacts, with their
+impulses; swarmsim/physics/spacestate.py), every controller's state, every random stream, the
+metrics, the time series so far, the engine's wake and sleep state, which robots are parked
+and which pymunk has put to sleep; plus, optionally, the caller's own ``extra`` (the command
+line keeps its options and trajectory samples there).
 
-Saving is an event in the run. pymunk's pickle does not carry everything Chipmunk keeps:
-body sleep state and idle time, sleeping groups, the joints' accumulated impulses, the
-spatial index's structure; a Space loaded from the pickle steps close to, not bit for bit
-like, the one that was pickled. So :func:`save` re-seats the live run on the very bytes it
-wrote: the run that saved continues from the state loaded back from the file, by the same
-procedure :func:`load` follows in any other process (swarmsim/physics/physics.py
-Physics.__setstate__ puts back to sleep, one by one, the robots pymunk had asleep). Both
+Saving is an event in the run. Loading makes the Space again, as the run's constructor
+builds it, and gives it the saved state; what Chipmunk keeps besides is not saved: body
+sleep state and idle time, sleeping groups, the joints' accumulated impulses, the spatial
+index's structure. A loaded Space steps close to, not bit for bit like, the one that was
+saved. So :func:`save` re-seats the live run on the very bytes it wrote: the run that saved
+continues from the state loaded back from the file, by the same procedure :func:`load`
+follows in any other process (swarmsim/physics/physics.py Physics.__setstate__). Both
 continue from identical state and end identically. The price: a run that saves differs
 (slightly, as chaotic runs do) from the same run that never saves; docs/checkpoints.md
 measures it.
@@ -51,8 +52,9 @@ FILE_NAME = "checkpoint.swarmsim"
 """The checkpoint ``swarmsim run --out DIR --checkpoint-every N`` keeps in DIR."""
 MAGIC = b"SWARMSIM-CHECKPOINT\n"
 """A checkpoint file's first line."""
-FORMAT = 2
-"""The checkpoint layout's version (the header's "format")."""
+FORMAT = 3
+"""The checkpoint layout's version (the header's "format"; 3: the physics as arrays,
+swarmsim/physics/spacestate.py, not pymunk's pickle of the Space)."""
 _RUN = "run"
 """The persistent id of the Simulation in a checkpoint's body."""
 UNSAVED = ("_renderer", "_renderer_key")

@@ -184,10 +184,15 @@ class Parking:
         return self.parked, self._zero_before, self._written
 
     def take_bookkeeping(self, bookkeeping: tuple[np.ndarray, np.ndarray, np.ndarray]) -> None:
-        """Take another Parking's :attr:`bookkeeping` (of the same robots, whose control
-        bodies are already parked as it says)."""
+        """Take another Parking's :attr:`bookkeeping`, on robots none of which is parked yet
+        (a Space just built): parks, in robot order, the robots it says are parked (their
+        control bodies become STATIC)."""
+        if self.parked.any():
+            raise RuntimeError("take_bookkeeping needs robots none of which is parked")
         parked, zero_before, written = bookkeeping
         self.parked[:], self._zero_before[:], self._written[:] = parked, zero_before, written
+        for i in np.flatnonzero(parked).tolist():
+            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.STATIC)
 
     def command(self, velocities: np.ndarray) -> None:
         """Apply this tick's commands (N, 2), units per tick: park, unpark, then write."""

@@ -31,6 +31,7 @@ from swarmsim import interrupts
 from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields, require_positive
 from swarmsim.physics import chipmunkcalls, contactrows
 from swarmsim.physics.bodysleep import BodyRows, IdTable, Parking
+from swarmsim.physics.spacestate import SpaceState, read_space, write_space
 from swarmsim.world.world import World
 
 ROBOT_TYPE = 1
@@ -148,87 +149,110 @@ _ARBITER_FIELDS = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
 _BODY_FIELDS = pb.BodyFields.POSITION | pb.BodyFields.VELOCITY
 
 
+def wall_segments(world: World) -> tuple[tuple[tuple[float, float], tuple[float, float]], ...]:
+    """The static wall segments of ``world`` (end points a, b, units): the arena's border,
+    then each obstacle's outline, ring by ring."""
+    xmin, ymin, xmax, ymax = world.arena
+    corners = [(xmin, ymin), (xmax, ymin), (xmax, ymax), (xmin, ymax)]
+    rings = [corners] + [list(ob.exterior.coords)[:-1] for ob in world.obstacles]
+    return tuple((a, b) for ring in rings for a, b in zip(ring, ring[1:] + ring[:1],
+                                                          strict=True))
+
+
 class Physics:
     """A pymunk Space with N disc robots; read states and write commands in batches."""
 
     def __init__(self, world: World, positions: np.ndarray, config: PhysicsConfig | None = None):
         self.config = config or PhysicsConfig()
         self.n = len(positions)
+        self._walls = wall_segments(world)
+        self.contacts = ContactStats(per_robot=np.zeros(self.n, dtype=np.int64),
+                                     per_robot_wall=np.zeros(self.n, dtype=np.int64))
+        self._sleep = self.config.physics_sleep
+        self._build_space(np.asarray(positions, dtype=float))
+        self._index_rows()
+        self._steps = 0  # physics ticks so far
+        self._contacts_at = -1  # the tick self._contacts describes
+        self._contacts = _Arbiters.none()
+        if self._sleep:
+            self._seat_parking()
+
+    def _build_space(self, positions: np.ndarray) -> None:
+        """A new Space with the walls and the robots at ``positions`` (N, 2) (each at rest,
+        its control body on it), the contact counters installed: the Space every run starts
+        with, and every restore starts from before it takes the saved state."""
         space = pymunk.Space()
         space.gravity = (0.0, 0.0)
         space.iterations = self.config.iterations
         space.collision_slop = self.config.collision_slop
         self.space = space
-        self.contacts = ContactStats(per_robot=np.zeros(self.n, dtype=np.int64),
-                                     per_robot_wall=np.zeros(self.n, dtype=np.int64))
         self._robots: list[pymunk.Body] = []
         self._controls: list[pymunk.Body] = []
-        self._add_walls(world)
-        self._add_robots(np.asarray(positions, dtype=float))
+        self._add_walls()
+        self._add_robots(positions)
         self._install_contact_counters()
-        self._index_rows()
         self._buf = pb.Buffer()
-        self._steps = 0  # physics ticks so far
-        self._contacts_at = -1  # the tick self._contacts describes
-        self._contacts = _Arbiters.none()
-        self._sleep = self.config.physics_sleep
         if self._sleep:
             space.sleep_time_threshold = self.config.physics_sleep_time
             space.idle_speed_threshold = IDLE_SPEED
-            self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
-            self._parking = Parking(self._robots, self._controls)
-            self._rows_at = -1  # the tick self._rows describes
-            self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
-            self._robot_at = chipmunkcalls.addresses(self._robots)
 
-    _RAW_HANDLES = ("_buf", "_calls", "_robot_at", "_rows", "_parking", "robot_rows",
-                    "control_rows", "_robot_of_body", "_robot_ids", "_cmd")
-    """Attributes that hold cffi buffers, raw Chipmunk addresses or pymunk body ids (which a
-    loaded copy's bodies do not share): left out of the pickle and rebuilt from the Space."""
+    def _seat_parking(self) -> None:
+        """The handles that sleeping needs, on the Space's bodies (none parked)."""
+        self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
+        self._parking = Parking(self._robots, self._controls)
+        self._rows_at = -1  # the tick self._rows describes
+        self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
+        self._robot_at = chipmunkcalls.addresses(self._robots)
+
+    _REBUILT = ("space", "_robots", "_controls", "_buf", "_calls", "_robot_at", "_rows",
+                "_parking", "_rows_at", "robot_rows", "control_rows", "n_rows",
+                "_robot_of_body", "_robot_ids", "_cmd")
+    """Attributes a pickle leaves out: the Space (kept as a :class:`SpaceState`), its bodies,
+    and what holds cffi buffers, raw Chipmunk addresses or pymunk body ids; all made again
+    on loading."""
 
     def __getstate__(self) -> dict:
-        """The state a pickle (a checkpoint: swarmsim/engine/checkpoint.py) keeps: the Space
-        (pymunk pickles it, cached contacts included), the run's bookkeeping, which robots are
-        parked, and which robots pymunk has asleep (pymunk's pickle leaves that out)."""
-        state = {k: v for k, v in self.__dict__.items() if k not in self._RAW_HANDLES}
+        """The state a pickle (a checkpoint: swarmsim/engine/checkpoint.py) keeps: the run's
+        bookkeeping, what varies in the Space (swarmsim/physics/spacestate.py: the bodies'
+        motion, the cached contacts), which robots are parked, and which robots pymunk has
+        asleep. The rest of the Space is made again from the configuration on loading."""
+        state = {k: v for k, v in self.__dict__.items() if k not in self._REBUILT}
+        state["_space_state"] = read_space(self.space, self._robots + self._controls)
         if self._sleep:
             state["_parking_arrays"] = self._parking.bookkeeping
             state["_asleep_at_save"] = self.bodies_asleep()
         return state
 
     def __setstate__(self, state: dict) -> None:
-        """Rebuild the handles from the loaded Space, and put back to sleep, one by one in
+        """Make the Space again as the constructor does (same bodies, shapes, joints and
+        handlers, added in the same order), give its bodies and cached contacts their saved
+        state, park the parked robots (robot order), then put back to sleep, one by one in
         robot order (``Body.sleep``: each its own sleeping group, idle time zero), the robots
         that were asleep. Every load of the same bytes does exactly this, so every load steps
-        alike (not exactly like the Space that was pickled: see checkpoint.py)."""
+        alike (not exactly like the Space that was saved: see checkpoint.py)."""
+        space_state: SpaceState = state.pop("_space_state")
         parking_arrays = state.pop("_parking_arrays", None)
         asleep = state.pop("_asleep_at_save", None)
         self.__dict__.update(state)
-        self._index_rows()
-        self._buf = pb.Buffer()
+        self._build_space(space_state.bodies[:self.n, 0:2])
+        write_space(self.space, self._robots + self._controls, space_state)
         if self._sleep:
-            self._rows = BodyRows([b.id for b in self._robots], [b.id for b in self._controls])
-            self._parking = Parking(self._robots, self._controls)
+            self._seat_parking()
             self._parking.take_bookkeeping(parking_arrays)
-            self._rows_at = -1
-            self._calls = chipmunkcalls.body_calls()
-            self._robot_at = chipmunkcalls.addresses(self._robots)
+        self._index_rows()
+        if self._sleep:
             for i in np.flatnonzero(asleep).tolist():
                 self._robots[i].sleep()
 
-    def _add_walls(self, world: World) -> None:
+    def _add_walls(self) -> None:
         static = self.space.static_body
-        xmin, ymin, xmax, ymax = world.arena
-        corners = [(xmin, ymin), (xmax, ymin), (xmax, ymax), (xmin, ymax)]
-        rings = [corners] + [list(ob.exterior.coords)[:-1] for ob in world.obstacles]
         wall_filter = pymunk.ShapeFilter(categories=WALL_CATEGORY)
-        for ring in rings:
-            for a, b in zip(ring, ring[1:] + ring[:1], strict=True):
-                seg = pymunk.Segment(static, a, b, WALL_THICKNESS / 2)
-                seg.friction = self.config.friction
-                seg.collision_type = WALL_TYPE
-                seg.filter = wall_filter
-                self.space.add(seg)
+        for a, b in self._walls:
+            seg = pymunk.Segment(static, a, b, WALL_THICKNESS / 2)
+            seg.friction = self.config.friction
+            seg.collision_type = WALL_TYPE
+            seg.filter = wall_filter
+            self.space.add(seg)
 
     def _add_robots(self, positions: np.ndarray) -> None:
         cfg = self.config

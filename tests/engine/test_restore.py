@@ -151,7 +151,9 @@ def test_files_that_are_not_checkpoints_of_this_code_are_refused(tmp_path, monke
     flipped[-50] ^= 0xFF
     other.write_bytes(bytes(flipped))
     assert "digest" in _refused(other)
-    other.write_bytes(data.replace(b'"format": 2', b'"format": 9', 1))
+    this_format = f'"format": {checkpoint.FORMAT}'.encode()
+    assert this_format in data
+    other.write_bytes(data.replace(this_format, b'"format": 9', 1))
     assert "format 9" in _refused(other)
     assert "cannot read" in _refused(tmp_path / "missing.ckpt")
     monkeypatch.setattr(checkpoint, "code_version", lambda: "9.9.9")
