@@ -15,6 +15,11 @@ from pathlib import Path
 GIT_TIMEOUT_S = 5.0
 
 
+CHECKOUT = Path(__file__).resolve().parents[2]
+"""The folder that holds the swarmsim package (this file is swarmsim/results/provenance.py):
+in a git checkout, the checkout."""
+
+
 @functools.cache
 def code_version() -> str:
     """``"0.1.0"``, or ``"0.1.0+g1a2b3c4"`` in a git checkout (``".dirty"`` appended when
@@ -30,7 +35,7 @@ def code_version() -> str:
 
 def _git(*args: str) -> str:
     """Output of a git command run in the package's checkout; "" if there is none."""
-    root = Path(__file__).resolve().parent.parent
+    root = CHECKOUT
     if not (root / ".git").exists():
         return ""
     try:
