@@ -53,7 +53,9 @@ DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": st
 DEFAULT_BOUNDS = {"robots": (MAX_ROBOTS, "robots in one run"),
                   "groups": (MAX_ROBOTS, "robots in one run"),
                   "max_ticks": (MAX_TICKS, "ticks in one run")}
-REPO_WORLDS_DIR = Path(__file__).resolve().parent.parent / "worlds"
+REPO_WORLDS_DIR = Path(__file__).resolve().parents[2] / "worlds"
+"""The shipped worlds in a checkout run without installing (PYTHONPATH=.); installed, they are
+the package data swarmsim.worlds."""
 MIN_FREE_FLOOR = math.pi * 0.4**2
 """Least free target floor a world may have, units^2: one robot's disc (default body radius
 0.4). Less, and no robot could stand on the target: every run would end at 0 % coverage."""

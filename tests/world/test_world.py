@@ -271,3 +271,9 @@ def test_a_start_spacing_below_a_body_width_is_refused():
 
     with pytest.raises(ConfigError, match="key 'spawn_spacing'.*robots would start overlapping"):
         Simulation("tiny", settings={"radius": 0.6, "start": "random"})
+
+
+def test_a_checkout_finds_its_worlds_without_the_package_data():
+    from swarmsim.world import world as world_module
+
+    assert (world_module.REPO_WORLDS_DIR / "K.toml").is_file()
