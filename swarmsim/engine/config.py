@@ -75,7 +75,22 @@ class SimConfig:
         distance_noise: sensing noise: relative sd of each sensed neighbour distance.
         bearing_noise: sensing noise: sd of each sensed neighbour bearing, radians.
         message_loss: probability that a neighbour's broadcast is lost (per receiver,
-            neighbour and tick), in [0, 1]; a lost message reads like a silent neighbour.
+            neighbour and tick), in [0, 1]; a lost message reads like a silent neighbour. With
+            message_model "logistic" it is a loss on top that does not depend on distance.
+        message_model: "uniform" (loss does not depend on distance: message_loss) or
+            "logistic" (a broadcast from distance d arrives with probability 1 / (1 +
+            exp((d - message_range50) / message_falloff)), per receiver, neighbour and tick;
+            see docs/sensing-models.md).
+        message_range50: logistic model: distance at which half the broadcasts arrive, units
+            (> 0 with message_model "logistic"; 0 otherwise).
+        message_falloff: logistic model: width of the fall-off, units: success falls from
+            about 73 % at message_range50 - message_falloff to about 27 % at message_range50 +
+            message_falloff (> 0 with message_model "logistic"; 0 otherwise).
+        floor_edge_band: a robot whose centre is within this distance (units) of the target's
+            edge, on either side, may misread its floor sensor (on_target); 0 = exact
+            everywhere. Set with floor_edge_misread.
+        floor_edge_misread: probability that a robot within floor_edge_band reads its floor
+            sensor wrongly (per robot and tick), in [0, 1]; the floor probe stays exact.
         sensing_limit: largest distance (units) at which a robot senses and hears neighbours,
             whatever its controller's range (e.g. GGC's R_c = 15); 0 = the controller's range.
         displaced_threshold: a settled robot (GGC: Arrive) counts as displaced (pushed out of
@@ -112,6 +127,11 @@ class SimConfig:
     distance_noise: float = 0.0
     bearing_noise: float = 0.0
     message_loss: float = 0.0
+    message_model: str = "uniform"
+    message_range50: float = 0.0
+    message_falloff: float = 0.0
+    floor_edge_band: float = 0.0
+    floor_edge_misread: float = 0.0
     sensing_limit: float = 0.0
     displaced_threshold: float = 0.1
 
@@ -177,11 +197,43 @@ class SimConfig:
         if not self.displaced_threshold > 0:
             raise ConfigError(f"must be positive, got {self.displaced_threshold!r}",
                               key="displaced_threshold")
+        self._check_message_model()
+        self._check_floor_misreads()
+
+    def _check_message_model(self) -> None:
+        if self.message_model not in ("uniform", "logistic"):
+            raise ConfigError(f"must be 'uniform' or 'logistic', got {self.message_model!r}",
+                              key="message_model")
+        for name in ("message_range50", "message_falloff"):
+            value = getattr(self, name)
+            if self.message_model == "logistic" and not value > 0:
+                raise ConfigError(f"must be positive with message_model 'logistic', got "
+                                  f"{value!r}", key=name)
+            if self.message_model == "uniform" and value != 0:
+                raise ConfigError(f"is used only with message_model 'logistic' (got {value!r} "
+                                  "with message_model 'uniform'): set message_model too",
+                                  key=name)
+
+    def _check_floor_misreads(self) -> None:
+        if not self.floor_edge_band >= 0:
+            raise ConfigError(f"must be >= 0, got {self.floor_edge_band!r}",
+                              key="floor_edge_band")
+        if not 0 <= self.floor_edge_misread <= 1:
+            raise ConfigError(f"must be in [0, 1], got {self.floor_edge_misread!r}",
+                              key="floor_edge_misread")
+        if (self.floor_edge_band > 0) != (self.floor_edge_misread > 0):
+            given, other = (("floor_edge_band", "floor_edge_misread")
+                            if self.floor_edge_band > 0 else
+                            ("floor_edge_misread", "floor_edge_band"))
+            raise ConfigError(f"{getattr(self, given)!r} does nothing while {other} is 0: set "
+                              f"{other} too", key=given)
 
     def noise_levels(self) -> NoiseLevels:
         """The run's imperfections (all zero by default)."""
         return NoiseLevels(self.speed_noise, self.heading_noise, self.distance_noise,
-                           self.bearing_noise, self.message_loss)
+                           self.bearing_noise, self.message_loss, self.message_model,
+                           self.message_range50, self.message_falloff, self.floor_edge_band,
+                           self.floor_edge_misread)
 
 
 def settings_from_pairs(pairs: Sequence[str], options: Mapping[str, Any]) -> dict[str, Any]:

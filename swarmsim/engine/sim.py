@@ -465,7 +465,7 @@ class Simulation:
         """Decide the awake robots of one chunk from their neighbourhood ``views``."""
         if len(awake) == 0:
             return
-        heard = self._heard(views.neighbours)
+        heard = self._heard(views.neighbours, lambda: np.repeat(awake, views.counts))
         starts = np.zeros(len(awake) + 1, dtype=np.int64)
         np.cumsum(views.counts, out=starts[1:])
         offsets, distances = views.offsets, views.distances
@@ -473,7 +473,9 @@ class Simulation:
         bearings = None if self.world.beacon is None else tickrows.bearings(self.world.beacon,
                                                                            here)
         probe_at, tick = self.floor.probe_at, self.tick
-        on, shift = self.on_target[awake], moved[awake]
+        on = self.imperfect.read_floor(self.on_target[awake],
+                                       lambda: self.floor.edge_distance(here))
+        shift = moved[awake]
 
         @functools.cache  # the per-robot path's Python lists, made when first asked for
         def listed() -> tuple[list, list, list]:
@@ -498,14 +500,19 @@ class Simulation:
         except BadAction as bad:
             raise self._blamed(bad, self._decider, tick, awake) from None
 
-    def _heard(self, senders: np.ndarray) -> np.ndarray:
+    def _heard(self, senders: np.ndarray, receivers: Callable[[], np.ndarray]) -> np.ndarray:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
-        read as silent)."""
+        read as silent); ``receivers()``: who hears each (asked only by a message model that
+        depends on distance)."""
         # the rows as opaque records, taken with np.take: bytes copied, not field by field
         heard = np.take(as_records(self.messages), senders).view(self.dtype)
         if np.count_nonzero(self.failed):
             heard[self.failed[senders]] = self.silent
-        lost = self.imperfect.lost(len(heard))
+        distances = None
+        if self.imperfect.loss_needs_distances:  # true distances, not the sensed ones
+            gap = self.positions[senders] - self.positions[receivers()]
+            distances = np.sqrt(gap[:, 0] * gap[:, 0] + gap[:, 1] * gap[:, 1])
+        lost = self.imperfect.lost(len(heard), distances)
         if lost is not None:
             heard[lost] = self.silent
         heard.flags.writeable = False  # every robot gets a read-only view of its part

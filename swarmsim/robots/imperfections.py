@@ -15,10 +15,27 @@ miss a message. Collision-realism studies turn these on one at a time (run setti
 * ``message_loss``: each neighbour's broadcast is lost with this probability, independently per
   receiver, neighbour and tick. A lost message reads like a silent neighbour (``id`` = -1,
   see :func:`swarmsim.controller.silent_message`): the robot is sensed but not heard.
+  This is ``message_model = "uniform"`` (the default): loss that does not depend on distance.
+* ``message_model = "logistic"``: a broadcast from a neighbour at true distance d (units)
+  arrives with probability ``1 / (1 + exp((d - message_range50) / message_falloff))``
+  (:func:`logistic_success`), independently per receiver, neighbour and tick: a logistic
+  fall-off with range, the shape Pogosim fits to real robots' message success.
+  ``message_range50`` is the distance at which half the messages arrive, ``message_falloff``
+  the width over which success falls (from about 73 % at ``range50 - falloff`` to about 27 %
+  at ``range50 + falloff``). ``message_loss`` combines with it as a loss that does not depend
+  on distance: a message then arrives with probability ``(1 - message_loss) * logistic(d)``
+  (one draw per message).
+* ``floor_edge_band`` and ``floor_edge_misread``: a robot whose centre is within
+  ``floor_edge_band`` units of the target's edge (its outline or a hole's, on either side)
+  reads its floor sensor (``on_target``) wrongly with probability ``floor_edge_misread``,
+  independently per robot and tick; farther from the edge the reading is exact. The floor
+  probe stays exact. Both 0 (the default) is off; setting one without the other is refused.
 
 Each imperfection draws from its own numpy Generator derived from the run seed, so one seed
 still decides a run bit for bit, and switching one imperfection on leaves the others' draws as
-they were. When every level is 0 nothing is drawn and runs are exactly the ideal runs.
+they were. When every level is 0 (and the message model is uniform) nothing is drawn and runs
+are exactly the ideal runs. The logistic model draws from the stream ``message_loss`` uses
+(one draw per message for both); the floor's misreads from their own.
 
 Sleeping robots (waiting or arrived) are not re-evaluated, so they draw no sensing noise until
 something near them changes: noise models what a robot does when it acts on its senses.
@@ -26,11 +43,12 @@ something near them changes: noise models what a robot does when it acts on its 
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-STREAMS = {"actuation": 0xAC70, "sensing": 0x5E45, "messages": 0x1055}
+STREAMS = {"actuation": 0xAC70, "sensing": 0x5E45, "messages": 0x1055, "floor": 0xF1_00}
 """Spawn keys of the imperfection Generators' SeedSequences (distinct from other streams)."""
 
 
@@ -44,6 +62,12 @@ class NoiseLevels:
         distance_noise: relative sd of sensed neighbour distances (>= 0).
         bearing_noise: sd of sensed neighbour bearings, radians (>= 0).
         message_loss: probability that a neighbour's message is lost, in [0, 1].
+        message_model: "uniform" (message_loss) or "logistic" (success falls with distance).
+        message_range50: logistic model: distance at which half the messages arrive, units.
+        message_falloff: logistic model: width of the fall-off, units (> 0).
+        floor_edge_band: distance from the target's edge within which the floor sensor may
+            misread, units (0 = exact everywhere).
+        floor_edge_misread: probability of a misread within that band, in [0, 1].
     """
 
     speed_noise: float = 0.0
@@ -51,6 +75,11 @@ class NoiseLevels:
     distance_noise: float = 0.0
     bearing_noise: float = 0.0
     message_loss: float = 0.0
+    message_model: str = "uniform"
+    message_range50: float = 0.0
+    message_falloff: float = 0.0
+    floor_edge_band: float = 0.0
+    floor_edge_misread: float = 0.0
 
     @property
     def actuation(self) -> bool:
@@ -59,6 +88,23 @@ class NoiseLevels:
     @property
     def sensing(self) -> bool:
         return self.distance_noise > 0 or self.bearing_noise > 0
+
+    @property
+    def logistic_messages(self) -> bool:
+        """Messages arrive with a probability that falls with distance."""
+        return self.message_model == "logistic"
+
+    @property
+    def floor_misreads(self) -> bool:
+        """The floor sensor misreads near the target's edge."""
+        return self.floor_edge_band > 0 and self.floor_edge_misread > 0
+
+
+def logistic_success(distances: np.ndarray, range50: float, falloff: float) -> np.ndarray:
+    """P(a message crosses each of ``distances``, units) under the logistic model:
+    ``1 / (1 + exp((d - range50) / falloff))``, in [0, 1] (exp overflowing far out reads 0)."""
+    with np.errstate(over="ignore"):
+        return 1.0 / (1.0 + np.exp((np.asarray(distances, dtype=float) - range50) / falloff))
 
 
 class Imperfections:
@@ -103,11 +149,45 @@ class Imperfections:
         bearing = bearing + lv.bearing_noise * draws[:, 1]
         return np.column_stack([dist * np.cos(bearing), dist * np.sin(bearing)])
 
-    def lost(self, count: int) -> np.ndarray | None:
-        """(count,) bool: which of ``count`` heard messages are lost (None: none can be)."""
-        p = self.levels.message_loss
+    @property
+    def loss_needs_distances(self) -> bool:
+        """Whether :meth:`lost` needs each message's distance (the logistic model)."""
+        return self.levels.logistic_messages
+
+    def lost(self, count: int, distances: np.ndarray | None = None) -> np.ndarray | None:
+        """(count,) bool: which of ``count`` heard messages are lost (None: none can be).
+
+        ``distances`` (count,), units: each message's true sender-receiver distance; needed
+        (and only read) with the logistic model (:attr:`loss_needs_distances`)."""
+        lv = self.levels
+        if lv.logistic_messages:
+            if distances is None or len(distances) != count:
+                raise ValueError("the logistic message model needs each message's distance")
+            if count == 0:
+                return None
+            success = logistic_success(distances, lv.message_range50, lv.message_falloff)
+            if lv.message_loss > 0:
+                success = success * (1.0 - lv.message_loss)
+            return self._rng["messages"].random(count) >= success
+        p = lv.message_loss
         if p <= 0 or count == 0:
             return None
         if p >= 1:
             return np.ones(count, dtype=bool)
         return self._rng["messages"].random(count) < p
+
+    def read_floor(self, on_target: np.ndarray, edge_distance: Callable[[], np.ndarray]
+                   ) -> np.ndarray:
+        """What robots' floor sensors read, given the true ``on_target`` (R,) bool and
+        ``edge_distance()`` (R,), units: their distances to the target's edge (asked only when
+        the floor misreads). One draw per robot within the band, in the order given."""
+        lv = self.levels
+        if not lv.floor_misreads or len(on_target) == 0:
+            return on_target
+        near = np.flatnonzero(edge_distance() < lv.floor_edge_band)
+        if len(near) == 0:
+            return on_target
+        flip = self._rng["floor"].random(len(near)) < lv.floor_edge_misread
+        read = on_target.copy()
+        read[near[flip]] = ~read[near[flip]]
+        return read

@@ -70,3 +70,24 @@ def refresh(on_target, positions, before, edges):  # pragma: no cover - compiled
         if positions[i, 0] != before[i, 0] or positions[i, 1] != before[i, 1]:
             out[i] = inside(positions[i, 0], positions[i, 1], edges)
     return out
+
+
+@njit(cache=True)
+def edge_distance(xs, ys, edges):  # pragma: no cover - compiled
+    """(N,) float64: each point's (xs[k], ys[k]) distance to the nearest edge (E, 4) of the
+    polygon (outline or hole), units: how far the point is from where the floor changes."""
+    out = np.empty(len(xs), dtype=np.float64)
+    for k in range(len(xs)):
+        px, py = xs[k], ys[k]
+        best = np.inf
+        for e in range(edges.shape[0]):
+            x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
+            dx, dy = x1 - x0, y1 - y0
+            length2 = dx * dx + dy * dy
+            t = 0.0
+            if length2 > 0.0:
+                t = min(1.0, max(0.0, ((px - x0) * dx + (py - y0) * dy) / length2))
+            ex, ey = x0 + t * dx - px, y0 + t * dy - py
+            best = min(best, ex * ex + ey * ey)
+        out[k] = np.sqrt(best)
+    return out

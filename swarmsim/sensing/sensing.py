@@ -46,6 +46,13 @@ class FloorSensor:
         same floor)."""
         return floortest.refresh(on_target, positions, before, self._edges)
 
+    def edge_distance(self, positions: np.ndarray) -> np.ndarray:
+        """(N,) each of ``positions`` (N, 2)'s distance to the target's nearest edge (its
+        outline or a hole's), units: how near a robot there is to where its floor reading
+        changes."""
+        at = np.ascontiguousarray(positions, dtype=np.float64)
+        return floortest.edge_distance(at[:, 0], at[:, 1], self._edges)
+
     def probes(self, at: np.ndarray) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
         """Many robots' probes in one query, for robots at ``at`` (R, 2), units:
         ``probes(at)(ks, offsets)`` is (M,) bool, entry j the floor at robot ``ks[j]``'s
