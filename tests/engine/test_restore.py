@@ -18,8 +18,8 @@ import pytest
 from swarmsim import Simulation
 from swarmsim.engine import checkpoint
 from swarmsim.engine.hooks import Hook
-from swarmsim.engine.sim import TIMING_FIELDS
 from swarmsim.errors import ConfigError
+from tests.run_outcome import outcome as _outcome
 
 ROOT = Path(__file__).resolve().parents[2]
 CROWDER = "tests.resume_bots:Crowder"  # a user's per-robot controller (module:Class)
@@ -42,21 +42,6 @@ def _saved(controller: str, path: Path) -> Simulation:
         sim.advance()
     sim.save(path)
     return sim
-
-
-def _untimed(summary: dict) -> dict:
-    return {k: v for k, v in summary.items() if k not in TIMING_FIELDS}
-
-
-def _outcome(sim: Simulation) -> tuple:
-    """Everything a run's end is compared by: summary (untimed), series, robots.csv rows,
-    positions and broadcasts as bytes, engine sleep, controller state."""
-    result = sim.run()
-    swarm = sim.swarm
-    state = (swarm.state.tobytes() if hasattr(swarm, "state")
-             else pickle.dumps([vars(robot) for robot in swarm.robots]))
-    return (sim.tick, _untimed(result.summary), result.timeseries, result.robots,
-            sim.positions.tobytes(), sim.messages.tobytes(), sim.asleep.tobytes(), state)
 
 
 @pytest.mark.parametrize("controller", list(RUNS))

@@ -259,7 +259,7 @@ def test_the_new_draws_do_not_depend_on_decision_order_or_chunking(monkeypatch):
 
 def test_a_run_with_the_new_models_restores_to_the_same_end(tmp_path):
     """The message and floor streams are part of a checkpoint: the restored run draws on."""
-    from tests.engine.test_restore import _outcome
+    from tests.run_outcome import outcome as _outcome
 
     first = Simulation("tiny", controller="ggc", seed=3, max_ticks=350,
                        settings={**LOGISTIC, "floor_edge_band": 1.0, "floor_edge_misread": 0.2})
