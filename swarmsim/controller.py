@@ -32,6 +32,7 @@ package's pyproject.toml (swarmsim.registry), or run it unregistered: name it as
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, TypeAlias, cast, runtime_checkable
@@ -101,6 +102,10 @@ class RobotSetup:
         groups: number of groups K in this run.
         scattered: True when the robots start scattered at random (start "random"): groups
             must still be formed and gathered; False when they start in formation.
+        turn_rate: the fastest its drive turns the robot in place, rad/tick; ``inf`` for a
+            holonomic robot, which needs no turning to change direction. A hardware fact of
+            the robot's own body, like its wheels; not world state.
+        reverse: True when its drive can move backward without first turning round.
     """
 
     robot_id: int
@@ -108,6 +113,8 @@ class RobotSetup:
     group: int = 0
     groups: int = 1
     scattered: bool = False
+    turn_rate: float = math.inf
+    reverse: bool = True
 
 
 @dataclass(frozen=True, slots=True)
