@@ -7,6 +7,7 @@ sleep are skipped until something within their sensing range moves or changes it
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import gc
 import time
@@ -51,6 +52,7 @@ from swarmsim.registry import resolve_controller
 from swarmsim.results.provenance import code_version
 from swarmsim.results.snapshot import Snapshot
 from swarmsim.results.summary import SummaryCollector
+from swarmsim.robots.drives import make_drive
 from swarmsim.robots.imperfections import Imperfections
 from swarmsim.sensing.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.world import spawn
@@ -238,7 +240,11 @@ class Simulation:
         self.n = len(positions)
         self.start_groups = np.array([s.group for s in setups], dtype=np.int64)
         self.start_leaders = np.array([s.leader for s in setups], dtype=bool)
-        self.physics = Physics(self.world, positions, self.physics_config)
+        self.drive = make_drive(self.physics_config, cfg.seed, self.n)
+        """The robots' drive model (swarmsim/robots/drives.py): holonomic, diff, kilobot."""
+        setups = self._with_drive_traits(setups)
+        self.physics = Physics(self.world, positions, self.physics_config,
+                               angles=self.drive.start_headings())
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
         with self._controller_call("sensing_range()"):
@@ -268,6 +274,8 @@ class Simulation:
         self.wake_tick = np.full(self.n, NEVER, dtype=np.int64)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
+        if self.drive.has_heading:
+            self._motion = np.zeros((self.n, 2))
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size, self.world.obstacles)
         self.metrics = RunMetrics(standard_parts(self.grid, cfg, self.physics,
@@ -303,6 +311,15 @@ class Simulation:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
         self.summary_sources.add("controller", self._controller_summary)
+
+    def _with_drive_traits(self, setups: list[RobotSetup]) -> list[RobotSetup]:
+        """``setups`` telling each robot what its drive can do (turn rate, reverse); a
+        holonomic run's as they are (the defaults say holonomic)."""
+        if not self.drive.has_heading:
+            return setups
+        rates, reverse = self.drive.turn_rates().tolist(), self.drive.reverse
+        return [dataclasses.replace(setup, turn_rate=rate, reverse=reverse)
+                for setup, rate in zip(setups, rates, strict=True)]
 
     def _fault_injector(self) -> FaultInjector | None:
         """The hook that fails robots as the run's ``failures`` settings ask (None: none)."""
@@ -407,7 +424,7 @@ class Simulation:
         self.velocities = self.imperfect.actuate(velocities)
         t2 = clock()
         sense_s, decide_s = (t1 - t0) - decide_s, decide_s + (t2 - t1)
-        self.physics.command(self.velocities)
+        self._command_drive()
         self.physics.step()
         self.tick += 1
         self._prev_positions = pos
@@ -421,6 +438,24 @@ class Simulation:
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
         interrupts.raise_pending()  # one noted during the physics step: the tick is whole
+
+    @property
+    def motion(self) -> np.ndarray:
+        """(N, 2) what the drive made of ``velocities`` this tick: the velocities of the
+        robots' drive points, units/tick (a holonomic run's: ``velocities`` themselves)."""
+        return self._motion if self.drive.has_heading else self.velocities
+
+    def _command_drive(self) -> None:
+        """Hand this tick's ``velocities`` to the bodies: directly (holonomic: the code path
+        of every run before drives existed), or through the drive, which steers each body
+        from its heading."""
+        if not self.drive.has_heading:
+            self.physics.command(self.velocities)
+            return
+        lin, spin = self.drive.motion(self.velocities, None, self.physics.headings(),
+                                      ~self.failed)
+        self._motion = lin
+        self.physics.command_motion(lin, spin)
 
     def _on_target_now(self, before: np.ndarray) -> np.ndarray:
         """(N,) the floor sensors after the physics step (robots were at ``before``)."""
