@@ -25,9 +25,10 @@ them as motors on or off.
 
 Random streams (:data:`DRIVE_STREAMS`), each ``SeedSequence(seed, spawn_key=(key,))``, apart
 from every other stream of a run (a run's own spawn children and the imperfections' keys), so
-drawing them changes no other draw: ``drive_setup`` is drawn once, at setup: N start headings
-uniform in [-pi, pi), then (kilobot) an (N, 3) block of normals for the calibration; ``drive``
-draws the kilobot's stick-slip each tick. Holonomic draws nothing.
+drawing them changes no other draw. ``drive_setup``: N start headings uniform in [-pi, pi),
+once, at setup; ``drive_calibration`` (kilobot): an (N, 3) block of normals, once, at setup,
+row by row, so robot i's calibration depends on the seed and i alone; ``drive``: the kilobot's
+stick-slip, each tick. Holonomic draws nothing.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from swarmsim.kernels.warmup import kernel_warm_up
 DRIVE_NAMES = ("holonomic", "diff", "kilobot")
 """The drives a run may name (``drive=NAME``)."""
 
-DRIVE_STREAMS = {"drive_setup": 0xD21E, "drive": 0xD21F}
+DRIVE_STREAMS = {"drive_setup": 0xD21E, "drive": 0xD21F, "drive_calibration": 0xD220}
 """Spawn keys of the drives' random streams (see the module docstring)."""
 
 TURN_GAIN = 0.5
@@ -123,8 +124,7 @@ class DiffDrive:
         self.wheel_speed = float(config.wheel_speed)
         self.wheel_accel = float(config.wheel_accel)
         self.reverse = bool(config.reverse)
-        self._setup_rng = drive_rng(seed, "drive_setup")
-        self._headings = self._setup_rng.uniform(-math.pi, math.pi, n)
+        self._headings = drive_rng(seed, "drive_setup").uniform(-math.pi, math.pi, n)
         self.wheels = np.zeros((n, 2))
 
     def start_headings(self) -> np.ndarray:
@@ -209,7 +209,7 @@ def diff_motion(given, use_wheels, heading, active, last, base, top, accel, reve
 
 class KilobotDrive:
     """Kilobot-like drive (see the module docstring). Each robot's calibration is drawn once
-    from the seed (``drive_setup`` stream, after the start headings): ``fwd_factor``,
+    from the seed (``drive_calibration`` stream): ``fwd_factor``,
     ``turn_factor`` (N,) relative (>= MIN_FACTOR), ``curve`` (N,) rad/tick; the stick-slip of
     each tick from the ``drive`` stream.
 
@@ -229,9 +229,8 @@ class KilobotDrive:
         self.align = float(config.kilobot_align)
         self.stick = float(config.kilobot_stick)
         self.slip = float(config.kilobot_slip)
-        setup_rng = drive_rng(seed, "drive_setup")
-        self._headings = setup_rng.uniform(-math.pi, math.pi, n)
-        z = setup_rng.standard_normal((n, 3))
+        self._headings = drive_rng(seed, "drive_setup").uniform(-math.pi, math.pi, n)
+        z = drive_rng(seed, "drive_calibration").standard_normal((n, 3))
         self.fwd_factor = np.maximum(MIN_FACTOR, 1 + config.kilobot_bias * z[:, 0])
         self.turn_factor = np.maximum(MIN_FACTOR, 1 + config.kilobot_bias * z[:, 1])
         self.curve = config.kilobot_curve * z[:, 2]
