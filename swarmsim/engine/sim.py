@@ -174,6 +174,10 @@ class Simulation:
                 raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "
                                   f"(2 x radius = {body:g}): robots would start overlapping",
                                   key=name)
+        if self.info.commands == "wheels" and self.physics_config.drive == "holonomic":
+            raise ConfigError(f"controller {self.controller_name!r} commands wheels (COMMANDS = "
+                              "'wheels'), but drive=holonomic has none: set drive=diff or "
+                              "drive=kilobot", key="drive")
         spawn.check_capacity(self.world, self.config.robots, self._start(),
                              self.config.spawn_spacing, self.config.formation_spacing)
         reach = self._probe_range()
@@ -274,8 +278,13 @@ class Simulation:
         self.wake_tick = np.full(self.n, NEVER, dtype=np.int64)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
+        self._turned = np.zeros(self.n)
+        """(N,) each body's turn over the previous tick, rad (Perception.turned); zeros for a
+        holonomic drive."""
         if self.drive.has_heading:
             self._motion = np.zeros((self.n, 2))
+            self._headings = self.physics.headings()
+            """(N,) the body angles at the start of this tick, rad (read before deciding)."""
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size, self.world.obstacles)
         self.metrics = RunMetrics(standard_parts(self.grid, cfg, self.physics,
@@ -412,6 +421,8 @@ class Simulation:
         for hook in self.hooks:
             hook.pre_step(self)
         pos = self.positions
+        if self.drive.has_heading:
+            self._read_headings()
         search = NeighbourSearch(pos)
         awake = self._awake_robots()
         new_messages = as_records(self.messages).copy().view(self.dtype)
@@ -420,8 +431,13 @@ class Simulation:
         t1 = clock()
         self._changed_msg = tickrows.rows_differ(new_messages, self.messages, awake)
         self.messages = new_messages
-        tickrows.clamp_rows(velocities, awake, self.config.v_max)  # the others stand still
-        self.velocities = self.imperfect.actuate(velocities)
+        if self.info.commands == "wheels":  # (left, right) wheel speeds
+            top = self.physics_config.wheel_speed
+            np.clip(velocities, -top, top, out=velocities)
+            self.velocities = self.imperfect.actuate_wheels(velocities)
+        else:
+            tickrows.clamp_rows(velocities, awake, self.config.v_max)  # the others stand still
+            self.velocities = self.imperfect.actuate(velocities)
         t2 = clock()
         sense_s, decide_s = (t1 - t0) - decide_s, decide_s + (t2 - t1)
         self._command_drive()
@@ -452,10 +468,20 @@ class Simulation:
         if not self.drive.has_heading:
             self.physics.command(self.velocities)
             return
-        lin, spin = self.drive.motion(self.velocities, None, self.physics.headings(),
+        wheels = self.info.commands == "wheels"
+        lin, spin = self.drive.motion(None if wheels else self.velocities,
+                                      self.velocities if wheels else None, self._headings,
                                       ~self.failed)
         self._motion = lin
         self.physics.command_motion(lin, spin)
+
+    def _read_headings(self) -> None:
+        """Read the body angles at the start of a tick (a drive with a heading) and each
+        robot's turn since the last read (odometry: Perception.turned), wrapped to
+        [-pi, pi)."""
+        headings = self.physics.headings()
+        self._turned = (headings - self._headings + np.pi) % (2 * np.pi) - np.pi
+        self._headings = headings
 
     def _on_target_now(self, before: np.ndarray) -> np.ndarray:
         """(N,) the floor sensors after the physics step (robots were at ``before``)."""
@@ -511,21 +537,22 @@ class Simulation:
         on = self.imperfect.read_floor(self.on_target[awake],
                                        lambda: self.floor.edge_distance(here))
         shift = moved[awake]
+        turned = self._turned[awake]
 
         @functools.cache  # the per-robot path's Python lists, made when first asked for
-        def listed() -> tuple[list, list, list]:
-            return starts.tolist(), here.tolist(), on.tolist()
+        def listed() -> tuple[list, list, list, list]:
+            return starts.tolist(), here.tolist(), on.tolist(), turned.tolist()
 
         def perceive(k: int) -> Perception:
-            bounds, at, on_list = listed()
+            bounds, at, on_list, turned_list = listed()
             a, b = bounds[k], bounds[k + 1]
             return make_perception(tick, offsets[a:b], distances[a:b], heard[a:b], on_list[k],
                                    probe_at(*at[k]), None if bearings is None else bearings[k],
-                                   shift[k])
+                                   shift[k], turned_list[k])
 
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
                             bearings, lambda k: probe_at(*listed()[1][k]), perceive,
-                            self.floor.probes(here))
+                            self.floor.probes(here), turned)
         try:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
