@@ -109,3 +109,13 @@ def test_the_wheel_walker_example_brings_robots_to_the_target():
         sim = Simulation("tiny", controller="examples.wheel_walker:WheelWalker", robots=10,
                          seed=1, max_ticks=600, settings={"drive": drive_name})
         assert sim.run().summary["robots_on_target"] >= 9
+
+
+def test_a_controller_commanding_something_else_is_refused():
+    class Legs(FixedWheels):
+        COMMANDS = "legs"
+
+    with pytest.raises(ConfigError, match="COMMANDS must be one of velocity, wheels") as no:
+        Simulation.check(square_world(), controller=Legs, robots=3,
+                         settings={"drive": "diff"})
+    assert no.value.key == "controller"
