@@ -76,8 +76,8 @@ class PhysicsConfig:
         physics_sleep_time: how long a parked robot must rest (zero velocity) before pymunk
             puts it to sleep, ticks (pymunk's sleep_time_threshold).
         drive: the robots' drive model (swarmsim/robots/drives.py, docs/drives.md):
-            "holonomic" (moves in any direction at once; the default, and every setting
-            below is ignored), "diff" (differential drive) or "kilobot".
+            "holonomic" (moves in any direction at once; the default; it ignores every
+            drive setting), "diff" (differential drive) or "kilobot".
         wheel_base: diff: distance between the two wheels, units.
         wheel_speed: diff: top speed of a wheel, units/tick; kilobot: forward speed of a
             wheel-commanding controller's robot.
