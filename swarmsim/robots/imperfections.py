@@ -5,7 +5,8 @@ miss a message. Collision-realism studies turn these on one at a time (run setti
 :class:`swarmsim.engine.config.SimConfig`):
 
 * ``speed_noise``: each tick a moving robot's commanded speed is multiplied by
-  ``1 + speed_noise * N(0, 1)`` (relative standard deviation; 0.05 = 5 %).
+  ``1 + speed_noise * N(0, 1)`` (relative standard deviation; 0.05 = 5 %); a robot that
+  commands its wheels (docs/drives.md) has each wheel's speed multiplied so, a draw per wheel.
 * ``heading_noise``: and its commanded direction is turned by ``heading_noise * N(0, 1)``
   radians. A robot commanding zero velocity stays still (no drift while waiting).
 * ``distance_noise``: each sensed neighbour distance d becomes ``d * (1 + distance_noise *
