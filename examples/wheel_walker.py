@@ -63,7 +63,7 @@ class WheelWalker:
 
     def step(self, perception: Perception) -> Action:
         self._estimate_heading(perception)
-        if perception.on_target:
+        if perception.on_target or perception.beacon is None:
             self.straight = False
             return Action((0.0, 0.0), {"status": ARRIVED, "moving": False}, sleep=True)
         p = self.params

@@ -55,6 +55,23 @@ MIN_FACTOR = 0.2
 """A kilobot's calibration factors (forward, turn) are never below this."""
 
 
+class DriveSettings(Protocol):
+    """The settings a drive reads (swarmsim.physics.physics.PhysicsConfig has them all; see its
+    docstring for each one's meaning and units)."""
+
+    drive: str
+    wheel_base: float
+    wheel_speed: float
+    wheel_accel: float
+    reverse: bool
+    kilobot_turn: float
+    kilobot_align: float
+    kilobot_bias: float
+    kilobot_curve: float
+    kilobot_stick: float
+    kilobot_slip: float
+
+
 def drive_rng(seed: int, stream: str) -> np.random.Generator:
     """The Generator of drive stream ``stream`` (a key of :data:`DRIVE_STREAMS`) of run ``seed``."""
     return np.random.default_rng(np.random.SeedSequence(seed,
@@ -101,7 +118,8 @@ class Holonomic:
     def turn_rates(self) -> np.ndarray:
         return np.full(self.n, math.inf)
 
-    def motion(self, wish, wheels, heading, active):
+    def motion(self, wish: np.ndarray | None, wheels: np.ndarray | None, heading: np.ndarray,
+               active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         raise RuntimeError("a holonomic robot has no drive motion: the engine commands it "
                            "directly")
 
@@ -118,7 +136,7 @@ class DiffDrive:
 
     has_heading = True
 
-    def __init__(self, config, seed: int, n: int):
+    def __init__(self, config: DriveSettings, seed: int, n: int):
         self.n = n
         self.wheel_base = float(config.wheel_base)
         self.wheel_speed = float(config.wheel_speed)
@@ -133,7 +151,8 @@ class DiffDrive:
     def turn_rates(self) -> np.ndarray:
         return np.full(self.n, 2 * self.wheel_speed / self.wheel_base)
 
-    def motion(self, wish, wheels, heading, active):
+    def motion(self, wish: np.ndarray | None, wheels: np.ndarray | None, heading: np.ndarray,
+               active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lin, spin = np.empty((self.n, 2)), np.empty(self.n)
         use_wheels = wheels is not None
         given = np.ascontiguousarray(wheels if use_wheels else wish, dtype=np.float64)
@@ -222,7 +241,7 @@ class KilobotDrive:
     has_heading = True
     reverse = False
 
-    def __init__(self, config, seed: int, n: int):
+    def __init__(self, config: DriveSettings, seed: int, n: int):
         self.n = n
         self.speed = float(config.wheel_speed)
         self.turn = float(config.kilobot_turn)
@@ -242,7 +261,8 @@ class KilobotDrive:
     def turn_rates(self) -> np.ndarray:
         return self.turn * self.turn_factor
 
-    def motion(self, wish, wheels, heading, active):
+    def motion(self, wish: np.ndarray | None, wheels: np.ndarray | None, heading: np.ndarray,
+               active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lin, spin = np.empty((self.n, 2)), np.empty(self.n)
         use_wheels = wheels is not None
         given = np.ascontiguousarray(wheels if use_wheels else wish, dtype=np.float64)
@@ -312,7 +332,7 @@ def kilobot_motion(given, use_wheels, heading, active, speed, turn, align, fwd_f
         lin[i, 1] = ahead * math.sin(heading[i])
 
 
-def make_drive(config, seed: int, n: int) -> Drive:
+def make_drive(config: DriveSettings, seed: int, n: int) -> Drive:
     """The drive ``config.drive`` names (a PhysicsConfig), for ``n`` robots of run ``seed``."""
     if config.drive == "holonomic":
         return Holonomic(n)
