@@ -179,6 +179,13 @@ class Parking:
         self.written_spin = np.zeros(n)
         """The control bodies' spins written (a steering drive's, :meth:`command_spin`),
         rad/tick; a checkpoint keeps it beside :attr:`bookkeeping`."""
+        self._set_spin: int | None = None  # cpBodySetAngularVelocity for compiled code
+
+    def prepare_spin(self) -> None:
+        """Make :meth:`command_spin`'s compiled calls ready (compiled or loaded, and checked:
+        chipmunkcalls.spin_setter): a run with a steering drive asks before its first tick."""
+        if self._calls is not None:
+            self._set_spin = chipmunkcalls.spin_setter(self._calls)
 
     @property
     def bookkeeping(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -231,6 +238,10 @@ class Parking:
         w = c_array(spin, np.float64, writeable=True)
         to_unpark, to_park, write = _plan_spin(v, w, self._zero_before, self.parked,
                                                self._written, self.written_spin)
+        if self._calls is not None and self._set_spin is not None:  # the same calls, compiled
+            chipmunkcalls.command_spin(self._calls, self._set_spin, self._robot_at,
+                                       self._control_at, to_unpark, to_park, write, v, w)
+            return
         self._park_and_unpark(to_unpark, to_park)
         if len(write):
             set_velocity, set_spin = lib.cpBodySetVelocity, lib.cpBodySetAngularVelocity

@@ -283,6 +283,8 @@ class Physics:
         self._rows_at = -1  # the tick self._rows describes
         self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
         self._robot_at = chipmunkcalls.addresses(self._robots)
+        if self._steered:
+            self._parking.prepare_spin()
 
     _REBUILT = ("space", "_robots", "_controls", "_buf", "_calls", "_robot_at", "_rows",
                 "_parking", "_rows_at", "robot_rows", "control_rows", "n_rows",
