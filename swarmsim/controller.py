@@ -132,6 +132,9 @@ class Perception:
             plus ``offset`` (units, |offset| <= probe range) is part of the target.
         beacon: unit vector toward the world's beacon, or None when the world has none.
         moved: (2,) own displacement during the previous tick (odometry), units.
+        turned: how far the robot's body turned during the previous tick (odometry), rad,
+            counter-clockwise positive, in [-pi, pi); 0.0 for a holonomic robot, whose
+            heading means nothing. A robot knows how it turned, never its heading.
     """
 
     tick: int
@@ -142,6 +145,7 @@ class Perception:
     probe: Callable[[np.ndarray], bool]
     beacon: np.ndarray | None
     moved: np.ndarray
+    turned: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -186,6 +190,8 @@ class DecideBatch:
             decides one at a time: ``robot.step(perceive(k))``).
         probe_many: ``probe_many(ks, offsets)`` asks many probes at once: (M,) bool, entry j
             is robot ``ks[j]``'s probe at ``offsets[j]`` (units, each within the probe range).
+        turned: (R,) each robot's Perception.turned, rad (a run's batches always have it;
+            None only in a batch made by hand, meaning zeros).
     """
 
     tick: int
@@ -197,6 +203,7 @@ class DecideBatch:
     probe: Callable[[int], Callable[[np.ndarray], bool]]
     perceive: Callable[[int], Perception]
     probe_many: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    turned: np.ndarray | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -217,6 +224,8 @@ class Action:
 
     Attributes:
         velocity: desired velocity (vx, vy) in units per tick; the engine clamps it to v.
+            A controller that declares ``COMMANDS = "wheels"`` gives its wheel speeds here
+            instead: (left, right), units per tick, each clamped to the drive's wheel_speed.
         message: the broadcast for this tick, a tuple in the order of the controller's message
             dtype, or a dict by field name (or None to repeat the last one). Neighbours
             receive it next tick.
@@ -334,14 +343,15 @@ class ChunkActions:
 # objects, still frozen. tests/engine/test_controller_makers.py holds them to the classes' fields.
 _new = object.__new__
 (_p_tick, _p_offsets, _p_distances, _p_messages, _p_on_target, _p_probe, _p_beacon,
- _p_moved) = (vars(Perception)[name].__set__ for name in Perception.__slots__)
+ _p_moved, _p_turned) = (vars(Perception)[name].__set__ for name in Perception.__slots__)
 (_a_velocity, _a_message, _a_sleep, _a_wake_range, _a_listen, _a_wake_on_motion,
  _a_wake_tick) = (vars(Action)[name].__set__ for name in Action.__slots__)
 
 
 def make_perception(tick: int, offsets: np.ndarray, distances: np.ndarray,
                     messages: np.ndarray, on_target: bool, probe: Callable[[np.ndarray], bool],
-                    beacon: np.ndarray | None, moved: np.ndarray) -> Perception:
+                    beacon: np.ndarray | None, moved: np.ndarray, turned: float = 0.0
+                    ) -> Perception:
     """``Perception(...)``, faster."""
     p = _new(Perception)
     _p_tick(p, tick)
@@ -352,6 +362,7 @@ def make_perception(tick: int, offsets: np.ndarray, distances: np.ndarray,
     _p_probe(p, probe)
     _p_beacon(p, beacon)
     _p_moved(p, moved)
+    _p_turned(p, turned)
     return p
 
 
@@ -414,6 +425,10 @@ class ControllerClass(Protocol):
     - ``MESSAGE_FIELDS`` ([]: no fields of its own): broadcast fields beyond ``id``,
       ``status``, ``moving`` (a list of (name, numpy type)); ``message_fields_for(groups,
       scattered)`` if they depend on the run's group count or start (RobotSetup.scattered).
+    - ``COMMANDS`` ("velocity"): what ``Action.velocity`` / ``ChunkActions.velocities``
+      hold: "velocity", a wished velocity that the run's drive carries out as it can, or
+      "wheels", the (left, right) wheel speeds of a robot with a drive that has wheels
+      (``drive=diff`` or ``kilobot``; a run with ``drive=holonomic`` is refused). docs/drives.md.
     - ``SILENT`` ({}): values of those fields in the row of a neighbour that is not heard.
     - ``SETTLED_STATUSES`` (()): statuses meaning "done, standing still" (metrics count robots
       pushed out of place there; faults fail them last).

@@ -47,6 +47,8 @@ class ControllerInfo:
             of its own (a run has groups only if its start layout makes them).
         probe_params: parameters that are floor-probe lengths, units.
         min_probe_range: the floor probe reach it needs at least, units.
+        commands: what its actions' velocities are: "velocity" (a wish) or "wheels" (the
+            (left, right) wheel speeds; needs a drive with wheels).
     """
 
     cls: type
@@ -65,6 +67,7 @@ class ControllerInfo:
     max_groups: int | None
     probe_params: tuple[str, ...]
     min_probe_range: float
+    commands: str = "velocity"
 
     @property
     def batch(self) -> bool:
@@ -177,7 +180,21 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         requires_beacon=bool(getattr(cls, "requires_beacon", False)),
         max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
-        min_probe_range=float(getattr(cls, "min_probe_range", 0.0)))
+        min_probe_range=float(getattr(cls, "min_probe_range", 0.0)),
+        commands=_commands(cls, name))
+
+
+COMMAND_KINDS = ("velocity", "wheels")
+"""What a controller's actions may command (its ``COMMANDS``)."""
+
+
+def _commands(cls: type, name: str) -> str:
+    """The class's ``COMMANDS`` ("velocity" unless it declares one); ConfigError for another."""
+    commands = getattr(cls, "COMMANDS", "velocity")
+    if commands not in COMMAND_KINDS:
+        raise ConfigError(f"{name}: COMMANDS must be one of {', '.join(COMMAND_KINDS)}, got "
+                          f"{commands!r}", key="controller")
+    return commands
 
 
 def _refuse_engine_names(cls: type, name: str) -> None:

@@ -7,6 +7,7 @@ sleep are skipped until something within their sensing range moves or changes it
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import gc
 import time
@@ -51,6 +52,7 @@ from swarmsim.registry import resolve_controller
 from swarmsim.results.provenance import code_version
 from swarmsim.results.snapshot import Snapshot
 from swarmsim.results.summary import SummaryCollector
+from swarmsim.robots.drives import make_drive
 from swarmsim.robots.imperfections import Imperfections
 from swarmsim.sensing.sensing import FlatViews, FloorSensor, NeighbourSearch
 from swarmsim.world import spawn
@@ -172,6 +174,10 @@ class Simulation:
                 raise ConfigError(f"{getattr(self.config, name)!r} is less than a body's width "
                                   f"(2 x radius = {body:g}): robots would start overlapping",
                                   key=name)
+        if self.info.commands == "wheels" and self.physics_config.drive == "holonomic":
+            raise ConfigError(f"controller {self.controller_name!r} commands wheels (COMMANDS = "
+                              "'wheels'), but drive=holonomic has none: set drive=diff or "
+                              "drive=kilobot", key="drive")
         spawn.check_capacity(self.world, self.config.robots, self._start(),
                              self.config.spawn_spacing, self.config.formation_spacing)
         reach = self._probe_range()
@@ -195,7 +201,7 @@ class Simulation:
                         settings: Mapping[str, Any]) -> dict[str, Any]:
         merged: dict[str, Any] = {}
         defaults = self.world.defaults
-        for key in ("robots", "groups", "max_ticks", "start"):
+        for key in ("robots", "groups", "max_ticks", "start", "drive"):
             if key in defaults:
                 merged[key] = defaults[key]
         if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):
@@ -238,7 +244,11 @@ class Simulation:
         self.n = len(positions)
         self.start_groups = np.array([s.group for s in setups], dtype=np.int64)
         self.start_leaders = np.array([s.leader for s in setups], dtype=bool)
-        self.physics = Physics(self.world, positions, self.physics_config)
+        self.drive = make_drive(self.physics_config, cfg.seed, self.n)
+        """The robots' drive model (swarmsim/robots/drives.py): holonomic, diff, kilobot."""
+        setups = self._with_drive_traits(setups)
+        self.physics = Physics(self.world, positions, self.physics_config,
+                               angles=self.drive.start_headings())
         probe_range = self._probe_range()
         self.floor = FloorSensor(self.world.target, probe_range)
         with self._controller_call("sensing_range()"):
@@ -268,6 +278,13 @@ class Simulation:
         self.wake_tick = np.full(self.n, NEVER, dtype=np.int64)
         self.failed = np.zeros(self.n, dtype=bool)
         self.velocities = np.zeros((self.n, 2))
+        self._turned = np.zeros(self.n)
+        """(N,) each body's turn over the previous tick, rad (Perception.turned); zeros for a
+        holonomic drive."""
+        if self.drive.has_heading:
+            self._motion = np.zeros((self.n, 2))
+            self._headings = self.physics.headings()
+            """(N,) the body angles at the start of this tick, rad (read before deciding)."""
         self.grid = CoverageGrid.for_target(self.world.target, cfg.coverage_radius,
                                             cfg.grid_size, cfg.grid_size, self.world.obstacles)
         self.metrics = RunMetrics(standard_parts(self.grid, cfg, self.physics,
@@ -303,6 +320,15 @@ class Simulation:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
         self.summary_sources.add("controller", self._controller_summary)
+
+    def _with_drive_traits(self, setups: list[RobotSetup]) -> list[RobotSetup]:
+        """``setups`` telling each robot what its drive can do (turn rate, reverse); a
+        holonomic run's as they are (the defaults say holonomic)."""
+        if not self.drive.has_heading:
+            return setups
+        rates, reverse = self.drive.turn_rates().tolist(), self.drive.reverse
+        return [dataclasses.replace(setup, turn_rate=rate, reverse=reverse)
+                for setup, rate in zip(setups, rates, strict=True)]
 
     def _fault_injector(self) -> FaultInjector | None:
         """The hook that fails robots as the run's ``failures`` settings ask (None: none)."""
@@ -395,6 +421,8 @@ class Simulation:
         for hook in self.hooks:
             hook.pre_step(self)
         pos = self.positions
+        if self.drive.has_heading:
+            self._read_headings()
         search = NeighbourSearch(pos)
         awake = self._awake_robots()
         new_messages = as_records(self.messages).copy().view(self.dtype)
@@ -403,11 +431,16 @@ class Simulation:
         t1 = clock()
         self._changed_msg = tickrows.rows_differ(new_messages, self.messages, awake)
         self.messages = new_messages
-        tickrows.clamp_rows(velocities, awake, self.config.v_max)  # the others stand still
-        self.velocities = self.imperfect.actuate(velocities)
+        if self.info.commands == "wheels":  # (left, right) wheel speeds
+            top = self.physics_config.wheel_speed
+            np.clip(velocities, -top, top, out=velocities)
+            self.velocities = self.imperfect.actuate_wheels(velocities)
+        else:
+            tickrows.clamp_rows(velocities, awake, self.config.v_max)  # the others stand still
+            self.velocities = self.imperfect.actuate(velocities)
         t2 = clock()
         sense_s, decide_s = (t1 - t0) - decide_s, decide_s + (t2 - t1)
-        self.physics.command(self.velocities)
+        self._command_drive()
         self.physics.step()
         self.tick += 1
         self._prev_positions = pos
@@ -421,6 +454,34 @@ class Simulation:
         for phase, dt in zip(PHASES, (sense_s, decide_s, t3 - t2, t4 - t3), strict=True):
             self.phase_seconds[phase] += dt
         interrupts.raise_pending()  # one noted during the physics step: the tick is whole
+
+    @property
+    def motion(self) -> np.ndarray:
+        """(N, 2) what the drive made of ``velocities`` this tick: the velocities of the
+        robots' drive points, units/tick (a holonomic run's: ``velocities`` themselves)."""
+        return self._motion if self.drive.has_heading else self.velocities
+
+    def _command_drive(self) -> None:
+        """Hand this tick's ``velocities`` to the bodies: directly (holonomic: the code path
+        of every run before drives existed), or through the drive, which steers each body
+        from its heading."""
+        if not self.drive.has_heading:
+            self.physics.command(self.velocities)
+            return
+        wheels = self.info.commands == "wheels"
+        lin, spin = self.drive.motion(None if wheels else self.velocities,
+                                      self.velocities if wheels else None, self._headings,
+                                      ~self.failed)
+        self._motion = lin
+        self.physics.command_motion(lin, spin)
+
+    def _read_headings(self) -> None:
+        """Read the body angles at the start of a tick (a drive with a heading) and each
+        robot's turn since the last read (odometry: Perception.turned), wrapped to
+        [-pi, pi)."""
+        headings = self.physics.headings()
+        self._turned = (headings - self._headings + np.pi) % (2 * np.pi) - np.pi
+        self._headings = headings
 
     def _on_target_now(self, before: np.ndarray) -> np.ndarray:
         """(N,) the floor sensors after the physics step (robots were at ``before``)."""
@@ -476,21 +537,22 @@ class Simulation:
         on = self.imperfect.read_floor(self.on_target[awake],
                                        lambda: self.floor.edge_distance(here))
         shift = moved[awake]
+        turned = self._turned[awake]
 
         @functools.cache  # the per-robot path's Python lists, made when first asked for
-        def listed() -> tuple[list, list, list]:
-            return starts.tolist(), here.tolist(), on.tolist()
+        def listed() -> tuple[list, list, list, list]:
+            return starts.tolist(), here.tolist(), on.tolist(), turned.tolist()
 
         def perceive(k: int) -> Perception:
-            bounds, at, on_list = listed()
+            bounds, at, on_list, turned_list = listed()
             a, b = bounds[k], bounds[k + 1]
             return make_perception(tick, offsets[a:b], distances[a:b], heard[a:b], on_list[k],
                                    probe_at(*at[k]), None if bearings is None else bearings[k],
-                                   shift[k])
+                                   shift[k], turned_list[k])
 
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
                             bearings, lambda k: probe_at(*listed()[1][k]), perceive,
-                            self.floor.probes(here))
+                            self.floor.probes(here), turned)
         try:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything

@@ -176,6 +176,16 @@ class Parking:
         self.parked = np.zeros(n, dtype=bool)
         self._zero_before = np.zeros(n, dtype=bool)
         self._written = np.zeros((n, 2))  # the control bodies' velocities, units per tick
+        self.written_spin = np.zeros(n)
+        """The control bodies' spins written (a steering drive's, :meth:`command_spin`),
+        rad/tick; a checkpoint keeps it beside :attr:`bookkeeping`."""
+        self._set_spin: int | None = None  # cpBodySetAngularVelocity for compiled code
+
+    def prepare_spin(self) -> None:
+        """Make :meth:`command_spin`'s compiled calls ready (compiled or loaded, and checked:
+        chipmunkcalls.spin_setter): a run with a steering drive asks before its first tick."""
+        if self._calls is not None:
+            self._set_spin = chipmunkcalls.spin_setter(self._calls)
 
     @property
     def bookkeeping(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -203,17 +213,67 @@ class Parking:
             chipmunkcalls.command(calls, self._robot_at, self._control_at, to_unpark, to_park,
                                   write, v)
             return
-        for i in to_unpark.tolist():
-            lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver
-            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.KINEMATIC)
-        for i in to_park.tolist():
-            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.STATIC)  # velocity becomes 0
+        self._park_and_unpark(to_unpark, to_park)
         if len(write):
             set_velocity, ptrs = lib.cpBodySetVelocity, self._control_ptrs
             rows = v[write]
             for i, vx, vy in zip(write.tolist(), rows[:, 0].tolist(), rows[:, 1].tolist(),
                                  strict=True):
                 set_velocity(ptrs[i], (vx, vy))
+
+
+    def _park_and_unpark(self, to_unpark: np.ndarray, to_park: np.ndarray) -> None:
+        for i in to_unpark.tolist():
+            lib.cpBodyActivate(self._robot_ptrs[i])  # first: its joints rejoin the solver
+            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.KINEMATIC)
+        for i in to_park.tolist():
+            lib.cpBodySetType(self._control_ptrs[i], pymunk.Body.STATIC)  # velocity becomes 0
+
+    def command_spin(self, lin: np.ndarray, spin: np.ndarray) -> None:
+        """:meth:`command` for a steering drive: this tick's control velocities ``lin``
+        (N, 2), units/tick, and spins ``spin`` (N,), rad/tick. A zero command is zero in both;
+        a parked control body's velocity and spin are zero. Park, unpark, then write (velocity,
+        then spin, robot by robot)."""
+        v = c_array(lin, np.float64, writeable=True)
+        w = c_array(spin, np.float64, writeable=True)
+        to_unpark, to_park, write = _plan_spin(v, w, self._zero_before, self.parked,
+                                               self._written, self.written_spin)
+        if self._calls is not None and self._set_spin is not None:  # the same calls, compiled
+            chipmunkcalls.command_spin(self._calls, self._set_spin, self._robot_at,
+                                       self._control_at, to_unpark, to_park, write, v, w)
+            return
+        self._park_and_unpark(to_unpark, to_park)
+        if len(write):
+            set_velocity, set_spin = lib.cpBodySetVelocity, lib.cpBodySetAngularVelocity
+            ptrs = self._control_ptrs
+            for i, vx, vy, wi in zip(write.tolist(), v[write, 0].tolist(), v[write, 1].tolist(),
+                                     w[write].tolist(), strict=True):
+                set_velocity(ptrs[i], (vx, vy))
+                set_spin(ptrs[i], wi)
+
+
+@njit(cache=True)
+def _plan_spin(v, w, zero_before, parked, written, written_spin):  # pragma: no cover
+    """:func:`_plan` with spins ``w`` (N,) beside the velocities ``v`` (N, 2): zero means
+    both zero, and a robot is written when either differs from what was written last."""
+    n = v.shape[0]
+    to_unpark, to_park, write = (np.empty(n, dtype=np.int64), np.empty(n, dtype=np.int64),
+                                 np.empty(n, dtype=np.int64))
+    u = p = k = 0
+    for i in range(n):
+        zero = v[i, 0] == 0 and v[i, 1] == 0 and w[i] == 0
+        if zero and zero_before[i] and not parked[i]:
+            to_park[p], p = i, p + 1
+            parked[i] = True
+            written[i, 0], written[i, 1], written_spin[i] = 0.0, 0.0, 0.0
+        elif not zero and parked[i]:
+            to_unpark[u], u = i, u + 1
+            parked[i] = False
+        zero_before[i] = zero
+        if v[i, 0] != written[i, 0] or v[i, 1] != written[i, 1] or w[i] != written_spin[i]:
+            write[k], k = i, k + 1
+            written[i, 0], written[i, 1], written_spin[i] = v[i, 0], v[i, 1], w[i]
+    return to_unpark[:u], to_park[:p], write[:k]
 
 
 @njit(cache=True)

@@ -138,6 +138,20 @@ def call_body_xy(typingctx, function, body, x, y):
 
 
 @intrinsic
+def call_body_double(typingctx, function, body, value):
+    """Call ``void function(cpBody *body, cpFloat value)`` (cpFloat: a double)."""
+    if not (_is_address(function, body) and value == types.float64):
+        return None
+
+    def codegen(context, builder, signature, args):
+        callee = _callee(builder, args[0], ir.VoidType(), _BYTE_PTR, ir.DoubleType())
+        builder.call(callee, [builder.inttoptr(args[1], _BYTE_PTR), args[2]])
+        return context.get_dummy_value()
+
+    return types.none(function, body, value), codegen
+
+
+@intrinsic
 def call_body_flag(typingctx, function, body):
     """Call ``cpBool function(const cpBody *body)``: 0 or 1 (cpBool is an unsigned char)."""
     if not _is_address(function, body):
@@ -202,6 +216,52 @@ def _command(activate, set_type, set_velocity, robot_at, control_at, to_unpark, 
         call_body_int(set_type, control_at[i], _STATIC)
     for i in write:
         call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
+
+
+def command_spin(calls: BodyCalls, set_spin: int, robot_at: np.ndarray, control_at: np.ndarray,
+                 to_unpark: np.ndarray, to_park: np.ndarray, write: np.ndarray, v: np.ndarray,
+                 w: np.ndarray) -> None:
+    """:func:`command` for a steering drive, in Parking.command_spin's order: unpark, park,
+    then for each robot of ``write`` its control body's velocity ``v[i]`` and then its spin
+    ``w[i]`` (``set_spin``: :func:`spin_setter`'s address)."""
+    _command_spin(calls.activate, calls.set_type, calls.set_velocity, set_spin, robot_at,
+                  control_at, to_unpark, to_park, write, v, w)
+
+
+@njit(cache=True)
+def _command_spin(activate, set_type, set_velocity, set_spin, robot_at, control_at, to_unpark,
+                  to_park, write, v, w):  # pragma: no cover - compiled
+    for i in to_unpark:
+        call_body(activate, robot_at[i])
+        call_body_int(set_type, control_at[i], _KINEMATIC)
+    for i in to_park:
+        call_body_int(set_type, control_at[i], _STATIC)
+    for i in write:
+        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
+        call_body_double(set_spin, control_at[i], w[i])
+
+
+@functools.cache
+def spin_setter(calls: BodyCalls) -> int | None:
+    """The address of ``cpBodySetAngularVelocity`` for :func:`command_spin`, once it has been
+    seen to do what pymunk's own call does on a body of its own; None if not (then pymunk's
+    calls are used). Asked only by runs with a steering drive (a holonomic run loads no
+    kernel of it)."""
+    set_spin = _address_of("cpBodySetAngularVelocity")
+    space = pymunk.Space()
+    body, robot = pymunk.Body(body_type=pymunk.Body.KINEMATIC), pymunk.Body(1.0, 1.0)
+    space.add(body, robot)
+    one, none = np.zeros(1, np.int64), np.zeros(0, np.int64)
+    try:
+        command_spin(calls, set_spin, addresses([robot]), addresses([body]), none, none, one,
+                     np.array([[1.25, -3.5]]), np.array([0.75]))
+    except (RuntimeError, NumbaError) as error:
+        warnings.warn(f"compiled Chipmunk spin calls unavailable ({type(error).__name__}); "
+                      "pymunk's own calls are used (slower, the same runs)", RuntimeWarning,
+                      stacklevel=2)
+        return None
+    works = tuple(body.velocity) == (1.25, -3.5) and body.angular_velocity == 0.75
+    return set_spin if works else None
 
 
 @functools.cache

@@ -28,10 +28,18 @@ import pymunk
 import pymunk.batch as pb
 
 from swarmsim import interrupts
-from swarmsim.limits import MAX_ITERATIONS, MAX_SUBSTEPS, at_most, check_fields, require_positive
+from swarmsim.limits import (
+    MAX_ITERATIONS,
+    MAX_SUBSTEPS,
+    at_most,
+    check_fields,
+    require_non_negative,
+    require_positive,
+)
 from swarmsim.physics import chipmunkcalls, contactrows
 from swarmsim.physics.bodysleep import BodyRows, IdTable, Parking
 from swarmsim.physics.spacestate import SpaceState, read_space, write_space
+from swarmsim.robots.drives import DRIVE_NAMES
 from swarmsim.world.world import World
 
 ROBOT_TYPE = 1
@@ -67,6 +75,31 @@ class PhysicsConfig:
             step (the code before; docs/reports/performance-log.md compares the two).
         physics_sleep_time: how long a parked robot must rest (zero velocity) before pymunk
             puts it to sleep, ticks (pymunk's sleep_time_threshold).
+        drive: the robots' drive model (swarmsim/robots/drives.py, docs/drives.md):
+            "holonomic" (moves in any direction at once; the default; it ignores every
+            drive setting), "diff" (differential drive) or "kilobot".
+        wheel_base: diff: distance between the two wheels, units.
+        wheel_speed: diff: top speed of a wheel, units/tick; kilobot: forward speed of a
+            wheel-commanding controller's robot.
+        wheel_accel: diff: largest rise of a wheel's speed in one tick, units/tick (a drop is
+            immediate: a robot told to stop stops).
+        reverse: diff: the robot may drive backward (a kilobot never does).
+        axle_offset: diff, kilobot: the drive holds the body at a point this far behind its
+            centre (the wheel axle, the rear legs), units; a push through the centre then
+            turns the robot.
+        yaw_traction: diff, kilobot: largest torque with which the drive turns the body or
+            holds its turn rate, mass*units^2/tick^2 (replaces spin_traction).
+        kilobot_turn: kilobot: turn-in-place rate, rad/tick.
+        kilobot_align: kilobot: the robot goes forward once its wish lies within this angle
+            of its heading, else turns in place, rad.
+        kilobot_bias: kilobot: standard deviation of each robot's calibration factors
+            (forward speed, turn rate), relative.
+        kilobot_curve: kilobot: standard deviation of each robot's turn while going
+            "straight", rad/tick.
+        kilobot_stick: kilobot: probability that a moving robot sticks (does not move) for
+            a tick.
+        kilobot_slip: kilobot: standard deviation of the factor a moving robot's motion is
+            scaled by in a tick it does not stick, relative.
     """
 
     radius: float = 0.4
@@ -79,17 +112,53 @@ class PhysicsConfig:
     mode: Literal["rigid", "ghost"] = "rigid"
     physics_sleep: bool = True
     physics_sleep_time: float = 1.0
+    drive: Literal["holonomic", "diff", "kilobot"] = "holonomic"
+    wheel_base: float = 0.6
+    wheel_speed: float = 0.1
+    wheel_accel: float = 0.05
+    reverse: bool = True
+    axle_offset: float = 0.2
+    yaw_traction: float = 0.01
+    kilobot_turn: float = 0.325
+    kilobot_align: float = 0.35
+    kilobot_bias: float = 0.1
+    kilobot_curve: float = 0.01
+    kilobot_stick: float = 0.1
+    kilobot_slip: float = 0.3
 
     def __post_init__(self) -> None:
         require_positive(self, "radius", "traction", "spin_traction", "collision_slop",
-                         "physics_sleep_time")
+                         "physics_sleep_time", "wheel_base", "wheel_speed", "wheel_accel",
+                         "yaw_traction", "kilobot_turn", "kilobot_align")
+        require_non_negative(self, "axle_offset", "kilobot_bias", "kilobot_curve",
+                             "kilobot_stick", "kilobot_slip")
         if self.friction < 0:
             raise ValueError(f"friction must be >= 0, got {self.friction!r}")
         if self.substeps < 1 or self.iterations < 1:
             raise ValueError("substeps and iterations must be >= 1")
         if self.mode not in ("rigid", "ghost"):
             raise ValueError(f"mode must be 'rigid' or 'ghost', got {self.mode!r}")
+        self._check_drive()
         check_fields(self)
+
+    def _check_drive(self) -> None:
+        """The drive's settings: a known drive; one that turns the body needs a body that can
+        turn; an axle inside the body; a probability for sticking."""
+        if self.drive not in DRIVE_NAMES:
+            raise ValueError(f"drive must be one of {', '.join(DRIVE_NAMES)}, got "
+                             f"{self.drive!r}")
+        if self.drive == "holonomic":
+            return
+        if not math.isfinite(self.spin_traction):
+            raise ValueError(f"drive {self.drive!r} turns the robots, but spin_traction = inf "
+                             "gives them an infinite moment (they could never turn): leave "
+                             "spin_traction finite (it is not used with this drive)")
+        if self.axle_offset >= self.radius:
+            raise ValueError(f"axle_offset must be less than radius ({self.radius!r}), got "
+                             f"{self.axle_offset!r}: the axle lies inside the body")
+        if self.kilobot_stick >= 1:
+            raise ValueError(f"kilobot_stick must be < 1 (a probability; 1 would never move), "
+                             f"got {self.kilobot_stick!r}")
 
 
 @dataclass
@@ -147,6 +216,9 @@ class _Arbiters:
 _ARBITER_FIELDS = (pb.ArbiterFields.BODY_A_ID | pb.ArbiterFields.BODY_B_ID
                    | pb.ArbiterFields.DISTANCE_1 | pb.ArbiterFields.TOTAL_IMPULSE)
 _BODY_FIELDS = pb.BodyFields.POSITION | pb.BodyFields.VELOCITY
+# pymunk.batch lays float fields out in flag order: angle, (vx, vy), spin
+_MOTION_FIELDS = pb.BodyFields.ANGLE | pb.BodyFields.VELOCITY | pb.BodyFields.ANGULAR_VELOCITY
+_COMMAND_FIELDS = pb.BodyFields.VELOCITY | pb.BodyFields.ANGULAR_VELOCITY
 
 
 def wall_segments(world: World) -> tuple[tuple[tuple[float, float], tuple[float, float]], ...]:
@@ -162,14 +234,16 @@ def wall_segments(world: World) -> tuple[tuple[tuple[float, float], tuple[float,
 class Physics:
     """A pymunk Space with N disc robots; read states and write commands in batches."""
 
-    def __init__(self, world: World, positions: np.ndarray, config: PhysicsConfig | None = None):
+    def __init__(self, world: World, positions: np.ndarray, config: PhysicsConfig | None = None,
+                 angles: np.ndarray | None = None):
+        """``angles`` (N,): the bodies' start angles, rad (None: 0, as a holonomic run's)."""
         self.config = config or PhysicsConfig()
         self.n = len(positions)
         self._walls = wall_segments(world)
         self.contacts = ContactStats(per_robot=np.zeros(self.n, dtype=np.int64),
                                      per_robot_wall=np.zeros(self.n, dtype=np.int64))
         self._sleep = self.config.physics_sleep
-        self._build_space(np.asarray(positions, dtype=float))
+        self._build_space(np.asarray(positions, dtype=float), angles)
         self._index_rows()
         self._steps = 0  # physics ticks so far
         self._contacts_at = -1  # the tick self._contacts describes
@@ -177,10 +251,11 @@ class Physics:
         if self._sleep:
             self._seat_parking()
 
-    def _build_space(self, positions: np.ndarray) -> None:
-        """A new Space with the walls and the robots at ``positions`` (N, 2) (each at rest,
-        its control body on it), the contact counters installed: the Space every run starts
-        with, and every restore starts from before it takes the saved state."""
+    def _build_space(self, positions: np.ndarray, angles: np.ndarray | None = None) -> None:
+        """A new Space with the walls and the robots at ``positions`` (N, 2) turned to
+        ``angles`` (N,) rad (None: 0), each at rest, its control body on its drive point, the
+        contact counters installed: the Space every run starts with, and every restore starts
+        from before it takes the saved state."""
         space = pymunk.Space()
         space.gravity = (0.0, 0.0)
         space.iterations = self.config.iterations
@@ -189,12 +264,17 @@ class Physics:
         self._robots: list[pymunk.Body] = []
         self._controls: list[pymunk.Body] = []
         self._add_walls()
-        self._add_robots(positions)
+        self._add_robots(positions, angles)
         self._install_contact_counters()
         self._buf = pb.Buffer()
         if self._sleep:
             space.sleep_time_threshold = self.config.physics_sleep_time
             space.idle_speed_threshold = IDLE_SPEED
+
+    @property
+    def _steered(self) -> bool:
+        """Does a drive steer the bodies (command_motion), holding each at its axle?"""
+        return self.config.drive != "holonomic"
 
     def _seat_parking(self) -> None:
         """The handles that sleeping needs, on the Space's bodies (none parked)."""
@@ -203,10 +283,12 @@ class Physics:
         self._rows_at = -1  # the tick self._rows describes
         self._calls = chipmunkcalls.body_calls()  # None: read through pymunk.batch
         self._robot_at = chipmunkcalls.addresses(self._robots)
+        if self._steered:
+            self._parking.prepare_spin()
 
     _REBUILT = ("space", "_robots", "_controls", "_buf", "_calls", "_robot_at", "_rows",
                 "_parking", "_rows_at", "robot_rows", "control_rows", "n_rows",
-                "_robot_of_body", "_robot_ids", "_cmd")
+                "_robot_of_body", "_robot_ids", "_cmd", "_motion_rows", "_motion_rows_at")
     """Attributes a pickle leaves out: the Space (kept as a :class:`SpaceState`), its bodies,
     and what holds cffi buffers, raw Chipmunk addresses or pymunk body ids; all made again
     on loading."""
@@ -221,6 +303,8 @@ class Physics:
         if self._sleep:
             state["_parking_arrays"] = self._parking.bookkeeping
             state["_asleep_at_save"] = self.bodies_asleep()
+            if self._steered:
+                state["_spin_written"] = self._parking.written_spin
         return state
 
     def __setstate__(self, state: dict) -> None:
@@ -233,12 +317,15 @@ class Physics:
         space_state: SpaceState = state.pop("_space_state")
         parking_arrays = state.pop("_parking_arrays", None)
         asleep = state.pop("_asleep_at_save", None)
+        spin_written = state.pop("_spin_written", None)
         self.__dict__.update(state)
         self._build_space(space_state.bodies[:self.n, 0:2])
         write_space(self.space, self._robots + self._controls, space_state)
         if self._sleep:
             self._seat_parking()
             self._parking.take_bookkeeping(parking_arrays)
+            if spin_written is not None:
+                self._parking.written_spin[:] = spin_written
         self._index_rows()
         if self._sleep:
             for i in np.flatnonzero(asleep).tolist():
@@ -254,29 +341,37 @@ class Physics:
             seg.filter = wall_filter
             self.space.add(seg)
 
-    def _add_robots(self, positions: np.ndarray) -> None:
+    def _add_robots(self, positions: np.ndarray, angles: np.ndarray | None = None) -> None:
+        """Each robot: a body (a disc), its control body, and the drive's two joints. The
+        pivot matches the velocity of the body's drive point (its centre; with a steering
+        drive its axle, ``axle_offset`` behind the centre) to the control body's; the gear
+        matches spins (the body's to the control body's: 0 unless a drive steers)."""
         cfg = self.config
         spins = math.isfinite(cfg.spin_traction)
         moment = pymunk.moment_for_circle(1.0, 0, cfg.radius) if spins else math.inf
         group = GHOST_GROUP if cfg.mode == "ghost" else 0
         robot_filter = pymunk.ShapeFilter(group=group, categories=ROBOT_CATEGORY)
-        for x, y in positions:
+        axle = (-cfg.axle_offset, 0.0) if self._steered else (0, 0)
+        grip = cfg.yaw_traction if self._steered else cfg.spin_traction
+        for k, (x, y) in enumerate(positions):
             body = pymunk.Body(1.0, moment)
             body.position = (float(x), float(y))
+            if angles is not None:
+                body.angle = float(angles[k])
             shape = pymunk.Circle(body, cfg.radius)
             shape.friction = cfg.friction
             shape.collision_type = ROBOT_TYPE
             shape.filter = robot_filter
             ctrl = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-            ctrl.position = body.position
-            pivot = pymunk.PivotJoint(ctrl, body, (0, 0), (0, 0))
+            ctrl.position = body.local_to_world(axle) if self._steered else body.position
+            pivot = pymunk.PivotJoint(ctrl, body, (0, 0), axle)
             pivot.max_bias = 0
             pivot.max_force = cfg.traction
             parts: list = [body, shape, ctrl, pivot]
             if spins:
                 gear = pymunk.GearJoint(ctrl, body, 0.0, 1.0)
                 gear.max_bias = 0
-                gear.max_force = cfg.spin_traction
+                gear.max_force = grip
                 parts.append(gear)
             self.space.add(*parts)
             self._robots.append(body)
@@ -389,6 +484,44 @@ class Physics:
         buf = pb.Buffer()
         buf.set_float_buf(cmd.ravel())
         pb.set_space_bodies(self.space, pb.BodyFields.VELOCITY, buf)
+
+    def headings(self) -> np.ndarray:
+        """(N,) the robots' body angles, rad (not wrapped: a body that turned twice round
+        reads 4 pi more), as a fresh array. Call after read(), before command_motion()."""
+        buf = self._buf
+        buf.clear()
+        if self._sleep:  # rows move: matched to robots by body id
+            pb.get_space_bodies(self.space, pb.BodyFields.BODY_ID | pb.BodyFields.ANGLE, buf)
+            angles = np.frombuffer(buf.float_buf(), dtype=np.float64)
+            robot = self._robot_ids.lookup(np.frombuffer(buf.int_buf(), dtype=np.uintp))
+            found = robot >= 0
+            headings = np.empty(self.n)
+            headings[robot[found]] = angles[found]
+            return headings
+        pb.get_space_bodies(self.space, _MOTION_FIELDS, buf)
+        rows = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 4)
+        self._motion_rows = rows[:, 1:4].copy()  # every body's (vx, vy, spin), for the write
+        self._motion_rows_at = self._steps
+        return np.take(rows[:, 0], self.robot_rows)
+
+    def command_motion(self, lin: np.ndarray, spin: np.ndarray) -> None:
+        """Set every robot's drive motion (a steering drive's: swarmsim/robots/drives.py): the
+        velocity of its drive point ``lin`` (N, 2), units/tick, and its spin ``spin`` (N,),
+        rad/tick. Call after headings(). With physics_sleep, a robot given zero motion this
+        tick and the last is parked, as :meth:`command` parks one."""
+        if self._sleep:
+            self._parking.command_spin(lin, spin)
+            self._rows_at = -1
+            return
+        if getattr(self, "_motion_rows_at", -1) != self._steps:
+            self.headings()
+        cmd = self._motion_rows  # every other body's velocity and spin stay as they are
+        cmd[self.control_rows, 0:2] = lin
+        cmd[self.control_rows, 2] = spin
+        buf = pb.Buffer()
+        buf.set_float_buf(cmd.ravel())
+        pb.set_space_bodies(self.space, _COMMAND_FIELDS, buf)
+        self._motion_rows_at = -1
 
     def step(self) -> None:
         """Advance one tick. An interrupt during pymunk's step is raised by the caller's

@@ -5,7 +5,8 @@ miss a message. Collision-realism studies turn these on one at a time (run setti
 :class:`swarmsim.engine.config.SimConfig`):
 
 * ``speed_noise``: each tick a moving robot's commanded speed is multiplied by
-  ``1 + speed_noise * N(0, 1)`` (relative standard deviation; 0.05 = 5 %).
+  ``1 + speed_noise * N(0, 1)`` (relative standard deviation; 0.05 = 5 %); a robot that
+  commands its wheels (docs/drives.md) has each wheel's speed multiplied so, a draw per wheel.
 * ``heading_noise``: and its commanded direction is turned by ``heading_noise * N(0, 1)``
   radians. A robot commanding zero velocity stays still (no drift while waiting).
 * ``distance_noise``: each sensed neighbour distance d becomes ``d * (1 + distance_noise *
@@ -135,6 +136,23 @@ class Imperfections:
         out = velocities.copy()
         out[moving, 0] = scale * (c * vx - s * vy)
         out[moving, 1] = scale * (s * vx + c * vy)
+        return out
+
+    def actuate_wheels(self, wheels: np.ndarray) -> np.ndarray:
+        """Wheel speeds (N, 2) (left, right), units per tick, as the motors carry them out
+        (a wheel-commanding controller's): with ``speed_noise``, both wheels of each robot
+        with a wheel turning are scaled by ``max(0, 1 + speed_noise * N(0, 1))``, one draw per
+        wheel, robots in index order, from the actuation stream. ``heading_noise`` does not
+        apply (wheels have no direction to turn)."""
+        lv = self.levels
+        if not lv.speed_noise > 0:
+            return wheels
+        moving = np.flatnonzero((wheels[:, 0] != 0) | (wheels[:, 1] != 0))
+        if len(moving) == 0:
+            return wheels
+        draws = self._rng["actuation"].standard_normal((len(moving), 2))
+        out = wheels.copy()
+        out[moving] *= np.maximum(0.0, 1.0 + lv.speed_noise * draws)
         return out
 
     def perturb_offsets(self, offsets: np.ndarray) -> np.ndarray:

@@ -42,6 +42,7 @@ from shapely.validation import explain_validity
 
 from swarmsim.errors import ConfigError, unknown_name
 from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, MAX_TICKS, check_at_most
+from swarmsim.robots.drives import DRIVE_NAMES
 from swarmsim.tomlfile import read_toml
 
 HEX_CELL_FACTOR = math.sqrt(3) / 2  # area per robot on a hexagonal lattice = 0.866 * spacing^2
@@ -49,7 +50,7 @@ DEFAULT_ARENA_MARGIN = 20.0
 TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon", "arena",
                   "defaults"}
 DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
-                "max_ticks": int, "start": str}
+                "max_ticks": int, "start": str, "drive": str}
 DEFAULT_BOUNDS = {"robots": (MAX_ROBOTS, "robots in one run"),
                   "groups": (MAX_ROBOTS, "robots in one run"),
                   "max_ticks": (MAX_TICKS, "ticks in one run")}
@@ -258,6 +259,9 @@ def _defaults(value: Any, source: str) -> Mapping[str, Any]:
         if k == "start" and v not in ("random", "formation"):
             raise ConfigError(f"must be 'random' or 'formation', got {v!r}", source=source,
                               key="defaults.start")
+        if k == "drive" and v not in DRIVE_NAMES:
+            raise ConfigError(f"must be one of {', '.join(DRIVE_NAMES)}, got {v!r}",
+                              source=source, key="defaults.drive")
         if k == "controller":
             _check_controller_name(v, source)
         out[k] = v

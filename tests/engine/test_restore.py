@@ -177,3 +177,19 @@ def test_a_checkpoint_is_replaced_atomically(tmp_path):
     sim.save(path)
     assert checkpoint.read_header(path)["tick"] == 1
     assert [p.name for p in tmp_path.iterdir()] == ["run.ckpt"]
+
+
+@pytest.mark.parametrize("drive", ["diff", "kilobot"])
+@pytest.mark.parametrize("sleep", [True, False])
+def test_a_run_with_a_steering_drive_restores_too(tmp_path, drive, sleep):
+    """The body angles, the drive's wheel speeds and random streams, the spins written to
+    parked robots' control bodies and the odometry are all saved."""
+    path = tmp_path / "run.ckpt"
+    sim = Simulation("tiny", seed=3, robots=40, max_ticks=450,
+                     settings={"drive": drive, "physics_sleep": sleep})
+    for _ in range(300):
+        sim.advance()
+    sim.save(path)
+    rest = Simulation.restore(path)
+    np.testing.assert_array_equal(rest.physics.headings(), sim.physics.headings())
+    assert _outcome(rest) == _outcome(sim)

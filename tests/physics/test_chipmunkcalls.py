@@ -67,3 +67,18 @@ def test_calls_the_compiler_cannot_build_fall_back_to_pymunks_with_a_warning(mon
             assert chipmunkcalls.body_calls() is None
     finally:
         chipmunkcalls.body_calls.cache_clear()
+
+
+def steered_end_state(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> bytes:
+    if not compiled:
+        monkeypatch.setattr(chipmunkcalls, "body_calls", lambda: None)
+    sim = Simulation("tiny", seed=3, max_ticks=200, settings={"drive": "kilobot"})
+    assert (sim.physics._parking._set_spin is not None) == (compiled and KNOWN_ABI)
+    for _ in range(200):
+        sim.step()
+    assert sim.physics.parked.any()  # robots parked and unparked on the way
+    return sim.positions.tobytes() + sim.physics.headings().tobytes() + sim.messages.tobytes()
+
+
+def test_a_steered_run_is_the_same_with_compiled_spin_calls_and_with_pymunks(monkeypatch):
+    assert steered_end_state(monkeypatch, True) == steered_end_state(monkeypatch, False)

@@ -164,3 +164,14 @@ def test_run_summary_and_robot_table_report_contacts():
     assert 0 < s["mean_overlap"] <= s["max_overlap"]
     assert s["peak_contact_impulse"] > 0
     assert {"contact_impulse", "settled_displaced"} <= set(result.timeseries[-1])
+
+
+def test_wheel_noise_scales_each_turning_wheel_and_leaves_still_robots_still():
+    wheels = np.array([[0.1, 0.1], [0.0, 0.0], [-0.1, 0.1]])
+    assert Imperfections(NoiseLevels(heading_noise=0.3), seed=1).actuate_wheels(wheels) is wheels
+    noisy = Imperfections(NoiseLevels(speed_noise=0.2), seed=1).actuate_wheels(wheels)
+    again = Imperfections(NoiseLevels(speed_noise=0.2), seed=1).actuate_wheels(wheels)
+    np.testing.assert_array_equal(noisy, again)  # one seed, one draw
+    np.testing.assert_array_equal(noisy[1], 0.0)  # a still robot draws nothing, moves nothing
+    scale = noisy[[0, 2]] / wheels[[0, 2]]
+    assert np.all(scale >= 0) and len(np.unique(scale)) == 4  # a draw per wheel

@@ -5,7 +5,9 @@ import ast
 import dataclasses
 import re
 from pathlib import Path
+from typing import ClassVar
 
+import numpy as np
 from shapely.geometry import box
 
 from swarmsim import Simulation
@@ -19,6 +21,7 @@ from swarmsim.controller import (
     run_message_fields,
 )
 from swarmsim.sensing.sensing import FloorProbe, FloorSensor
+from tests.conftest import square_world
 from tests.import_graph import assert_no_circles
 
 CONTROLLERS = Path(__file__).resolve().parents[2] / "controllers"
@@ -116,7 +119,56 @@ def test_names_attribute_matches_whole_names_only():
 def test_perception_has_no_global_fields():
     names = {f.name for f in dataclasses.fields(Perception)}
     assert names == {"tick", "offsets", "distances", "messages", "on_target", "probe", "beacon",
-                     "moved"}
+                     "moved", "turned"}
+
+
+@dataclasses.dataclass(frozen=True)
+class _NoParams:
+    """No parameters."""
+
+
+class Circler:
+    """Drives round in a slow circle (each robot its own phase) and keeps what it perceives."""
+
+    name = "circler"
+    Params = _NoParams
+    STATUSES = ("Driving",)
+    seen: ClassVar[list[tuple[int, Perception]]] = []
+
+    @classmethod
+    def sensing_range(cls, params) -> float:
+        return 6.0
+
+    def __init__(self, setup, params, rng):
+        self.phase = setup.robot_id
+
+    def step(self, perception: Perception) -> Action:
+        Circler.seen.append((perception.tick, perception))
+        angle = self.phase + 0.1 * perception.tick
+        return Action((0.1 * np.cos(angle), 0.1 * np.sin(angle)), {"status": 0, "moving": True})
+
+
+def test_a_steered_robot_perceives_how_it_turned_never_its_heading():
+    """In a diff run, no number a robot perceives equals a body angle (any robot's, at that
+    tick, wrapped), while ``turned`` reports each robot's own turn."""
+    Circler.seen = []
+    sim = Simulation(square_world(), controller=Circler, robots=8, max_ticks=40,
+                     settings={"drive": "diff"})
+    angles = []
+    while sim.tick < 40:
+        angles.append(sim.physics.headings())
+        sim.step()
+    angles = np.array(angles)
+    wrapped = (angles + np.pi) % (2 * np.pi) - np.pi
+    turns = np.diff(angles, axis=0)
+    for tick, p in Circler.seen:
+        values = np.concatenate([p.offsets.ravel(), p.distances, p.moved, [p.turned],
+                                 [] if p.beacon is None else p.beacon])
+        assert not np.isclose(values[:, None], wrapped[tick][None, :], rtol=0,
+                              atol=1e-9).any(), f"tick {tick}: a perceived value is a heading"
+    turned = np.array([[p.turned for t, p in Circler.seen if t == tick] for tick in range(1, 40)])
+    np.testing.assert_allclose(turned, turns, atol=1e-12)  # robots decide in index order
+    assert np.abs(turned).max() > 0.05
 
 
 def test_a_neighbour_batch_holds_perception_rows_only():

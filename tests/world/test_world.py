@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 from shapely.geometry import Point
 
+from swarmsim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.world.world import available_worlds, load_world
 
@@ -205,10 +206,20 @@ def test_overlapping_spawn_areas_count_their_area_once(tmp_path):
 
 
 @pytest.mark.parametrize("default, key", [('start = "grid"', "defaults.start"),
-                                          ('controller = "nosuch"', "defaults.controller")])
+                                          ('controller = "nosuch"', "defaults.controller"),
+                                          ('drive = "tank"', "defaults.drive")])
 def test_a_bad_run_default_names_the_file_and_key(tmp_path, default, key):
     path = write(tmp_path, world_text(extra=f"[defaults]\n{default}\n"))
     assert_names(load_error(path), str(path), f"key '{key}'")
+
+
+def test_a_world_may_choose_the_drive_and_a_run_may_override_it(tmp_path):
+    path = write(tmp_path, world_text(extra='[defaults]\ndrive = "diff"\n'))
+    sim = Simulation(path, controller="dispersion", robots=3, max_ticks=2)
+    assert sim.physics_config.drive == "diff" and sim.drive.has_heading
+    sim = Simulation(path, controller="dispersion", robots=3, max_ticks=2,
+                     settings={"drive": "holonomic"})
+    assert not sim.drive.has_heading
 
 
 def test_a_folder_named_like_a_shipped_world_does_not_hide_it(tmp_path, monkeypatch):
