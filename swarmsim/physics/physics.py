@@ -79,8 +79,9 @@ class PhysicsConfig:
             "holonomic" (moves in any direction at once; the default; it ignores every
             drive setting), "diff" (differential drive) or "kilobot".
         wheel_base: diff: distance between the two wheels, units.
-        wheel_speed: diff: top speed of a wheel, units/tick; kilobot: forward speed of a
-            wheel-commanding controller's robot.
+        wheel_speed: diff: top speed of a wheel, units/tick. Above the controllers' cruising
+            speed (v_max), as on real robots: a robot going straight at v_max turns with
+            wheel speed to spare.
         wheel_accel: diff: largest rise of a wheel's speed in one tick, units/tick (a drop is
             immediate: a robot told to stop stops).
         reverse: diff: the robot may drive backward (a kilobot never does).
@@ -89,6 +90,8 @@ class PhysicsConfig:
             turns the robot.
         yaw_traction: diff, kilobot: largest torque with which the drive turns the body or
             holds its turn rate, mass*units^2/tick^2 (replaces spin_traction).
+        kilobot_speed: kilobot: forward speed of a wheel-commanding controller's robot
+            (both motors on), units/tick.
         kilobot_turn: kilobot: turn-in-place rate, rad/tick.
         kilobot_align: kilobot: the robot goes forward once its wish lies within this angle
             of its heading, else turns in place, rad.
@@ -114,11 +117,12 @@ class PhysicsConfig:
     physics_sleep_time: float = 1.0
     drive: Literal["holonomic", "diff", "kilobot"] = "holonomic"
     wheel_base: float = 0.6
-    wheel_speed: float = 0.1
+    wheel_speed: float = 0.2
     wheel_accel: float = 0.05
     reverse: bool = True
     axle_offset: float = 0.2
     yaw_traction: float = 0.01
+    kilobot_speed: float = 0.1
     kilobot_turn: float = 0.325
     kilobot_align: float = 0.35
     kilobot_bias: float = 0.1
@@ -129,7 +133,7 @@ class PhysicsConfig:
     def __post_init__(self) -> None:
         require_positive(self, "radius", "traction", "spin_traction", "collision_slop",
                          "physics_sleep_time", "wheel_base", "wheel_speed", "wheel_accel",
-                         "yaw_traction", "kilobot_turn", "kilobot_align")
+                         "yaw_traction", "kilobot_speed", "kilobot_turn", "kilobot_align")
         require_non_negative(self, "axle_offset", "kilobot_bias", "kilobot_curve",
                              "kilobot_stick", "kilobot_slip")
         if self.friction < 0:

@@ -64,6 +64,7 @@ class DriveSettings(Protocol):
     wheel_speed: float
     wheel_accel: float
     reverse: bool
+    kilobot_speed: float
     kilobot_turn: float
     kilobot_align: float
     kilobot_bias: float
@@ -233,7 +234,7 @@ class KilobotDrive:
     each tick from the ``drive`` stream.
 
     Args:
-        config: the run's PhysicsConfig (wheel_speed and the kilobot_* settings).
+        config: the run's PhysicsConfig (the kilobot_* settings).
         seed: the run's seed.
         n: number of robots.
     """
@@ -243,7 +244,7 @@ class KilobotDrive:
 
     def __init__(self, config: DriveSettings, seed: int, n: int):
         self.n = n
-        self.speed = float(config.wheel_speed)
+        self.speed = float(config.kilobot_speed)
         self.turn = float(config.kilobot_turn)
         self.align = float(config.kilobot_align)
         self.stick = float(config.kilobot_stick)

@@ -8,6 +8,7 @@ import pytest
 from swarmsim import Simulation
 from swarmsim.controller import Action, Perception
 from swarmsim.errors import ConfigError
+from swarmsim.physics.physics import PhysicsConfig
 from tests.conftest import square_world
 
 
@@ -82,7 +83,8 @@ def test_opposite_wheels_turn_in_place():
 
 def test_wheel_speeds_are_clamped_to_the_drive_s_top_speed():
     start, end, _ = drive(5.0, 5.0, ticks=10)
-    start_top, end_top, _ = drive(0.1, 0.1, ticks=10)
+    top = PhysicsConfig().wheel_speed
+    start_top, end_top, _ = drive(top, top, ticks=10)
     np.testing.assert_allclose(end - start, end_top - start_top, atol=1e-9)
 
 

@@ -18,6 +18,7 @@ from tests.conftest import square_world
 
 DIFF = PhysicsConfig(drive="diff")
 V = 0.1
+W = DIFF.wheel_speed  # a wheel's top speed
 ONE = np.ones(1, dtype=bool)
 
 
@@ -43,11 +44,11 @@ def test_wheels_speed_up_by_at_most_wheel_accel_a_tick_and_brake_at_once():
 
 
 def test_a_wish_behind_is_driven_backward_with_reverse_and_turned_to_without():
-    back = [(-V, 0.0)] * 3
+    back = [(-V, 0.0)] * 6  # the wheels reach their top speed within wheel_accel
     lin, spin = motions(DiffDrive(DIFF, 0, 1), back)[-1]
     assert lin[0] == pytest.approx(-V) and spin == pytest.approx(0)
     lin, spin = motions(DiffDrive(PhysicsConfig(drive="diff", reverse=False), 0, 1), back)[-1]
-    assert np.hypot(*lin) < 1e-12 and abs(spin) == pytest.approx(2 * V / DIFF.wheel_base)
+    assert np.hypot(*lin) < 1e-12 and abs(spin) == pytest.approx(2 * W / DIFF.wheel_base)
 
 
 def test_wheel_commands_drive_straight_or_turn_in_place():
@@ -59,8 +60,8 @@ def test_wheel_commands_drive_straight_or_turn_in_place():
     lin, spin = motions(drive, [(-V, V)] * 2, wheels=True)[-1]
     assert np.hypot(*lin) == 0 and spin == pytest.approx(2 * V / DIFF.wheel_base)
     drive = DiffDrive(DIFF, 0, 1)  # too fast: both wheels scaled down together
-    lin, spin = motions(drive, [(2 * V, 4 * V)] * 3, wheels=True)[-1]
-    np.testing.assert_allclose(drive.wheels[0], [V / 2, V])
+    lin, spin = motions(drive, [(2 * W, 4 * W)] * 6, wheels=True)[-1]
+    np.testing.assert_allclose(drive.wheels[0], [W / 2, W])
 
 
 def test_a_failed_robot_stands_still_and_loses_its_wheel_speeds():
@@ -121,7 +122,7 @@ def test_kilobot_motors_read_as_on_or_off():
     rate = cfg.kilobot_turn * drive.turn_factor[0]
     (ahead, _), (left, s_left), (right, s_right), (off, s_off) = motions(
         drive, [(0.01, 0.05), (0.1, 0.0), (0.0, 0.1), (0.0, -0.1)], wheels=True)
-    assert ahead[0] == pytest.approx(cfg.wheel_speed * drive.fwd_factor[0])
+    assert ahead[0] == pytest.approx(cfg.kilobot_speed * drive.fwd_factor[0])
     assert np.all(left == 0) and s_left == pytest.approx(-rate)  # left motor: turns right
     assert np.all(right == 0) and s_right == pytest.approx(rate)
     assert np.all(off == 0) and s_off == 0
@@ -168,7 +169,7 @@ class SetupRecorder:
 
 @pytest.mark.parametrize("drive, rate, reverse", [
     ("holonomic", lambda d: math.inf, True),
-    ("diff", lambda d: 2 * 0.1 / 0.6, True),
+    ("diff", lambda d: 2 * d.wheel_speed / d.wheel_base, True),
     ("kilobot", lambda d: 0.325 * d.turn_factor, False),
 ])
 def test_each_robot_is_told_its_drives_turn_rate_and_whether_it_reverses(drive, rate, reverse):
