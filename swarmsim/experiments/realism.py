@@ -292,14 +292,14 @@ def plot_realism(st: Sequence[ConditionStats], versus: Sequence[VersusBaseline],
         if band is None:
             continue
         colour = colours[i % len(colours)]
-        left.plot(band.ticks, 100 * band.mean, color=colour, lw=2.2 if i == 0 else 1.4,
-                  ls="-" if i == 0 else ("-" if i % 2 else "--"),
+        left.plot(band.ticks, 100 * band.mean, color=colour, lw=2.4 if i == 0 else 1.4,
+                  ls="--" if s.cond.labels["messages"] == "logistic" else "-",
                   label=f"{s.cond.label} (n={band.n})")
         left.fill_between(band.ticks, 100 * band.lo, 100 * band.hi, color=colour, alpha=0.12,
                           lw=0)
     left.set_xlabel("tick")
     left.set_ylabel("coverage (%)")
-    left.set_title("coverage over time (mean, band = min-max over seeds)")
+    left.set_title("coverage over time (mean, band = min-max over seeds; dashed: logistic)")
     left.grid(True, alpha=0.3)
     if left.get_legend_handles_labels()[0]:
         left.legend(fontsize=8, loc="lower right")
