@@ -184,7 +184,12 @@ def check_setup(setup: RealismSetup) -> None:
     from swarmsim.registry import get_controller
     from swarmsim.world.world import load_world
 
-    load_world(setup.world)
+    world = load_world(setup.world)
+    for key, value in world.defaults.items():
+        if key in VARIED:  # it would silently change the conditions that leave the key out
+            raise ConfigError(f"sets {key}={value!r} in its [defaults], which the study varies "
+                              f"({VARIED[key]}): use a world without it", source=setup.world,
+                              key=f"defaults.{key}")
     cls = get_controller(setup.controller)
     for option, values, allowed in (("--drives", setup.drives, None),
                                     ("--modes", setup.modes, MODES),

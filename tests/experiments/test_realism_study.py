@@ -3,19 +3,23 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 
 import pytest
 
 from swarmsim import Simulation
 from swarmsim.cli import REALISM_DRIVES, REALISM_MESSAGES, main
+from swarmsim.errors import ConfigError
 from swarmsim.experiments.realism import (
     DRIVES,
     MESSAGES,
     RealismSetup,
+    check_setup,
     conditions,
     message_range50,
     study_realism,
 )
+from swarmsim.world import world as world_module
 
 SETUP = RealismSetup(world="tiny", drives=("holonomic",), noise=(0.0, 0.05), max_ticks=300)
 
@@ -106,3 +110,14 @@ def test_bad_study_input_is_one_line_naming_it(argv, key, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and key in err and len(err.splitlines()) == 1, err
     assert not (tmp_path / "o").exists()
+
+
+
+def test_a_world_whose_defaults_set_what_the_study_varies_is_refused(monkeypatch):
+    """A drive or model in a world's [defaults] would silently change the conditions that
+    leave the key out (the baseline among them)."""
+    tiny = world_module.load_world("tiny")
+    monkeypatch.setattr(world_module, "load_world", lambda name: dataclasses.replace(
+        tiny, defaults={"message_model": "logistic"}))
+    with pytest.raises(ConfigError, match=r"defaults\.message_model.*--messages"):
+        check_setup(RealismSetup(world="tiny", drives=("holonomic",)))
