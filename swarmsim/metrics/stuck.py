@@ -31,7 +31,8 @@ STUCK_SHARE = 0.05
 STUCK_WINDOW * v_max (the distance those ticks could carry it) net over them."""
 
 AGAINST_WALL, AGAINST_ROBOTS = 1, 2
-"""Codes of :attr:`StuckPart.against`: stuck against a wall, against robots only."""
+"""Codes of :attr:`StuckPart.against`: stuck against a wall, against robots only (as
+swarmsim.metrics.tallies.watch_stuck writes them)."""
 
 
 class StuckPart(MetricPart):
@@ -62,11 +63,9 @@ class StuckPart(MetricPart):
         c = self.contacts.state
         self.stuck_now = watch_stuck(now.tick, now.positions, now.commanded, now.failed,
                                      c.in_contact, c.on_wall, self._ring, self._pressing,
-                                     self._wall_tick, self.against, STUCK_WINDOW, self.min_net)
-        if self.stuck_now:
-            self.ever_wall |= self.against == AGAINST_WALL
-            self.ever_robots |= self.against == AGAINST_ROBOTS
-            self.stuck_robot_ticks += self.stuck_now
+                                     self._wall_tick, self.against, self.ever_wall,
+                                     self.ever_robots, STUCK_WINDOW, self.min_net)
+        self.stuck_robot_ticks += self.stuck_now
 
     def columns(self) -> Mapping[str, Reporter]:
         return {"stuck": lambda: self.stuck_now}

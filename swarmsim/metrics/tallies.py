@@ -79,7 +79,8 @@ def watch_settled(positions, status, moving, is_settled, settled, anchor, max_sh
 
 @njit(cache=True)
 def watch_stuck(tick, positions, commanded, failed, in_contact, on_wall, ring, pressing,
-                wall_tick, stuck_wall, window, min_net):  # pragma: no cover - compiled
+                wall_tick, stuck_wall, ever_wall, ever_robots, window,
+                min_net):  # pragma: no cover - compiled
     """One tick of the stuck watch (swarmsim.metrics.stuck), in place.
 
     A robot presses in a tick when it has not failed, its drive was told to move
@@ -89,7 +90,8 @@ def watch_stuck(tick, positions, commanded, failed, in_contact, on_wall, ring, p
     (row ``tick % (window + 1)``). A robot is stuck when it has pressed for ``window`` ticks and
     moved less than ``min_net`` units net over them; ``stuck_wall`` (N,) int8 is set to 1 for a
     robot stuck against a wall (a wall contact in those ticks), 2 against robots only, 0 for
-    a robot not stuck. Returns how many robots are stuck."""
+    a robot not stuck; ``ever_wall`` / ``ever_robots`` (N,) bool are set for a robot stuck
+    against a wall / robots. Returns how many robots are stuck."""
     slots = ring.shape[0]
     now, then = tick % slots, (tick - window) % slots
     stuck = 0
@@ -103,7 +105,10 @@ def watch_stuck(tick, positions, commanded, failed, in_contact, on_wall, ring, p
         if pressing[i] >= window:
             dx, dy = positions[i, 0] - ring[then, i, 0], positions[i, 1] - ring[then, i, 1]
             if math.sqrt(dx * dx + dy * dy) < min_net:
-                stuck_wall[i] = 1 if wall_tick[i] > tick - window else 2
+                if wall_tick[i] > tick - window:
+                    stuck_wall[i], ever_wall[i] = 1, True
+                else:
+                    stuck_wall[i], ever_robots[i] = 2, True
                 stuck += 1
     return stuck
 
@@ -122,4 +127,4 @@ def warm_up() -> None:
                   np.zeros(1), 1.0)
     count = np.zeros(1, dtype=np.int64)
     watch_stuck(0, one, one, flag, flag, flag, np.zeros((2, 1, 2)), count, count.copy(),
-                np.zeros(1, dtype=np.int8), 1, 0.25)
+                np.zeros(1, dtype=np.int8), flag.copy(), flag.copy(), 1, 0.25)
