@@ -47,9 +47,10 @@ run gave the robots at the start), the world (``world_name``, ``world_arena`` (4
 
 Samples are kept in memory until saved. A sample costs, per robot, 16 bytes (position) + 1
 (status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 3 bits (contact, failure,
-sleep): 24.375 bytes for GGC (:func:`sample_cost`), 8 more with headings; and per sample 71 bytes (the tick and
-coverage objects, the flags' rounding) and at most 136 for each of its arrays (numpy's header
-and a list slot; 9 arrays for GGC), plus the changed raster cells, at most the raster's cells or two robot stencils per
+sleep): 24.375 bytes for GGC (:func:`sample_cost`), 8 more with headings; and per sample 71
+bytes (the tick and coverage objects, the flags' rounding) and at most 136 for each of its
+arrays (numpy's header and a list slot; 9 arrays for GGC, one more with headings), plus the
+changed raster cells, at most the raster's cells or two robot stencils per
 robot, 2 or 4 bytes each (``memory_bytes`` counts this bound; :func:`check_memory` refuses
 more than MAX_TRAJECTORY_BYTES). Files written before ``format`` 2 hold only ``ticks``,
 ``positions`` (float32), ``statuses`` and ``status_names``.

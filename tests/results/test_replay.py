@@ -234,6 +234,8 @@ def test_the_memory_bound_holds_what_the_samples_keep():
                      max_ticks=TICKS)
     cost = sample_cost(sim)
     assert cost.per_robot == 16 + 1 + 4 + 2 + 1 + 3 / 8  # GGC: gradient i4, group i2, leader
+    marked = sample_cost(sim, headings=True)  # a float64 heading per robot, one more array
+    assert (marked.per_robot - cost.per_robot, marked.per_sample - cost.per_sample) == (8, 136)
     tracks = Trajectories(sim, every=1)
     sim.run(on_tick=tracks.on_tick)
     kept = sum(sys.getsizeof(a) + 8 for name, rows in vars(tracks).items()
