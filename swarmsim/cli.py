@@ -196,15 +196,25 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     _add_executor_args(r)
 
 
-STUDY_GROUPS = 3  # study collisions' groups when neither --groups nor --set groups= is given
+STUDY_GROUPS = 3  # a study's groups when neither --groups nor --set groups= is given
+STUDIES = ("collisions", "realism")
+REALISM_DRIVES = ("holonomic", "diff", "kilobot")  # as swarmsim.experiments.realism.DRIVES
+REALISM_MESSAGES = ("uniform", "logistic")  # as swarmsim.experiments.realism.MESSAGES
+REALISM_ONLY = ("drives", "messages")  # study options only realism has
 
 
 def _add_study_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("study", help="collision-realism study: ghost vs rigid robots",
-                       description="Run the same scenarios with robots that pass through each "
-                       "other (ghost, the paper's points) and rigid discs (and optionally noise "
-                       "levels); write a table, plots and REPORT.md. Resumable.")
-    p.add_argument("what", choices=("collisions",), help="the study to run")
+    p = sub.add_parser("study", help="realism studies: ghost vs rigid robots (collisions); "
+                       "drives x noise x message models against ideal robots (realism)",
+                       description="collisions: run the same scenarios with robots that pass "
+                       "through each other (ghost, the paper's points) and rigid discs (and "
+                       "optionally noise levels). realism: run them under every drive x mode x "
+                       "noise level x message model, plus the baseline (holonomic ghost discs, "
+                       "noise 0, uniform messages without loss), and compare each with the "
+                       "baseline (docs/realism-study.md). Both write runs/, results.csv, "
+                       "conditions.csv, a figure and REPORT.md in --out; resumable (run the same "
+                       "command again), local workers or Dask.")
+    p.add_argument("what", choices=STUDIES, help="the study to run")
     p.add_argument("--world", default="K", help="world (default K)")
     p.add_argument("--controller", default="ggc", help="controller (default ggc)")
     p.add_argument("--robots", type=int, help="robot count (default: the world's)")
@@ -214,15 +224,26 @@ def _add_study_parser(sub: argparse._SubParsersAction) -> None:
                    help=f"seeds per condition (default 5, at most {MAX_REPS:,})")
     p.add_argument("--max-ticks", type=int, dest="max_ticks",
                    help="tick limit of every run (default 100000)")
-    p.add_argument("--modes", nargs="+", default=["ghost", "rigid"], choices=("ghost", "rigid"),
-                   help="physics modes to compare (default: ghost rigid)")
-    p.add_argument("--noise", nargs="+", type=float, default=[0.0], metavar="LEVEL",
+    p.add_argument("--modes", nargs="+", choices=("ghost", "rigid"),
+                   help="physics modes to compare (default: ghost rigid for collisions, rigid "
+                   "for realism, whose baseline is ghost)")
+    p.add_argument("--noise", nargs="+", type=float, metavar="LEVEL",
                    help="noise levels: LEVEL sets speed, heading (rad), distance and bearing "
-                   "(rad) noise to LEVEL (default: 0 = ideal robots)")
+                   "(rad) noise to LEVEL; realism also makes the floor sensor misread within 1 "
+                   "unit of the target's edge with probability 2 x LEVEL, so LEVEL <= 0.5 "
+                   "(default: 0 for collisions, 0 0.05 for realism)")
+    p.add_argument("--drives", nargs="+", metavar="DRIVE",
+                   help="realism only: drives to compare, as --set drive=DRIVE (default: "
+                   f"{' '.join(REALISM_DRIVES)})")
+    p.add_argument("--messages", nargs="+", choices=REALISM_MESSAGES,
+                   help="realism only: message models to compare: uniform (no loss) and "
+                   "logistic (success falls with distance: 50 %% at 0.8 x the sensing range, "
+                   "fall-off 1.5 units) (default: uniform logistic)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="another setting for every run (e.g. message_loss=0.1)")
-    p.add_argument("--out", type=Path, default=Path("results/collisions"),
-                   help="output folder (default results/collisions)")
+                   help="another setting for every run (e.g. message_loss=0.1 for collisions); "
+                   "not one the study varies")
+    p.add_argument("--out", type=Path,
+                   help="output folder (default results/collisions or results/realism)")
     _add_executor_args(p)
 
 
@@ -852,24 +873,45 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from swarmsim.experiments.collisions import StudySetup, study_collisions
     from swarmsim.experiments.executors import check_workers
 
     if args.max_ticks is not None and args.max_ticks < 1:
         raise ConfigError(f"must be >= 1, got {args.max_ticks!r}", key="--max-ticks")
+    if args.what != "realism":
+        for name in REALISM_ONLY:
+            if getattr(args, name) is not None:
+                raise ConfigError(f"is an option of study realism, not {args.what}",
+                                  key=f"--{name}")
     check_workers(args.workers)
-    _check_folder("--out", args.out)  # made by the sweep once every run is checked
+    out = args.out = args.out if args.out is not None else Path("results") / args.what
+    _check_folder("--out", out)  # made by the sweep once every run is checked
     extra = _parse_set(args.set, robots=args.robots, groups=args.groups, d_cover=args.d_cover,
                        max_ticks=args.max_ticks)
     groups = args.groups if args.groups is not None else extra.pop("groups", STUDY_GROUPS)
-    setup = StudySetup(world=args.world, controller=args.controller, robots=args.robots,
-                       groups=groups, d_cover=args.d_cover, modes=tuple(args.modes),
-                       noise=tuple(dict.fromkeys(args.noise)), max_ticks=args.max_ticks,
-                       extra=extra)
-    result = study_collisions(setup, args.out, args.reps, args.workers, args.scheduler,
-                              args.retry_failed, progress=not args.quiet)
+    common = {"world": args.world, "controller": args.controller, "robots": args.robots,
+              "groups": groups, "d_cover": args.d_cover, "max_ticks": args.max_ticks,
+              "extra": extra}
+    if args.what == "realism":
+        from swarmsim.experiments.realism import RealismSetup, study_realism
+
+        setup = RealismSetup(**common, **_given(args, ("drives", "modes", "noise", "messages")))
+        result = study_realism(setup, out, args.reps, args.workers, args.scheduler,
+                               args.retry_failed, progress=not args.quiet)
+    else:
+        from swarmsim.experiments.collisions import StudySetup, study_collisions
+
+        setup = StudySetup(**common, **_given(args, ("modes", "noise")))
+        result = study_collisions(setup, out, args.reps, args.workers, args.scheduler,
+                                  args.retry_failed, progress=not args.quiet)
     print(f"{result.sweep_line}\nreport: {result.report}")
     return 1 if result.failed else 0
+
+
+def _given(args: argparse.Namespace, names: Sequence[str]) -> dict[str, tuple]:
+    """The axis options among ``names`` given on the command line, as tuples without repeats
+    (those not given keep the study's defaults)."""
+    return {name: tuple(dict.fromkeys(getattr(args, name))) for name in names
+            if getattr(args, name) is not None}
 
 
 def _dispatch(args: argparse.Namespace) -> int:

@@ -238,7 +238,8 @@ class Recording:
                         in_contact=self.flags("in_contact_bits", index),
                         failed=self.flags("failed_bits", index),
                         start_groups=a["start_groups"].astype(np.int64),
-                        start_leaders=a["start_leaders"].copy())
+                        start_leaders=a["start_leaders"].copy(),
+                        headings=a["headings"][index].copy() if "headings" in a else None)
 
 
 def _no_sample(tick: int, near: list[int], first: int, last: int) -> int:

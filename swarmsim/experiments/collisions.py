@@ -76,10 +76,28 @@ class StudySetup:
 
 @dataclass(frozen=True)
 class StudyCondition:
+    """One condition of a study: its name, the values that define it and its runs.
+
+    Attributes:
+        label: the condition's name in tables and plots (e.g. "rigid, noise 0.05").
+        labels: what the condition sets, by axis (this study: ``mode``, ``noise``), in the
+            order conditions.csv writes them.
+        runs: the condition's runs, one per seed.
+    """
+
     label: str
-    mode: str
-    noise: float
+    labels: Mapping[str, Any]
     runs: tuple[RunSpec, ...]
+
+    @property
+    def mode(self) -> str:
+        """The physics mode (``labels["mode"]``)."""
+        return self.labels["mode"]
+
+    @property
+    def noise(self) -> float:
+        """The noise level (``labels["noise"]``)."""
+        return self.labels["noise"]
 
 
 def conditions(setup: StudySetup, reps: int) -> list[StudyCondition]:
@@ -90,9 +108,10 @@ def conditions(setup: StudySetup, reps: int) -> list[StudyCondition]:
         for mode in setup.modes:
             label = mode if not noise else f"{mode}, noise {noise:g}"
             settings = setup.settings(mode, noise)
-            runs = tuple(RunSpec(setup.world, setup.controller, settings, seed,
-                                 labels={"mode": mode, "noise": noise}) for seed in range(reps))
-            out.append(StudyCondition(label, mode, noise, runs))
+            labels = {"mode": mode, "noise": noise}
+            runs = tuple(RunSpec(setup.world, setup.controller, settings, seed, labels=labels)
+                         for seed in range(reps))
+            out.append(StudyCondition(label, labels, runs))
     return out
 
 
@@ -158,10 +177,18 @@ def milestone(rows: list[dict[str, str]], level: float) -> tuple[float | None, f
     return float(t[hit[0]]), float(dist[hit[0]])
 
 
-def analyse(sweep: Sweep, conds: Sequence[StudyCondition]) -> list[ConditionStats]:
+CURVES = ("coverage", "total_distance", "in_contact")
+"""The time-series columns whose mean curves this study draws."""
+
+
+def analyse(sweep: Sweep, conds: Sequence[StudyCondition], curves_of: Sequence[str] = CURVES
+            ) -> list[ConditionStats]:
+    """What each condition measured, from its finished runs (``curves_of``: the time-series
+    columns to keep as curves and mean bands)."""
     out = []
     for cond in conds:
-        summaries, curves = [], {"coverage": [], "total_distance": [], "in_contact": []}
+        summaries: list[dict[str, Any]] = []
+        curves: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {m: [] for m in curves_of}
         marks: dict[float, dict[int, tuple[float, float]]] = {m: {} for m in MILESTONES}
         for run in cond.runs:
             if sweep.store.status(run.run_id) != DONE:
@@ -193,13 +220,19 @@ def _mean_sd(x: tuple[float | None, float | None, int], digits: int = 0, scale: 
     return f"{_fmt(scale * x[0], digits)} ± {_fmt(scale * x[1], digits)}"
 
 
-def condition_rows(st: Sequence[ConditionStats]) -> list[dict[str, Any]]:
+ROW_FIELDS = ("coverage", "completion_tick", "total_distance", *CONTACT_FIELDS)
+"""The summary fields whose means and sds conditions.csv gives."""
+
+
+def condition_rows(st: Sequence[ConditionStats], fields: Sequence[str] = ROW_FIELDS
+                   ) -> list[dict[str, Any]]:
+    """conditions.csv: per condition its labels, runs, runs done, the mean and sd of each
+    summary field in ``fields``, and the ticks and distance to each coverage milestone."""
     rows = []
     for s in st:
-        row: dict[str, Any] = {"condition": s.cond.label, "mode": s.cond.mode,
-                               "noise": s.cond.noise, "runs": len(s.cond.runs),
-                               "done": len(s.summaries)}
-        for key in ("coverage", "completion_tick", "total_distance", *CONTACT_FIELDS):
+        row: dict[str, Any] = {"condition": s.cond.label, **s.cond.labels,
+                               "runs": len(s.cond.runs), "done": len(s.summaries)}
+        for key in fields:
             mean, sd, n = s.field_stats(key)
             row[f"{key}_mean"], row[f"{key}_sd"] = mean, sd
             if key == "completion_tick":
@@ -334,7 +367,7 @@ def _noise_lines(st: Sequence[ConditionStats]) -> list[str]:
 
 
 def _relabel(s: ConditionStats, mode: str) -> ConditionStats:
-    cond = StudyCondition(s.cond.label, mode, 0.0, s.cond.runs)
+    cond = StudyCondition(s.cond.label, {"mode": mode, "noise": 0.0}, s.cond.runs)
     return ConditionStats(cond, s.summaries, s.curves, s.milestones, s.bands)
 
 

@@ -31,9 +31,10 @@ from swarmsim.metrics.progress import (
 )
 from swarmsim.metrics.settled import SettledPart, SettledWatch
 from swarmsim.metrics.spacing import SpacingPart, nearest_neighbour_spacing
+from swarmsim.metrics.stuck import StuckPart
 
 __all__ = ["MOVING_FRACTION", "NOT_YET", "STENCIL_CAP", "ContactsPart", "CoverageGrid",
            "CoveragePart", "FinalState", "IncrementalCoverage", "MetricPart", "Observation",
            "ObservedRun", "ProgressPart", "RobotTracks", "RunEnd", "RunMetrics", "SettledPart",
-           "SettledWatch", "SpacingPart", "first_within", "nearest_neighbour_spacing",
+           "SettledWatch", "SpacingPart", "StuckPart", "first_within", "nearest_neighbour_spacing",
            "standard_parts"]

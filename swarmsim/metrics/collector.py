@@ -21,6 +21,7 @@ from swarmsim.metrics.part import MetricPart, Observation, Reporter, RobotReport
 from swarmsim.metrics.progress import ProgressPart
 from swarmsim.metrics.settled import SettledPart
 from swarmsim.metrics.spacing import SpacingPart
+from swarmsim.metrics.stuck import StuckPart
 
 TICK_COLUMN = "tick"
 """The time series' first column, written by the collector."""
@@ -38,12 +39,14 @@ class ObservedRun(Protocol):
     on_target: np.ndarray
     messages: np.ndarray
     awake_count: int
+    velocities: np.ndarray
+    failed: np.ndarray
 
 
 def standard_parts(grid: CoverageGrid, config: Any, physics: Any,
                    settled_codes: tuple[int, ...], broadcasts: np.dtype) -> list[MetricPart]:
     """The parts of every run, in the order their outputs are written: coverage, progress,
-    contacts, settled robots, spacing.
+    contacts, settled robots, spacing, stuck robots.
 
     Args:
         grid: the coverage raster.
@@ -57,7 +60,9 @@ def standard_parts(grid: CoverageGrid, config: Any, physics: Any,
     settled = SettledPart(physics.n, settled_codes, config.displaced_threshold)
     progress = ProgressPart(physics.n, coverage, settled, settled_codes, config,
                             counts_broadcast_moving="moving" in (broadcasts.names or ()))
-    return [coverage, progress, ContactsPart(physics), settled, SpacingPart()]
+    contacts = ContactsPart(physics)
+    return [coverage, progress, contacts, settled, SpacingPart(),
+            StuckPart(physics.n, contacts, config.v_max)]
 
 
 class RunMetrics:
@@ -112,7 +117,7 @@ class RunMetrics:
     def post_step(self, run: ObservedRun) -> None:
         """Observe the end of the tick that just ended."""
         self.observe(Observation(run.tick, run.positions, run.on_target, run.messages,
-                                 run.awake_count))
+                                 run.awake_count, run.velocities, run.failed))
 
     def is_finished(self, run: ObservedRun) -> str | None:
         """The metrics never stop a run (the stop rules read them)."""

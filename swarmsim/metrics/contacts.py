@@ -31,9 +31,12 @@ class ContactsPart(MetricPart):
         self.contact_robot_ticks = 0
         self._in_contact = 0  # robots touching at the end of the last tick
         self._impulse = 0.0  # contact impulse of the last tick's last substep
+        self.state: Any = None
+        """The ContactState at the end of the last observed tick (None before the first);
+        parts after this one read it."""
 
     def observe(self, now: Observation) -> None:
-        c = self.physics.contact_state()
+        c = self.state = self.physics.contact_state()
         self.max_overlap = max(self.max_overlap, c.max_overlap)
         self.total_impulse += c.impulse
         self.peak_impulse = max(self.peak_impulse, c.peak_impulse)

@@ -33,6 +33,9 @@ class Observation:
         on_target: (N,) bool, floor sensors: robots on the target.
         messages: (N,) the broadcasts at the end of the tick (the controller's dtype).
         awake: robots that decided during the tick (all of them at the start).
+        commanded: (N, 2) the velocities the robots' drives were told in the tick, units per
+            tick (zeros at the start).
+        failed: (N,) bool, robots that have failed.
     """
 
     tick: int
@@ -40,6 +43,8 @@ class Observation:
     on_target: np.ndarray
     messages: np.ndarray
     awake: int
+    commanded: np.ndarray
+    failed: np.ndarray
 
 
 @dataclass(frozen=True, slots=True)

@@ -77,6 +77,42 @@ def watch_settled(positions, status, moving, is_settled, settled, anchor, max_sh
     return displaced
 
 
+@njit(cache=True)
+def watch_stuck(tick, positions, commanded, failed, in_contact, on_wall, ring, pressing,
+                wall_tick, stuck_wall, ever_wall, ever_robots, window,
+                min_net):  # pragma: no cover - compiled
+    """One tick of the stuck watch (swarmsim.metrics.stuck), in place.
+
+    A robot presses in a tick when it has not failed, its drive was told to move
+    (``commanded`` row non-zero) and it touches something (``in_contact``). ``pressing`` (N,)
+    counts its consecutive pressing ticks, ``wall_tick`` (N,) keeps the last tick it touched a
+    wall (``on_wall``), ``ring`` (window + 1, N, 2) the positions of the last window + 1 ticks
+    (row ``tick % (window + 1)``). A robot is stuck when it has pressed for ``window`` ticks and
+    moved less than ``min_net`` units net over them; ``stuck_wall`` (N,) int8 is set to 1 for a
+    robot stuck against a wall (a wall contact in those ticks), 2 against robots only, 0 for
+    a robot not stuck; ``ever_wall`` / ``ever_robots`` (N,) bool are set for a robot stuck
+    against a wall / robots. Returns how many robots are stuck."""
+    slots = ring.shape[0]
+    now, then = tick % slots, (tick - window) % slots
+    stuck = 0
+    for i in range(positions.shape[0]):
+        ring[now, i, 0], ring[now, i, 1] = positions[i, 0], positions[i, 1]
+        if on_wall[i]:
+            wall_tick[i] = tick
+        moving = commanded[i, 0] != 0.0 or commanded[i, 1] != 0.0
+        pressing[i] = pressing[i] + 1 if moving and in_contact[i] and not failed[i] else 0
+        stuck_wall[i] = 0
+        if pressing[i] >= window:
+            dx, dy = positions[i, 0] - ring[then, i, 0], positions[i, 1] - ring[then, i, 1]
+            if math.sqrt(dx * dx + dy * dy) < min_net:
+                if wall_tick[i] > tick - window:
+                    stuck_wall[i], ever_wall[i] = 1, True
+                else:
+                    stuck_wall[i], ever_robots[i] = 2, True
+                stuck += 1
+    return stuck
+
+
 @kernel_warm_up("tallies")
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
@@ -89,3 +125,6 @@ def warm_up() -> None:
     enter_settled(0, status, codes, np.zeros(1, dtype=np.int64), flag)
     watch_settled(one, status, moving, np.zeros(257, dtype=np.bool_), flag, one.copy(),
                   np.zeros(1), 1.0)
+    count = np.zeros(1, dtype=np.int64)
+    watch_stuck(0, one, one, flag, flag, flag, np.zeros((2, 1, 2)), count, count.copy(),
+                np.zeros(1, dtype=np.int8), flag.copy(), flag.copy(), 1, 0.25)

@@ -73,20 +73,26 @@ def carry_over(live_robots, live_depth, live_impulse, old_robots, old_depth, old
 
 @njit(cache=True)
 def tally(robots, depth, n):  # pragma: no cover - compiled
-    """(N,) bool robots touching anything, (M,) bool robot-robot rows with a penetration, and
-    the deepest penetration of any row (units, 0.0 for none)."""
+    """(N,) bool robots touching anything, (N,) bool robots touching a wall (a row whose other
+    side is not a robot: a wall or an obstacle), (M,) bool robot-robot rows with a
+    penetration, and the deepest penetration of any row (units, 0.0 for none)."""
     in_contact = np.zeros(n, dtype=np.bool_)
+    on_wall = np.zeros(n, dtype=np.bool_)
     pair = np.zeros(len(depth), dtype=np.bool_)
     deepest = 0.0
     for row in range(len(depth)):
         a, b = robots[row, 0], robots[row, 1]
         if a >= 0:
             in_contact[a] = True
+            if b < 0:
+                on_wall[a] = True
         if b >= 0:
             in_contact[b] = True
+            if a < 0:
+                on_wall[b] = True
         pair[row] = a >= 0 and b >= 0 and depth[row] > 0
         deepest = max(deepest, depth[row])
-    return in_contact, pair, deepest
+    return in_contact, on_wall, pair, deepest
 
 
 @kernel_warm_up("contacts")

@@ -188,6 +188,7 @@ class ContactState:
 
     Attributes:
         in_contact: (N,) bool, robots touching another robot or a wall.
+        on_wall: (N,) bool, robots touching a wall or an obstacle (a subset of in_contact).
         max_overlap: deepest penetration of any contact, units (0 without contacts).
         overlap_sum: sum of the penetration depths of the robot-robot contacts, units.
         robot_pairs: number of robot-robot contacts (arbiters with a penetration).
@@ -196,6 +197,7 @@ class ContactState:
     """
 
     in_contact: np.ndarray
+    on_wall: np.ndarray
     max_overlap: float = 0.0
     overlap_sum: float = 0.0
     robot_pairs: int = 0
@@ -546,9 +548,9 @@ class Physics:
         """
         c = self._arbiters()
         if len(c.robots) == 0:
-            return ContactState(np.zeros(self.n, dtype=bool))
-        in_contact, pair, deepest = contactrows.tally(c.robots, c.depth, self.n)
-        return ContactState(in_contact, deepest, float(c.depth[pair].sum()),
+            return ContactState(np.zeros(self.n, dtype=bool), np.zeros(self.n, dtype=bool))
+        in_contact, on_wall, pair, deepest = contactrows.tally(c.robots, c.depth, self.n)
+        return ContactState(in_contact, on_wall, deepest, float(c.depth[pair].sum()),
                             int(np.count_nonzero(pair)), float(c.impulse.sum()),
                             float(c.impulse.max()))
 

@@ -38,6 +38,7 @@ from swarmsim.render.palette import (
     FLOOR,
     GRADIENT_PALETTE,
     GROUP_PALETTE,
+    HEADING_MARK,
     LEADER_RING,
     NONE_GREY,
     OBSTACLE_EDGE,
@@ -92,6 +93,24 @@ def frame_size(arena: tuple[float, float, float, float], width: int) -> tuple[in
 
 def _even(x: float, multiple: int) -> int:
     return max(multiple, round(x / multiple) * multiple)
+
+
+HEADING_MIN_PX = 3
+"""Robots drawn smaller than this radius (pixels) get no heading mark."""
+
+
+def _draw_heading_marks(surf: pygame.Surface, centres: np.ndarray, headings: np.ndarray,
+                        ri: int) -> None:
+    """A line from each robot's centre (pixels, (K, 2) int) toward its heading (radians,
+    world frame, (K,)), 0.8 of the drawn radius ``ri`` long; the image's y axis points down.
+    Robots with a non-finite heading get none."""
+    keep = np.isfinite(headings)
+    reach = 0.8 * ri
+    tips = np.rint(centres[keep] + reach * np.column_stack(
+        (np.cos(headings[keep]), -np.sin(headings[keep])))).astype(np.int64)
+    width = max(1, ri // 4)
+    for start, end in zip(centres[keep].tolist(), tips.tolist(), strict=True):
+        pygame.draw.line(surf, HEADING_MARK, start, end, width)
 
 
 class Renderer:
@@ -332,6 +351,8 @@ class Renderer:
                 if ri >= 4:
                     pygame.draw.line(surf, FAILED_MARK, (x - arm, y - arm), (x + arm, y + arm))
                     pygame.draw.line(surf, FAILED_MARK, (x - arm, y + arm), (x + arm, y - arm))
+        if snap.headings is not None and ri >= HEADING_MIN_PX:
+            _draw_heading_marks(surf, pix[live], np.asarray(snap.headings, float)[live], ri)
         ring_w = max(1, ri // 3)
         if contact is not None and contact.any():
             for p in pix[ok & contact].tolist():

@@ -20,6 +20,7 @@ FAILED = (20, 20, 20)
 FAILED_MARK = (210, 210, 210)
 LEADER_RING = (0, 0, 0)
 CONTACT_RING = (230, 0, 0)
+HEADING_MARK = (45, 45, 45)  # the line from a robot's centre toward its heading
 NONE_GREY = (150, 150, 150)
 TEXT = (20, 20, 20)
 PANEL = (255, 255, 255, 215)

@@ -33,6 +33,9 @@ class Snapshot:
             not broadcast yet (tick 0), whose ``messages`` rows are silent.
         start_leaders: (N,) bool, the robots the run made leaders at the start
             (``RobotSetup.leader``), or None; used like ``start_groups``.
+        headings: (N,) float, each robot's heading, radians in the world frame (0 = +x,
+            counter-clockwise), or None for a drive without one (holonomic). Renderers draw a
+            heading mark only when it is given.
     """
 
     tick: int
@@ -46,6 +49,7 @@ class Snapshot:
     failed: np.ndarray
     start_groups: np.ndarray | None = None
     start_leaders: np.ndarray | None = None
+    headings: np.ndarray | None = None
 
     @property
     def n_robots(self) -> int:

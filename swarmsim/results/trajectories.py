@@ -28,6 +28,8 @@ Per sample (T samples: tick 0 or the tick sampling began, every multiple of K, t
 - ``in_contact_bits``, ``failed_bits``, ``asleep_bits`` (T, ceil(N / 8)) uint8: the (N,)
   bool flags (touching something, failed, asleep) packed with ``np.packbits``
   (``np.unpackbits(row, count=N)`` reads them).
+- ``headings`` (T, N) float64, radians in the world frame: each robot's heading, only for a
+  run whose drive has one (``Snapshot.headings``); absent otherwise.
 - ``coverage`` (T,) float64: coverage P(t).
 - ``covered_changes`` (C,) uint16 (uint32 when the raster has more than 65,535 cells) and
   ``covered_change_offsets`` (T + 1,) int64: the flat indices (row-major, as ``grid_inside``)
@@ -45,9 +47,10 @@ run gave the robots at the start), the world (``world_name``, ``world_arena`` (4
 
 Samples are kept in memory until saved. A sample costs, per robot, 16 bytes (position) + 1
 (status) + the fields' bytes (GGC: gradient 4, group 2, leader 1) + 3 bits (contact, failure,
-sleep): 24.375 bytes for GGC (:func:`sample_cost`); and per sample 71 bytes (the tick and
-coverage objects, the flags' rounding) and at most 136 for each of its arrays (numpy's header
-and a list slot; 9 arrays for GGC), plus the changed raster cells, at most the raster's cells or two robot stencils per
+sleep): 24.375 bytes for GGC (:func:`sample_cost`), 8 more with headings; and per sample 71
+bytes (the tick and coverage objects, the flags' rounding) and at most 136 for each of its
+arrays (numpy's header and a list slot; 9 arrays for GGC, one more with headings), plus the
+changed raster cells, at most the raster's cells or two robot stencils per
 robot, 2 or 4 bytes each (``memory_bytes`` counts this bound; :func:`check_memory` refuses
 more than MAX_TRAJECTORY_BYTES). Files written before ``format`` 2 hold only ``ticks``,
 ``positions`` (float32), ``statuses`` and ``status_names``.
@@ -80,6 +83,7 @@ ARRAY_BYTES = 128 + 8
 """What each array a sample keeps costs beside its data: numpy's header (sys.getsizeof of an
 empty 2-D array; 112 for 1-D) and its slot in a list."""
 FIXED_ARRAYS = 6  # position, status, three flags, changed cells; plus one per field
+HEADING_BYTES = 8  # float64, only for a drive with a heading (plus one array)
 SAMPLE_BYTES = 28 + 24 + 2 * 8 + 3  # the tick (int) and coverage (float) objects, their
 # slots, and the three flag arrays' last bytes (packbits rounds N / 8 up)
 FIELD_PREFIX = "field_"
@@ -146,14 +150,16 @@ def recorded_fields(sim: Any) -> tuple[str, ...]:
     return tuple(n for n in (sim.messages.dtype.names or ()) if n in wanted and n != "status")
 
 
-def sample_cost(sim: Any) -> SampleCost:
-    """What one sample of ``sim`` keeps in memory (see the module docstring)."""
+def sample_cost(sim: Any, headings: bool = False) -> SampleCost:
+    """What one sample of ``sim`` keeps in memory (see the module docstring); ``headings``:
+    its snapshots carry headings."""
     fields = sum(sim.messages.dtype[n].itemsize for n in recorded_fields(sim))
+    fields += HEADING_BYTES if headings else 0
     grid = sim.grid
     rows, cols = grid.shape
     stencil = (2 * math.ceil(grid.radius / grid.dy) + 3) * (2 * math.ceil(grid.radius / grid.dx)
                                                             + 3)
-    arrays = FIXED_ARRAYS + len(recorded_fields(sim))
+    arrays = FIXED_ARRAYS + len(recorded_fields(sim)) + int(headings)
     return SampleCost(per_robot=BYTES_PER_ROBOT + fields,
                       per_sample=SAMPLE_BYTES + arrays * ARRAY_BYTES,
                       max_changes=min(rows * cols, 2 * sim.n * stencil),
@@ -175,7 +181,9 @@ class Trajectories:
     def __init__(self, sim: Any, every: int):
         self.sim = sim
         self.every = check_every(every)
-        check_memory(self.every, sim.n, sim.config.max_ticks, cost=sample_cost(sim))
+        first = sim.snapshot()
+        check_memory(self.every, sim.n, sim.config.max_ticks,
+                     cost=sample_cost(sim, headings=first.headings is not None))
         self._fields = recorded_fields(sim)
         self._change_dtype = change_dtype(sim.grid.inside.size)
         self._ticks: list[int] = []
@@ -185,16 +193,19 @@ class Trajectories:
         self._in_contact: list[np.ndarray] = []
         self._failed: list[np.ndarray] = []
         self._asleep: list[np.ndarray] = []
+        self._headings: list[np.ndarray] = []
         self._coverage: list[float] = []
         self._changes: list[np.ndarray] = []
         self._covered = np.zeros(sim.grid.inside.size, dtype=bool)
-        self._sample()
+        self._sample(first)
 
-    def _sample(self) -> None:
+    def _sample(self, snap: Any = None) -> None:
+        """Keep the state now (``snap``: the run's snapshot now, if already taken)."""
         sim = self.sim
         if self._ticks and self._ticks[-1] == sim.tick:
             return
-        snap = sim.snapshot()  # what a live frame draws: the same copy, the same raster
+        if snap is None:
+            snap = sim.snapshot()  # what a live frame draws: the same copy, the same raster
         self._ticks.append(int(snap.tick))
         self._positions.append(np.array(snap.positions, dtype=np.float64))
         self._statuses.append(snap.messages["status"].astype(np.int8))
@@ -203,6 +214,8 @@ class Trajectories:
         self._in_contact.append(np.packbits(np.asarray(snap.in_contact, dtype=bool)))
         self._failed.append(np.packbits(np.asarray(snap.failed, dtype=bool)))
         self._asleep.append(np.packbits(np.asarray(sim.asleep, dtype=bool)))
+        if snap.headings is not None:
+            self._headings.append(np.array(snap.headings, dtype=np.float64))
         self._coverage.append(float(snap.coverage))
         covered = np.asarray(snap.covered, dtype=bool).ravel()
         self._changes.append(np.flatnonzero(covered != self._covered).astype(self._change_dtype))
@@ -230,6 +243,7 @@ class Trajectories:
                "in_contact_bits": np.stack(self._in_contact),
                "failed_bits": np.stack(self._failed),
                "asleep_bits": np.stack(self._asleep),
+               **({"headings": np.stack(self._headings)} if self._headings else {}),
                "coverage": np.asarray(self._coverage, dtype=np.float64),
                "covered_changes": np.concatenate(self._changes),
                "covered_change_offsets": np.concatenate(([0], np.cumsum(sizes))).astype(np.int64)}

@@ -141,9 +141,11 @@ def test_parts_report_in_their_order_after_the_collectors_own_columns():
     metrics = RunMetrics([Reports("a", columns=("p", "q"), robots=("r",), fields=("s",)),
                           Reports("b", columns=("t",), robots=("u",), fields=("v", "w"))],
                          record_every=5)
-    now = Observation(5, np.zeros((2, 2)), np.zeros(2, bool), np.zeros(2), 2)
+    now = Observation(5, np.zeros((2, 2)), np.zeros(2, bool), np.zeros(2), 2, np.zeros((2, 2)),
+                      np.zeros(2, bool))
     metrics.observe(now)
-    metrics.observe(Observation(6, now.positions, now.on_target, now.messages, 2))  # no row
+    metrics.observe(Observation(6, now.positions, now.on_target, now.messages, 2,
+                                now.commanded, now.failed))  # no row
     assert metrics.rows == [{"tick": 5, "p": "a", "q": "a", "t": "b"}]
     assert metrics.robot_rows() == [{"robot": 0, "r": "a", "u": "b"},
                                     {"robot": 1, "r": "a", "u": "b"}]

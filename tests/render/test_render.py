@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import re
 import subprocess
 
@@ -303,3 +304,31 @@ def test_renders_without_fonts(monkeypatch):
     w = make_world()
     f = make_renderer(w, width=128).draw(make_snapshot([[5, 5]]))
     assert f.shape == (make_renderer(w, width=128, hud=False, legend=False).shape)
+
+
+# --- heading marks ------------------------------------------------------------------------------
+
+def test_a_heading_mark_points_from_the_centre_toward_the_heading_with_y_up():
+    w = make_world()
+    r = bare(w, width=800)  # 32 px per unit: a robot of radius 0.4 is ~13 px across
+    plain = make_snapshot([[5, 5]])
+    px, py = r.world_to_pixel((5.0, 5.0))
+    for heading, (dx, dy) in ((0.0, (1, 0)), (np.pi / 2, (0, -1)), (np.pi, (-1, 0))):
+        marked = dataclasses.replace(plain, headings=np.array([heading]))
+        ys, xs = np.nonzero(changed(r.draw(marked), r.draw(plain)))
+        assert len(xs) >= 3, heading
+        # the mark lies on the heading's side of the centre (image y points down)
+        assert dx * (xs.mean() - px) + dy * (ys.mean() - py) > 2, heading
+        assert np.hypot(xs - px, ys - py).max() <= 0.4 * 32 + 1.5  # inside the disc
+
+
+def test_without_headings_no_mark_is_drawn():
+    w = make_world()
+    r = bare(w, width=800)
+    plain = make_snapshot([[5, 5], [7, 7]])
+    assert plain.headings is None
+    unknown = dataclasses.replace(plain, headings=np.full(2, np.nan))
+    assert np.array_equal(r.draw(plain), r.draw(unknown))
+    failed = make_snapshot([[5, 5]], failed=np.array([True]))  # a failed robot: no mark
+    assert np.array_equal(r.draw(failed),
+                          r.draw(dataclasses.replace(failed, headings=np.array([0.0]))))

@@ -234,6 +234,8 @@ def test_the_memory_bound_holds_what_the_samples_keep():
                      max_ticks=TICKS)
     cost = sample_cost(sim)
     assert cost.per_robot == 16 + 1 + 4 + 2 + 1 + 3 / 8  # GGC: gradient i4, group i2, leader
+    marked = sample_cost(sim, headings=True)  # a float64 heading per robot, one more array
+    assert (marked.per_robot - cost.per_robot, marked.per_sample - cost.per_sample) == (8, 136)
     tracks = Trajectories(sim, every=1)
     sim.run(on_tick=tracks.on_tick)
     kept = sum(sys.getsizeof(a) + 8 for name, rows in vars(tracks).items()
@@ -253,3 +255,30 @@ def test_replay_video_leaves_nothing_when_drawing_fails(ggc_run, tmp_path):
     with pytest.raises(ValueError):
         replay_video(Recording.load(ggc_run), tmp_path / "x.mp4", width=63)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_headings_are_recorded_only_when_present_and_replayed_with_their_marks(tmp_path,
+                                                                              monkeypatch):
+    """A drive with a heading (stood in for by a snapshot that carries one): the live video
+    and the replay both draw the marks; a run without headings records none."""
+    _, _, plain_out = live_run(tmp_path / "plain", "dispersion", monkeypatch)
+    assert "headings" not in load_trajectories(plain_out / "trajectories.npz")
+    plain_first = next(replay_frames(Recording.load(plain_out), width=1600)).copy()
+
+    live_snapshot = Simulation.snapshot
+
+    def with_headings(self: Simulation, with_coverage: bool = True):
+        snap = live_snapshot(self, with_coverage)
+        return dataclasses.replace(snap, headings=0.3 * np.arange(self.n) + 0.01 * self.tick)
+
+    monkeypatch.setattr(Simulation, "snapshot", with_headings)
+    live, ticks, out = live_run(tmp_path / "marked", "dispersion", monkeypatch)
+    data = load_trajectories(out / "trajectories.npz")
+    assert data["headings"].shape == (len(ticks), 30)
+    assert np.allclose(data["headings"][-1], 0.3 * np.arange(30) + 0.01 * ticks[-1])
+    rec = Recording.load(out)
+    assert np.array_equal(rec.snapshot(1).headings, data["headings"][1])
+    replayed = [f.copy() for f in replay_frames(rec, width=320)]
+    assert all(np.array_equal(a, b) for a, b in zip(live, replayed, strict=True))
+    # robots are a few pixels across at 320: marks show when they are drawn larger
+    assert not np.array_equal(next(replay_frames(rec, width=1600)), plain_first)
