@@ -760,8 +760,9 @@ class Simulation:
                         radius=self.physics_config.radius, coverage=self.metrics.coverage,
                         covered=covered, in_contact=in_contact, failed=self.failed.copy(),
                         start_groups=self.start_groups.copy(),
-                        start_leaders=self.start_leaders.copy())
-
+                        start_leaders=self.start_leaders.copy(),
+                        headings=self.physics.headings().copy() if self.drive.has_heading
+                        else None)
 
     def save(self, path: str | Path) -> None:
         """Write the run's whole state to ``path`` (atomically), between two ticks (after

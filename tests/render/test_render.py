@@ -332,3 +332,20 @@ def test_without_headings_no_mark_is_drawn():
     failed = make_snapshot([[5, 5]], failed=np.array([True]))  # a failed robot: no mark
     assert np.array_equal(r.draw(failed),
                           r.draw(dataclasses.replace(failed, headings=np.array([0.0]))))
+
+
+def test_a_run_with_a_steering_drive_shows_each_robots_heading_and_a_holonomic_run_none():
+    from swarmsim import Simulation
+
+    for drive in ("holonomic", "diff", "kilobot"):
+        sim = Simulation("tiny", controller="ggc", seed=0, max_ticks=5,
+                         settings={"drive": drive})
+        for _ in range(5):
+            sim.step()
+        shot = sim.snapshot()
+        if drive == "holonomic":
+            assert shot.headings is None
+            continue
+        assert np.allclose(shot.headings, sim.physics.headings())
+        r = make_renderer(sim.world, width=1200)  # robots large enough to carry a mark
+        assert not np.array_equal(r.draw(shot), r.draw(dataclasses.replace(shot, headings=None)))
