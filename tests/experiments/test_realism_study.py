@@ -80,6 +80,18 @@ def test_study_writes_its_files_with_the_baseline_first(study):
         assert (run / "summary.json").is_file()
 
 
+def test_the_steering_drives_run_as_conditions_of_their_own(tmp_path):
+    setup = RealismSetup(world="tiny", drives=("diff", "kilobot"), noise=(0.0,),
+                         messages=("uniform",), max_ticks=200)
+    result = study_realism(setup, tmp_path / "out", reps=1, workers=1, progress=False)
+    assert result.failed == 0
+    conds = {c["condition"]: c for c in rows_of(tmp_path / "out" / "conditions.csv")}
+    assert set(conds) == {"baseline: holonomic, ghost, noise 0, uniform",
+                          "diff, rigid, noise 0, uniform", "kilobot, rigid, noise 0, uniform"}
+    distances = {name: float(c["total_distance_mean"]) for name, c in conds.items()}
+    assert len(set(distances.values())) == 3  # each drive moved the robots its own way
+
+
 def test_a_second_study_runs_nothing(study):
     out, _ = study
     again = study_realism(SETUP, out, reps=1, workers=1, progress=False)
@@ -90,7 +102,7 @@ def test_the_cli_knows_the_studys_axes():
     assert (REALISM_DRIVES, REALISM_MESSAGES) == (DRIVES, MESSAGES)
 
 
-HOLONOMIC = ["--drives", "holonomic"]  # the other drives are refused until the engine has them
+HOLONOMIC = ["--drives", "holonomic"]  # one drive: the refusals come before any run
 
 
 @pytest.mark.parametrize("argv,key", [
