@@ -209,13 +209,21 @@ def command(calls: BodyCalls, robot_at: np.ndarray, control_at: np.ndarray,
 @njit(cache=True)
 def _command(activate, set_type, set_velocity, robot_at, control_at, to_unpark, to_park,
              write, v):  # pragma: no cover - compiled
+    _unpark_and_park(activate, set_type, robot_at, control_at, to_unpark, to_park)
+    for i in write:
+        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
+
+
+@njit(cache=True)
+def _unpark_and_park(activate, set_type, robot_at, control_at, to_unpark,
+                     to_park):  # pragma: no cover - compiled
+    """Wake each robot of ``to_unpark`` and make its control body kinematic again, then make
+    the control bodies of ``to_park`` static (Parking's order)."""
     for i in to_unpark:
         call_body(activate, robot_at[i])
         call_body_int(set_type, control_at[i], _KINEMATIC)
     for i in to_park:
         call_body_int(set_type, control_at[i], _STATIC)
-    for i in write:
-        call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
 
 
 def command_spin(calls: BodyCalls, set_spin: int, robot_at: np.ndarray, control_at: np.ndarray,
@@ -231,11 +239,7 @@ def command_spin(calls: BodyCalls, set_spin: int, robot_at: np.ndarray, control_
 @njit(cache=True)
 def _command_spin(activate, set_type, set_velocity, set_spin, robot_at, control_at, to_unpark,
                   to_park, write, v, w):  # pragma: no cover - compiled
-    for i in to_unpark:
-        call_body(activate, robot_at[i])
-        call_body_int(set_type, control_at[i], _KINEMATIC)
-    for i in to_park:
-        call_body_int(set_type, control_at[i], _STATIC)
+    _unpark_and_park(activate, set_type, robot_at, control_at, to_unpark, to_park)
     for i in write:
         call_body_xy(set_velocity, control_at[i], v[i, 0], v[i, 1])
         call_body_double(set_spin, control_at[i], w[i])
