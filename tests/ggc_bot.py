@@ -35,13 +35,14 @@ def messages(rows, groups: int = 3, scattered: bool = False, **fields
 
 
 class Bot:
-    """Robot ``robot_id`` of group ``group`` in a run with ``groups`` groups."""
+    """Robot ``robot_id`` of group ``group`` in a run with ``groups`` groups, whose drive
+    turns it at most ``turn_rate`` rad/tick (``inf``: holonomic) and can ``reverse``."""
 
     def __init__(self, groups: int = 3, robot_id: int = 5, group: int = 1,
                  status: int = COVERAGE, leader: bool = False, scattered: bool = False,
-                 **params):
+                 turn_rate: float = float("inf"), reverse: bool = True, **params):
         setup = RobotSetup(robot_id, leader=leader, group=group, groups=groups,
-                           scattered=scattered)
+                           scattered=scattered, turn_rate=turn_rate, reverse=reverse)
         self.groups = groups
         self.scattered = scattered
         self.swarm = GGCSwarm([setup], GGCParams(**params), [np.random.default_rng(0)])

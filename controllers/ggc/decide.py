@@ -57,6 +57,8 @@ DERIVED = {
     "confined_span": "confined_ticks at this d_cover (ticks; swarm.confined_span)",
     "confined_radius": "confined_reach in units (confined_reach * d_cover)",
     "confined_path": "confined_walk at this d_cover (units; swarm.confined_path)",
+    "face_to_leave": "the robots must turn round to leave their formation: their drive turns "
+                     "them and cannot back up (kilobot; RobotSetup.turn_rate, reverse)",
 }
 """The values the rules read that are not GGCParams fields: computed for each run
 (swarm.rule_params), each with its meaning."""

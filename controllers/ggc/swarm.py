@@ -47,10 +47,13 @@ from .state import broadcast_rows, message_fields, new_state
 from .statuses import STATUSES
 
 
-def rule_params(params: GGCParams, groups: int, scattered: bool) -> RuleParams:
+def rule_params(params: GGCParams, groups: int, scattered: bool,
+                turn_rate: float = math.inf, reverse: bool = True) -> RuleParams:
     """The rules' parameters for a run with ``groups`` groups (``scattered``: start
-    "random"): ``params``' fields (decide.PARAM_NAMES, cast by their types) and the run's
-    derived values (decide.DERIVED)."""
+    "random") of robots whose drive turns them at most ``turn_rate`` rad/tick (``inf``:
+    holonomic, they need no turning) and can (``reverse``) or cannot back up:
+    ``params``' fields (decide.PARAM_NAMES, cast by their types) and the run's derived values
+    (decide.DERIVED)."""
     selection = (params.h_max + 1) * params.T_settle
     one = groups == 1
     flags = rule_flags(params)
@@ -64,6 +67,7 @@ def rule_params(params: GGCParams, groups: int, scattered: bool) -> RuleParams:
         "confined_span": confined_span(params),
         "confined_radius": float(params.confined_reach * params.d_cover),
         "confined_path": confined_path(params),
+        "face_to_leave": not (math.isinf(turn_rate) or reverse),
     }
     own = {f.name: RULE_CASTS[f.type](getattr(params, f.name)) for f in fields(params)
            if f.name in PARAM_NAMES}
@@ -139,7 +143,8 @@ class GGCSwarm:
         groups = setups[0].groups if setups else 1
         scattered = bool(setups[0].scattered) if setups else False
         self.params = params
-        self.rules = rule_params(params, groups, scattered)
+        body = setups[0] if setups else RobotSetup(0)
+        self.rules = rule_params(params, groups, scattered, body.turn_rate, body.reverse)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
         # the driver's saved rows, reused by every chunk (a chunk has at most one row per
         # robot; the driver writes a row there before it reads it back)

@@ -3,7 +3,10 @@
 A robot of a formation that has reached the target takes 1 + the smallest gradient of its
 group's stationary neighbours within 1.5 d_min and starts to cover when no neighbour of its
 group within d_cover outranks it by (gradient, id) (Algorithm 7). A robot inside its
-formation (enclosed) or pressed against it (``yield_count``) lets the others go first.
+formation (enclosed) or pressed against it (``yield_count``) lets the others go first. With a
+drive that must turn and cannot back up (P.face_to_leave), the robot next in line, waiting
+only for movers to clear, turns toward its way out meanwhile (:func:`face_way_out`), so that
+it sets off when its turn comes instead of turning round first.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ from .common import (
     ENCLOSED_GAP,
     NO,
     is_waiting,
+    move,
     rest,
     set_status,
     still,
@@ -26,7 +30,7 @@ from .common import (
     widest_gap,
     within,
 )
-from .coverage import coverage
+from .coverage import coverage, edge_rows, edge_velocity
 from .gradient import formation_gradient
 from .island import restart_turn
 from .surplus import hears_surplus, restart_lap
@@ -94,6 +98,24 @@ def choose_orbit(me, P):  # pragma: no cover - compiled
         me.sense = -P.orbit if me.route_x * me.route_y > 0 else P.orbit
 
 
+FACE_CRAWL = 1e-3
+"""While it faces its way out a waiting robot wishes this share of that way's velocity: the
+drive turns it and it barely moves (a zero wish would stop the drive)."""
+
+
+@njit(cache=True)
+def face_way_out(view, me, P):  # pragma: no cover - compiled
+    """Next to leave, with a drive that must turn round: wish, barely, the way I will take first
+    when my turn comes (following my nearest edge robots, in my orbit sense), so that the
+    drive turns me toward it now. No edge robot in range: rest as a holonomic robot does."""
+    choose_orbit(me, P)
+    a, b = edge_rows(view, me, P)
+    if a < 0:
+        return rest(P.d_cover, True, -1)
+    vx, vy = edge_velocity(view, me, a, b, P)
+    return move(vx * FACE_CRAWL, vy * FACE_CRAWL)
+
+
 @njit(cache=True)
 def start_coverage(me, sense, P):  # pragma: no cover - compiled
     choose_orbit(me, P)
@@ -124,6 +146,8 @@ def detection(view, me, sense, pb, P):  # pragma: no cover - compiled
     me.enclosed = me.yield_count != 0 or is_enclosed(view, P)
     if blocker == NOT_BLOCKED and me.enclosed:  # my turn, but no way out
         return rest(1.5 * P.d_min, True, -1)
+    if blocker == BY_MOVER and P.face_to_leave:  # next to leave: face the way out meanwhile
+        return face_way_out(view, me, P)
     if blocker != NOT_BLOCKED:  # only a changed broadcast (or a mover) can lift it
         return rest(P.d_cover, blocker == BY_MOVER, -1)
     start_coverage(me, sense, P)
