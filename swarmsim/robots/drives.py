@@ -79,6 +79,12 @@ def drive_rng(seed: int, stream: str) -> np.random.Generator:
                                                         spawn_key=(DRIVE_STREAMS[stream],)))
 
 
+def draw_start_headings(seed: int, n: int) -> np.ndarray:
+    """The n robots' headings at the start of run ``seed`` (every steering drive's): uniform
+    in [-pi, pi), radians, from the ``drive_setup`` stream."""
+    return drive_rng(seed, "drive_setup").uniform(-math.pi, math.pi, n)
+
+
 class Drive(Protocol):
     """A run's drive model: the engine asks it, each tick, what motion the robots' wishes give.
 
@@ -143,7 +149,7 @@ class DiffDrive:
         self.wheel_speed = float(config.wheel_speed)
         self.wheel_accel = float(config.wheel_accel)
         self.reverse = bool(config.reverse)
-        self._headings = drive_rng(seed, "drive_setup").uniform(-math.pi, math.pi, n)
+        self._headings = draw_start_headings(seed, n)
         self.wheels = np.zeros((n, 2))
 
     def start_headings(self) -> np.ndarray:
@@ -249,7 +255,7 @@ class KilobotDrive:
         self.align = float(config.kilobot_align)
         self.stick = float(config.kilobot_stick)
         self.slip = float(config.kilobot_slip)
-        self._headings = drive_rng(seed, "drive_setup").uniform(-math.pi, math.pi, n)
+        self._headings = draw_start_headings(seed, n)
         z = drive_rng(seed, "drive_calibration").standard_normal((n, 3))
         self.fwd_factor = np.maximum(MIN_FACTOR, 1 + config.kilobot_bias * z[:, 0])
         self.turn_factor = np.maximum(MIN_FACTOR, 1 + config.kilobot_bias * z[:, 1])
