@@ -40,6 +40,11 @@ class BadAction(Exception):
         super().__init__(problem)
 
 
+FINITE_VELOCITY = ("expected finite numbers (vx, vy), or (left, right) wheel speeds from a "
+                   "wheel controller, units per tick")
+"""What a non-finite velocity was refused for (step's and decide's refusals say it alike)."""
+
+
 def show(value: Any) -> str:
     """A short one-line repr of ``value`` (with its type where the repr hides it)."""
     text = " ".join(_short.repr(value).split())
@@ -136,7 +141,7 @@ def move_problem(velocity: np.ndarray, listen: float) -> str:
     finite, or a negative ``listen`` (units)."""
     if not np.isfinite(velocity).all():
         vx, vy = float(velocity[0]), float(velocity[1])
-        return f"the velocity ({vx!r}, {vy!r}); expected finite numbers (vx, vy), units per tick"
+        return f"the velocity ({vx!r}, {vy!r}); {FINITE_VELOCITY}"
     return listen_problem(float(listen))
 
 
@@ -178,7 +183,7 @@ def _velocity_problem(value: Any) -> str | None:
     if v.shape != (2,):
         return f"a velocity of shape {v.shape}; expected (vx, vy), units per tick"
     if not np.isfinite(v).all():
-        return f"the velocity {show(value)}; expected finite numbers (vx, vy), units per tick"
+        return f"the velocity {show(value)}; {FINITE_VELOCITY}"
     return None
 
 
