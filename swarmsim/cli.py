@@ -187,7 +187,8 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--world", help="world instead of the paper's 'K'")
     r.add_argument("--robots", type=int, help="robot count (default: the world's; K: 603)")
     r.add_argument("--rulesets", type=_names, metavar="A,B",
-                   help="GGC's rule sets judged side by side (default: yield-holes,paper)")
+                   help="GGC's rule sets judged side by side (default: its default rule set, "
+                        "then paper)")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="another setting for every run")
     r.add_argument("--dry-run", action="store_true", dest="dry_run",

@@ -19,8 +19,11 @@ from swarmsim.experiments.runner import DONE, FAILED, RunStore, Sweep
 from swarmsim.experiments.spec import RunSpec, drop_unused_groups
 from swarmsim.experiments.table import Band, mean_band, series, settle_tick, stats
 
-
 # ----------------------------------------------------------------------------- the setup
+PAPER_RULESET = "paper"
+"""The rule set that follows the paper's rules (judged beside the controller's default)."""
+
+
 @dataclass(frozen=True)
 class PaperSetup:
     """What the paper's experiments share (Section 6, Table 2). Change values here.
@@ -38,7 +41,8 @@ class PaperSetup:
             ones are skipped with a note.
         extra: any other run setting applied to every run (e.g. {"eps0": 0.02}).
         rulesets: the rule sets judged side by side, one column each, for a controller that
-            has a ``ruleset`` parameter (GGC: its default and the paper's); ignored for others.
+            has a ``ruleset`` parameter; None = its default rule set and the paper's
+            (:meth:`judged_rulesets`); ignored for other controllers.
         ruleset: the rule set of this column's runs (set by :meth:`columns`); None = the
             controller's default, not named in the runs' settings.
     """
@@ -53,15 +57,23 @@ class PaperSetup:
     failure_counts: tuple[int, ...] = (0, 1, 5, 10, 20)
     comparison: tuple[str, ...] = ("ggc", "kilobot", "dash", "fcdfs", "cvt", "meanshift")
     extra: Mapping[str, Any] = field(default_factory=dict)
-    rulesets: tuple[str, ...] = ("yield-holes", "paper")
+    rulesets: tuple[str, ...] | None = None
     ruleset: str | None = None
 
+    def judged_rulesets(self) -> tuple[str, ...]:
+        """The rule sets judged side by side: :attr:`rulesets`, or else the controller's
+        default rule set (its ``ruleset`` parameter's default) and ``"paper"``; none for a
+        controller without a ``ruleset`` parameter."""
+        if not _has_parameter(self.controller, "ruleset"):
+            return ()
+        if self.rulesets is not None:
+            return self.rulesets
+        return (_parameter_default(self.controller, "ruleset"), PAPER_RULESET)
+
     def columns(self) -> list[PaperSetup]:
-        """One setup per rule set judged (:attr:`rulesets`), or just this one when the
-        controller under study has no ``ruleset`` parameter."""
-        if not self.rulesets or not _has_parameter(self.controller, "ruleset"):
-            return [self]
-        return [replace(self, ruleset=r) for r in self.rulesets]
+        """One setup per rule set judged (:meth:`judged_rulesets`), or just this one when
+        there is none."""
+        return [replace(self, ruleset=r) for r in self.judged_rulesets()] or [self]
 
     def settings(self, controller: str | None = None, **values: Any) -> dict[str, Any]:
         """Run settings: robots (if set), the given values, then ``extra``.
@@ -85,6 +97,12 @@ def _has_parameter(controller: str, name: str) -> bool:
     from swarmsim.controller import get_controller
 
     return name in getattr(get_controller(controller).Params, "__dataclass_fields__", {})
+
+
+def _parameter_default(controller: str, name: str) -> Any:
+    from swarmsim.controller import get_controller
+
+    return get_controller(controller).Params.__dataclass_fields__[name].default
 
 
 def _registered(name: str) -> bool:

@@ -7,7 +7,7 @@ id is a hash of its parameters and seed, and all figures keep their runs in one 
 (``DIR/runs/<id>/``), so Figures 19/20/22 reuse the runs of 17/18/21, and the d_cover = 6,
 3-group runs of Figure 18 are also Figure 21's K = 3 and Figure 23's 0-failure runs.
 
-GGC is judged under each rule set of :attr:`PaperSetup.rulesets` (its default and the
+GGC is judged under each rule set of :meth:`PaperSetup.judged_rulesets` (its default and the
 paper's): every figure's GGC runs are made once per rule set, and each output shows the rule
 sets side by side (one column each, see :meth:`PaperSetup.columns`). A run that is the same
 under two rule sets by construction (the controller's ``same_run_settings``, see

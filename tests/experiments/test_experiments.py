@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from controllers.common.gradient import GRADIENT_FIELDS, INF_GRADIENT, SILENT
+from controllers.ggc.rules.rulesets import DEFAULT_RULESET as DEFAULT
 from swarmsim import ConfigError
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
@@ -574,7 +575,7 @@ def test_reproduce_judges_ggc_under_its_default_and_the_papers_rule_sets():
     # one group at d_cover 8 and 10: the two rule sets make the same run, made once
     assert len(both["fig17"]) == 2 * 18 - 2 * 3
     assert rp.shared_runs("fig17", rp.PAPER, reps=3) == {"fig17": 2 * 3}
-    assert {r.settings["ruleset"] for r in both["fig17"]} == {"yield-holes", "paper"}
+    assert {r.settings["ruleset"] for r in both["fig17"]} == {DEFAULT, "paper"}
     # the baselines of Figure 24 have no rule sets: run once, shown in both columns
     baselines = [r for r in both["fig24"] if r.controller != "ggc"]
     assert baselines and all("ruleset" not in r.settings for r in baselines)
@@ -857,18 +858,18 @@ def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
     result = rp.reproduce("fig17", out, setup, reps=1, max_ticks=30, workers=1, progress=False)
     assert result.runs == 2 and result.failed == 0
     rows = read_table(out / "fig17" / "results.csv")
-    assert sorted(r["ruleset"] for r in rows) == ["paper", "yield-holes"]
+    assert sorted(r["ruleset"] for r in rows) == sorted(["paper", DEFAULT])
     conditions = read_table(out / "fig17" / "conditions.csv")
-    assert sorted(r["ruleset"] for r in conditions) == ["paper", "yield-holes"]
+    assert sorted(r["ruleset"] for r in conditions) == sorted(["paper", DEFAULT])
     claims = read_table(out / "fig17" / "claims.csv")
-    assert {r["ruleset"] for r in claims} == {"paper", "yield-holes"}
+    assert {r["ruleset"] for r in claims} == {"paper", DEFAULT}
     section = (out / "fig17" / "REPORT.md").read_text()
-    assert "### Rule set `yield-holes`" in section and "### Rule set `paper`" in section
-    assert "| paper's claim | yield-holes: measured | verdict | paper: measured | verdict |" \
+    assert f"### Rule set `{DEFAULT}`" in section and "### Rule set `paper`" in section
+    assert f"| paper's claim | {DEFAULT}: measured | verdict | paper: measured | verdict |" \
         in section
     report = (out / "REPORT.md").read_text()
-    assert "## Claims" in report and "| yield-holes: verdict | paper: verdict |" in report
-    assert "Rule sets judged side by side: yield-holes, paper." in report
+    assert "## Claims" in report and f"| {DEFAULT}: verdict | paper: verdict |" in report
+    assert f"Rule sets judged side by side: {DEFAULT}, paper." in report
     import imageio.v3 as iio
 
     assert iio.imread(out / "fig17" / "fig17.png").shape[0] >= 2 * 450  # one row per rule set
@@ -885,23 +886,21 @@ def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_
     assert result.runs == 3 and result.failed == 0
     assert len(list((out / "runs").glob("*/summary.json"))) == 3
     made = read_table(out / "results.csv")  # each run once, as the settings that name it
-    assert sorted((r["ruleset"], r["d_cover"]) for r in made) == [
-        ("paper", "6"), ("paper", "8"), ("yield-holes", "6")]
+    assert sorted((r["ruleset"], r["d_cover"]) for r in made) == sorted([
+        ("paper", "6"), ("paper", "8"), (DEFAULT, "6")])
     rows = read_table(out / "fig17" / "results.csv")
     by = {(r["ruleset"], r["d_cover"]): r for r in rows}
-    assert sorted(by) == [("paper", "6"), ("paper", "8"), ("yield-holes", "6"),
-                          ("yield-holes", "8")]
-    assert by[("paper", "8")]["run_id"] == by[("yield-holes", "8")]["run_id"]
-    assert by[("paper", "6")]["run_id"] != by[("yield-holes", "6")]["run_id"]
-    assert by[("paper", "8")]["coverage"] == by[("yield-holes", "8")]["coverage"] != ""
+    assert sorted(by) == sorted([("paper", "6"), ("paper", "8"), (DEFAULT, "6"), (DEFAULT, "8")])
+    assert by[("paper", "8")]["run_id"] == by[(DEFAULT, "8")]["run_id"]
+    assert by[("paper", "6")]["run_id"] != by[(DEFAULT, "6")]["run_id"]
+    assert by[("paper", "8")]["coverage"] == by[(DEFAULT, "8")]["coverage"] != ""
     shared = out / "runs" / by[("paper", "8")]["run_id"] / "run.json"
     assert json.loads(shared.read_text())["settings"]["ruleset"] == "paper"
     conditions = read_table(out / "fig17" / "conditions.csv")
-    assert sorted((r["ruleset"], r["d_cover"], r["done"]) for r in conditions) == [
-        ("paper", "6", "1"), ("paper", "8", "1"), ("yield-holes", "6", "1"),
-        ("yield-holes", "8", "1")]
+    assert sorted((r["ruleset"], r["d_cover"], r["done"]) for r in conditions) == sorted([
+        ("paper", "6", "1"), ("paper", "8", "1"), (DEFAULT, "6", "1"), (DEFAULT, "8", "1")])
     claims_rows = read_table(out / "fig17" / "claims.csv")
-    assert {r["ruleset"] for r in claims_rows} == {"paper", "yield-holes"}
+    assert {r["ruleset"] for r in claims_rows} == {"paper", DEFAULT}
     section = (out / "fig17" / "REPORT.md").read_text()
     assert section.count("Runs: 2 of 2 done, 0 failed") == 2  # each column counts its own
     # the plot's curves: each column's d_cover 8 condition has the run's curve
