@@ -33,7 +33,9 @@ from .common import (
 from .coverage import coverage, edge_rows, edge_velocity
 from .gradient import formation_gradient
 from .island import restart_turn
+from .rulesets import TRAINS
 from .surplus import hears_surplus, restart_lap
+from .trains import train_blockers
 
 NOT_BLOCKED, BY_WAITING, BY_MOVER = 0, 1, 2
 
@@ -42,7 +44,14 @@ NOT_BLOCKED, BY_WAITING, BY_MOVER = 0, 1, 2
 def blocked(view, me, P):  # pragma: no cover - compiled
     """Algorithm 7: does a robot of my group within d_cover, neither settled nor enclosed
     (nor, with groups, in Stop), outrank me by (gradient, id)? BY_WAITING if a waiting one
-    does, BY_MOVER if only moving ones do, else NOT_BLOCKED."""
+    does, BY_MOVER if only moving ones do, else NOT_BLOCKED. Under TRAINS, rules/trains.py
+    decides (the robot in front a train gap ahead is enough)."""
+    if P.flags & TRAINS:
+        choose_orbit(me, P)  # my way out follows my orbit sense
+        by_waiting, by_mover = train_blockers(view, me, P)
+        if by_waiting:
+            return BY_WAITING
+        return BY_MOVER if by_mover else NOT_BLOCKED
     by_mover = False
     for r in range(within(view.dist, P.d_cover)):
         s = view.status[r]
