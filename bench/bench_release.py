@@ -16,6 +16,7 @@ One run at a time; the figures (not the wall time) are what it measures.
 from __future__ import annotations
 
 import argparse
+import math
 import statistics
 
 import numpy as np
@@ -77,6 +78,8 @@ def main() -> None:
                        for k, v in row.items()), flush=True)
     for key in ("release", "delivery", "ninety", "completion", "coverage", "per_placed"):
         values = [r[key] for r in rows]
+        if key == "completion":  # a run that did not complete ranks after every one that did
+            values = [math.inf if math.isnan(v) else v for v in values]
         print(f"{key}: median {statistics.median(values):.4g} "
               f"min {min(values):.4g} max {max(values):.4g}")
 
