@@ -6,7 +6,8 @@ group within d_cover outranks it by (gradient, id) (Algorithm 7). A robot inside
 formation (enclosed) or pressed against it (``yield_count``) lets the others go first. With a
 drive that must turn and cannot back up (P.face_to_leave), the robot next in line, waiting
 only for movers to clear, turns toward its way out meanwhile (:func:`face_way_out`), so that
-it sets off when its turn comes instead of turning round first.
+it sets off when its turn comes instead of turning round first. Under the rule set's TRAINS
+flag a robot goes once the mover ahead on its way out is a train gap away (rules/trains.py).
 """
 
 from __future__ import annotations
