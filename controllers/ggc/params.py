@@ -117,7 +117,10 @@ class GGCParams:
             "yield-holes-cross" (experimental): yield-holes-push, and a mover walled in
             beside its formation crosses the structure toward the beacon (rules/cross.py);
             "yield-holes-aside" (experimental): yield-holes-push, and a formation that meets
-            another group's robots on its way turns aside along them (rules/aside.py).
+            another group's robots on its way turns aside along them (rules/aside.py);
+            "yield-holes-trains" (experimental): yield-holes, and formations release their
+            robots as trains, each leaving once the mover ahead of it on its way out is a
+            train gap away instead of d_cover (rules/trains.py).
     """
 
     d_safe: float = 1.0

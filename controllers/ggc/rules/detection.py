@@ -6,7 +6,8 @@ group within d_cover outranks it by (gradient, id) (Algorithm 7). A robot inside
 formation (enclosed) or pressed against it (``yield_count``) lets the others go first. With a
 drive that must turn and cannot back up (P.face_to_leave), the robot next in line, waiting
 only for movers to clear, turns toward its way out meanwhile (:func:`face_way_out`), so that
-it sets off when its turn comes instead of turning round first.
+it sets off when its turn comes instead of turning round first. Under the rule set's TRAINS
+flag a robot goes once the mover ahead on its way out is a train gap away (rules/trains.py).
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ from .common import (
 from .coverage import coverage, edge_rows, edge_velocity
 from .gradient import formation_gradient
 from .island import restart_turn
+from .rulesets import TRAINS
 from .surplus import hears_surplus, restart_lap
+from .trains import train_blockers
 
 NOT_BLOCKED, BY_WAITING, BY_MOVER = 0, 1, 2
 
@@ -42,7 +45,14 @@ NOT_BLOCKED, BY_WAITING, BY_MOVER = 0, 1, 2
 def blocked(view, me, P):  # pragma: no cover - compiled
     """Algorithm 7: does a robot of my group within d_cover, neither settled nor enclosed
     (nor, with groups, in Stop), outrank me by (gradient, id)? BY_WAITING if a waiting one
-    does, BY_MOVER if only moving ones do, else NOT_BLOCKED."""
+    does, BY_MOVER if only moving ones do, else NOT_BLOCKED. Under TRAINS, rules/trains.py
+    decides (the robot in front a train gap ahead is enough)."""
+    if P.flags & TRAINS:
+        choose_orbit(me, P)  # my way out follows my orbit sense
+        by_waiting, by_mover = train_blockers(view, me, P)
+        if by_waiting:
+            return BY_WAITING
+        return BY_MOVER if by_mover else NOT_BLOCKED
     by_mover = False
     for r in range(within(view.dist, P.d_cover)):
         s = view.status[r]

@@ -35,6 +35,13 @@ each flag switches on the functions of one module:
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default
   (docs/reports/ggc-findings-journal.md, "The large K at 40,000 ticks").
+* TRAINS (rules/trains.py): a formation releases its robots as trains. A waiting robot
+  leaves as soon as the mover ahead of it along its way out (the edge's tangent in its orbit
+  sense) is a train gap away (a few d_safe), not d_cover; robots that would leave in line,
+  the one ahead by more than the gap, may leave together. Movers behind or beside its way
+  out, and outranking waiting robots elsewhere within d_cover, still hold it (Algorithm 7).
+  Experimental: "yield-holes-trains" is not the default (docs/reports/ggc-findings-journal.md,
+  "Formations that release trains").
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here, its scope in
 FLAG_SCOPE and a branch where its rule applies. docs/reports/ggc-findings-journal.md has each
@@ -44,6 +51,7 @@ rule set's measurements.
 from __future__ import annotations
 
 YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE = 1, 2, 4, 8, 16, 32
+TRAINS = 128
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS | BESIDE,
@@ -53,6 +61,7 @@ RULESETS = {
     "yield-holes-push": YIELD | HOLES | SURPLUS,
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
+    "yield-holes-trains": YIELD | HOLES | SURPLUS | BESIDE | TRAINS,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
@@ -73,6 +82,7 @@ FLAG_SCOPE = {
     #                            the flag's confined movers act at d_cover <= yield_release
     ASIDE: BETWEEN_GROUPS,  # aside.blocked_side returns at once with one group
     BESIDE: BETWEEN_GROUPS,  # travel.touching halts only beside another group's formation
+    TRAINS: ANY_GROUPS,  # trains.train_blockers releases robots of one group as of several
 }
 """Where each flag's rules act: :data:`ANY_GROUPS`, :data:`BETWEEN_GROUPS`, or the name of a
 GGCParams length L: between groups only while d_cover > L (with one group too at d_cover <=
