@@ -35,6 +35,12 @@ each flag switches on the functions of one module:
   the target without finding a place, crosses the structure toward the beacon, to the open
   floor beyond it. Experimental: "yield-holes-cross" is not the default
   (docs/reports/ggc-findings-journal.md, "The large K at 40,000 ticks").
+* THROUGH (rules/flow.py): movers walk through the structure (its bodies stand d_cover
+  apart) toward free places, climbing their group's arrived robots' gradient, and settle at
+  the first free lattice site they meet on the target (d_cover from two arrived robots, no
+  robot nearer than d_cover - arrive_tolerance), instead of following its edge to its end;
+  with no way through sensed they follow the edge as before. Experimental: rule set "flow"
+  (docs/reports/ggc-findings-journal.md, "Walking through the structure").
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here, its scope in
 FLAG_SCOPE and a branch where its rule applies. docs/reports/ggc-findings-journal.md has each
@@ -43,7 +49,7 @@ rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE = 1, 2, 4, 8, 16, 32
+YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE, THROUGH = 1, 2, 4, 8, 16, 32, 64
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS | BESIDE,
@@ -53,6 +59,7 @@ RULESETS = {
     "yield-holes-push": YIELD | HOLES | SURPLUS,
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
+    "flow": YIELD | HOLES | SURPLUS | BESIDE | THROUGH,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
@@ -73,6 +80,7 @@ FLAG_SCOPE = {
     #                            the flag's confined movers act at d_cover <= yield_release
     ASIDE: BETWEEN_GROUPS,  # aside.blocked_side returns at once with one group
     BESIDE: BETWEEN_GROUPS,  # travel.touching halts only beside another group's formation
+    THROUGH: ANY_GROUPS,
 }
 """Where each flag's rules act: :data:`ANY_GROUPS`, :data:`BETWEEN_GROUPS`, or the name of a
 GGCParams length L: between groups only while d_cover > L (with one group too at d_cover <=
