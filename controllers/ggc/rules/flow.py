@@ -8,24 +8,26 @@ reach the frontier by many ways at once, and no longer walk the whole edge to it
 * **A free site.** Two arrived robots (any group) a pair apart (d_cover - PAIR_SHORT to
   d_cover + PAIR_LONG) make a site on each side: the point d_cover from both (triangle
   completion, so the lattice stays hexagonal and covers). A site within SITE_REACH of me is
-  free when no robot I hear is nearer to it than d_cover - arrive_tolerance (a mover nearer
-  to it than I am counts too: it is going there), and I have not found it off the target.
+  free when no stationary robot I hear is nearer to it than d_cover - arrive_tolerance, no
+  mover nearer to it than I am is within SITE_TAKEN of it, and I have not found it off the
+  target.
 * **Settling.** On the target, I go to the nearest free site, passing placed bodies
   (:func:`steer`), while the probe finds target floor at it (or, farther than the probe
   reaches, HOLE_PROBE on my way to it). Off the target, I remember it (schema.BAN_SLOTS
   sites, carried by my odometry) and look no more this tick. Within SITE_REACHED of it I
-  arrive, with the gradient of its lower anchor plus one. At most two probes a tick (the
+  arrive, with 1 + the lowest gradient of my group's arrived robots near (:func:`settle_gradient`). At most two probes a tick (the
   site's and the climb's), so that today's rules keep theirs (rules/common.MAX_PROBES).
 * **Climbing.** With no free site in reach, off the target I step into the structure beside
-  me (toward its arrived robots' centroid: they stand on the target); on it I climb my group's arrived robots' gradient
-  (it grows away from where the group entered): from the centroid of the lowest-gradient
-  arrived robots of my group within CLIMB_REACH toward the centroid of the highest, drawn
+  me (toward its arrived robots' centroid: they stand on the target); on it I climb the
+  arrived robots' gradient (it grows away from where their group entered), of the group of
+  my nearest arrived robot: from the centroid of that group's lowest-gradient arrived
+  robots within CLIMB_REACH toward the centroid of the highest, drawn
   inward by the arrived robots' centroid (:func:`way_on`), passing bodies, while the probe
   finds target floor that way (HOLE_PROBE ahead). The frontier lies that way, and its free sites.
 * **Not beside formations.** Within d_cover of a waiting robot (Initial, Detection) I follow
   today's rules: a formation is packed too close to walk through, and a mover pressed
   against it holds its release back (Algorithm 7).
-* **Falling back.** No site and no way up (flat gradient, no arrived robot of my group near,
+* **Falling back.** No site and no way up (flat gradient, no arrived robot near,
   target floor ends ahead), or stuck (Equation 3): I follow the edge by today's rules
   (coverage.py) for REST_PATH units before I look again.
 """
@@ -51,6 +53,8 @@ PAIR_LONG = 1.0
 gap stays covered)."""
 SITE_REACH = 6.0
 """A mover goes for free sites within this distance (units)."""
+SITE_TAKEN = 2.0
+"""A mover this close to a site (units), and nearer to it than I am, is taking it."""
 SITE_REACHED = 0.3
 """A mover this close to its site (units) arrives (on the target)."""
 CLIMB_REACH = 9.0
@@ -99,22 +103,25 @@ def ban(me, px, py):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def site_free(view, px, py, mine, P):  # pragma: no cover - compiled
-    """No robot within d_cover - arrive_tolerance of (px, py), ``mine`` (units) away from me,
-    except movers farther from it than I am."""
+    """No stationary robot within d_cover - arrive_tolerance of (px, py), ``mine`` (units)
+    away from me, and no mover within SITE_TAKEN of it nearer than I am (movers passing by
+    do not hold a site: a stream of them would hide every site beside its way)."""
     clear = P.d_cover - P.arrive_tolerance
     for r in range(len(view.dist)):
         d = math.hypot(view.off[r, 0] - px, view.off[r, 1] - py)
-        if d < clear and not (view.moving[r] and d >= mine):
+        if view.moving[r]:
+            if d < min(SITE_TAKEN, mine):
+                return False
+        elif d < clear:
             return False
     return True
 
 
 @njit(cache=True)
 def nearest_site(view, me, P):  # pragma: no cover - compiled
-    """The nearest free site within SITE_REACH (see the module docstring): (found, x, y,
-    gradient of its lower anchor)."""
+    """The nearest free site within SITE_REACH (see the module docstring): (found, x, y)."""
     k = within(view.dist, SITE_REACH + P.d_cover)
-    best, bx, by, bg = math.inf, 0.0, 0.0, INF
+    best, bx, by = math.inf, 0.0, 0.0
     for a in range(k):
         if view.status[a] != ARRIVE or view.moving[a]:
             continue
@@ -135,25 +142,45 @@ def nearest_site(view, me, P):  # pragma: no cover - compiled
                     continue
                 if site_free(view, px, py, d, P):
                     best, bx, by = d, px, py
-                    bg = min(view.gradient[a], view.gradient[b])
-    return best < math.inf, bx, by, bg
+    return best < math.inf, bx, by
 
 
 @njit(cache=True)
-def climb_direction(view, me):  # pragma: no cover - compiled
-    """Unit direction from my group's lowest-gradient arrived robots within CLIMB_REACH toward
-    its highest ones; (0, 0): none (fewer than two gradients)."""
+def settle_gradient(view, me, P):  # pragma: no cover - compiled
+    """Settling: my gradient is 1 + the lowest of my group's arrived robots within 1.5 d_cover
+    (none: I keep mine), so that each group's gradient keeps counting hops from its entry."""
+    low = INF
+    for r in range(within(view.dist, 1.5 * P.d_cover)):
+        if view.status[r] == ARRIVE and view.group[r] == me.group:
+            low = min(low, view.gradient[r])
+    if low < INF:
+        me.gradient = low + 1
+
+
+@njit(cache=True)
+def climb_direction(view):  # pragma: no cover - compiled
+    """Unit direction from the lowest-gradient arrived robots within CLIMB_REACH toward the
+    highest ones, of the group of my nearest arrived robot (gradients are per group; where
+    my group's structure ends inside another's, that group's gradient leads on); (0, 0):
+    none (fewer than two gradients)."""
     k = within(view.dist, CLIMB_REACH)
+    group = -1
+    for r in range(k):
+        if view.status[r] == ARRIVE:
+            group = view.group[r]
+            break
+    if group < 0:
+        return 0.0, 0.0
     low, high = INF, -1
     for r in range(k):
-        if view.status[r] == ARRIVE and view.group[r] == me.group and view.gradient[r] < INF:
+        if view.status[r] == ARRIVE and view.group[r] == group and view.gradient[r] < INF:
             low = min(low, view.gradient[r])
             high = max(high, view.gradient[r])
     if high <= low:
         return 0.0, 0.0
     lx, ly, ln, hx, hy, hn = 0.0, 0.0, 0, 0.0, 0.0, 0
     for r in range(k):
-        if view.status[r] != ARRIVE or view.group[r] != me.group:
+        if view.status[r] != ARRIVE or view.group[r] != group:
             continue
         if view.gradient[r] == low:
             lx, ly, ln = lx + view.off[r, 0], ly + view.off[r, 1], ln + 1
@@ -176,13 +203,13 @@ def arrived_centroid(view):  # pragma: no cover - compiled
 @njit(cache=True)
 def way_on(view, me, sense):  # pragma: no cover - compiled
     """My way on (unit; (0, 0): none): off the target, into the structure beside me (toward
-    its arrived robots' centroid); on it, up my group's gradient, drawn inward by that
+    its arrived robots' centroid); on it, up the nearest arrived robot's group's gradient, drawn inward by that
     centroid (INWARD_PULL at CLIMB_REACH / 2 from it), so that a mover on the structure's
     rim walks in, not along it."""
     ix, iy = arrived_centroid(view)
     if not sense.on_target:
         return scaled(ix, iy, 1.0)
-    cx, cy = climb_direction(view, me)
+    cx, cy = climb_direction(view)
     pull = INWARD_PULL / (0.5 * CLIMB_REACH)
     return scaled(cx + ix * pull, cy + iy * pull, 1.0)
 
@@ -219,12 +246,11 @@ def flow(view, me, sense, pb, stuck_now, P):  # pragma: no cover - compiled
     if me.path < me.flow_rest or waiting_within(view, P.d_cover):
         return NO_FLOW, 0.0, 0.0
     if sense.on_target:
-        found, px, py, anchor_gradient = nearest_site(view, me, P)
+        found, px, py = nearest_site(view, me, P)
         if found:
             d = math.hypot(px, py)
             if d <= SITE_REACHED:
-                if anchor_gradient < INF:
-                    me.gradient = anchor_gradient + 1
+                settle_gradient(view, me, P)
                 return FLOW_ARRIVE, 0.0, 0.0
             reach = min(HOLE_PROBE, d) / d  # the site, or the floor on my way to it
             if probe(pb, px * reach, py * reach):
