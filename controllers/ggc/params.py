@@ -117,7 +117,9 @@ class GGCParams:
             "yield-holes-cross" (experimental): yield-holes-push, and a mover walled in
             beside its formation crosses the structure toward the beacon (rules/cross.py);
             "yield-holes-aside" (experimental): yield-holes-push, and a formation that meets
-            another group's robots on its way turns aside along them (rules/aside.py).
+            another group's robots on its way turns aside along them (rules/aside.py);
+            "flow" (experimental): yield-holes, and movers walk through the structure and
+            settle at the first free lattice site they meet (rules/flow.py).
     """
 
     d_safe: float = 1.0
