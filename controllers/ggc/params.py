@@ -121,6 +121,8 @@ class GGCParams:
             "yield-holes-trains" (experimental): yield-holes, and formations release their
             robots as trains, each leaving once the mover ahead of it on its way out is a
             train gap away instead of d_cover (rules/trains.py).
+            "flow" (experimental): yield-holes, and movers walk through the structure and
+            settle at the first free lattice site they meet (rules/flow.py).
     """
 
     d_safe: float = 1.0

@@ -29,6 +29,8 @@ MAX_GROUPS = 16
 """Largest number of groups a run may have (the per-group fields' size)."""
 NO_WAY_SLOTS = 8
 """How many arrived robots a mover remembers having found no way in beside."""
+BAN_SLOTS = 4
+"""How many sites found off the target a mover remembers (rules/flow.py)."""
 NO_HOLE = 127
 """Hops broadcast by a robot that knows of no hole."""
 FAR = 1e9
@@ -157,6 +159,11 @@ DATA: tuple[Datum, ...] = (
     D("crossing", "?", "I cross the structure"),
     D("cross_from", "f8", "path at the crossing's start"),
     D("cross_after", "f8", "path at which the next crossing may start"),
+    # walking through the structure (rules/flow.py)
+    D("flow_rest", "f8", "path at which I look for a way through again"),
+    D("ban_x", "f8", "sites I found off the target, x (relative to me)", shape=BAN_SLOTS),
+    D("ban_y", "f8", "sites I found off the target, y (relative to me)", shape=BAN_SLOTS),
+    D("ban_next", "i8", "sites I found off the target so far"),
     # my own random stream (xorshift64*)
     D("rng", "u8", "my random stream's state"),
 )

@@ -38,11 +38,12 @@ from .common import (
 from .confined import confined
 from .cross import cross
 from .deadlock import circling, deadlock_stop, may_arrive_when_stuck, stuck, wedged
+from .flow import FLOW_ARRIVE, FLOW_DRIVE, flow
 from .gradient import follow_gradient
 from .holes import HOLE_PATH, HOLE_REST, hole_heard, to_hole
 from .intergroup import keeps_waiting, stops
 from .island import leave_island, on_island_watch, restart_turn
-from .rulesets import HOLES
+from .rulesets import HOLES, THROUGH
 from .surplus import give_up, is_surplus, restart_lap, track_winding
 
 
@@ -190,6 +191,13 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         found, hx, hy = hole_heard(view, me, sense, P)
         if found:
             return fill_hole(view, me, sense, pb, hx, hy, P)
+    if P.flags & THROUGH:
+        mode, vx, vy = flow(view, me, sense, pb, stuck(me, sense, P), P)
+        if mode == FLOW_ARRIVE:
+            set_status(me, ARRIVE)
+            return still()
+        if mode == FLOW_DRIVE:
+            return flow_drive(view, me, sense, vx, vy, P)
     crossing, vx, vy = cross(view, me, sense, P)
     if crossing:
         return drive(view, me, sense, vx, vy, P)
@@ -221,6 +229,16 @@ def coverage(view, me, sense, pb, P):  # pragma: no cover - compiled
         full_circle = False
     if stuck(me, sense, P) or full_circle:
         return dead_end(view, me, sense, vx, vy, P)
+    return drive(view, me, sense, vx, vy, P)
+
+
+@njit(cache=True)
+def flow_drive(view, me, sense, vx, vy, P):  # pragma: no cover - compiled
+    """Walk the way the flow chose (rules/flow.py), keeping my gradient from the structure."""
+    a, _ = edge_rows(view, me, P)
+    if a >= 0:
+        follow_gradient(view, me, a, P)
+    me.head_x, me.head_y = scaled(vx, vy, 1.0)
     return drive(view, me, sense, vx, vy, P)
 
 

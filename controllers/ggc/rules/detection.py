@@ -134,6 +134,7 @@ def start_coverage(me, sense, P):  # pragma: no cover - compiled
     set_status(me, COVERAGE)
     me.odo_x, me.odo_y = 0.0, 0.0
     me.path = 0.0
+    me.flow_rest, me.ban_next = 0.0, 0
     me.progress_tick = sense.tick
 
 

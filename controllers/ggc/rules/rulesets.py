@@ -42,6 +42,12 @@ each flag switches on the functions of one module:
   out, and outranking waiting robots elsewhere within d_cover, still hold it (Algorithm 7).
   Experimental: "yield-holes-trains" is not the default (docs/reports/ggc-findings-journal.md,
   "Formations that release trains").
+* THROUGH (rules/flow.py): movers walk through the structure (its bodies stand d_cover
+  apart) toward free places, climbing their group's arrived robots' gradient, and settle at
+  the first free lattice site they meet on the target (d_cover from two arrived robots, no
+  robot nearer than d_cover - arrive_tolerance), instead of following its edge to its end;
+  with no way through sensed they follow the edge as before. Experimental: rule set "flow"
+  (docs/reports/ggc-findings-journal.md, "Walking through the structure").
 
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here, its scope in
 FLAG_SCOPE and a branch where its rule applies. docs/reports/ggc-findings-journal.md has each
@@ -50,8 +56,7 @@ rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE = 1, 2, 4, 8, 16, 32
-TRAINS = 128
+YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE, THROUGH, TRAINS = 1, 2, 4, 8, 16, 32, 64, 128
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS | BESIDE,
@@ -62,6 +67,7 @@ RULESETS = {
     "yield-holes-cross": YIELD | HOLES | SURPLUS | CROSS,
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
     "yield-holes-trains": YIELD | HOLES | SURPLUS | BESIDE | TRAINS,
+    "flow": YIELD | HOLES | SURPLUS | BESIDE | THROUGH,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
@@ -83,6 +89,7 @@ FLAG_SCOPE = {
     ASIDE: BETWEEN_GROUPS,  # aside.blocked_side returns at once with one group
     BESIDE: BETWEEN_GROUPS,  # travel.touching halts only beside another group's formation
     TRAINS: ANY_GROUPS,  # trains.train_blockers releases robots of one group as of several
+    THROUGH: ANY_GROUPS,
 }
 """Where each flag's rules act: :data:`ANY_GROUPS`, :data:`BETWEEN_GROUPS`, or the name of a
 GGCParams length L: between groups only while d_cover > L (with one group too at d_cover <=
