@@ -82,3 +82,27 @@ def test_a_bad_speed_is_refused() -> None:
     for v in (0.0, -1.0, math.nan, math.inf):
         with pytest.raises(ValueError, match="v_max"):
             travel_floor_ticks(world, v)
+
+
+def test_the_world_report_states_the_floor_at_the_engines_default_speed() -> None:
+    """`swarmsim worlds PATH` says K's floor: 1,850 ticks at v_max 0.1 (SimConfig's)."""
+    from swarmsim.engine.config import SimConfig
+    from swarmsim.world.worldinfo import V_MAX, describe_world, format_report
+
+    assert SimConfig().v_max == V_MAX
+    lines = format_report(describe_world(load_world("K")))
+    assert "  floor       1,850 ticks at v_max 0.1: the farthest target point is 185.0 units" \
+        in lines
+
+
+def test_the_worlds_list_has_a_floor_column(capsys) -> None:
+    from swarmsim.cli import main
+
+    assert main(["worlds"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    head = lines[0].split()
+    assert head[-1] == "floor"
+    rows = {line.split()[0]: line.split() for line in lines[1:]}
+    assert rows["K"][-1] == "1,850" and rows["house"][-1] == "1,750"
+    assert rows["K-large"][-1] == "3,260"
+    assert max(len(line) for line in lines) <= 100
