@@ -16,8 +16,9 @@ stopped. Per rule set the table gives:
 - arrive/1k: robots on target gained per 1,000 ticks over the delivery phase (from the first
   record with at least 10 % of the run's final robots on target, to the run's end), median;
 - dist/placed: the summary's distance per placed robot, median;
-- vs FIRST: paired difference of completion ticks against the first rule set, over seeds
-  where both completed: median [min-max] in ticks, the median in %, and how many were faster.
+- vs FIRST: paired differences against the first rule set: of completion ticks over the
+  seeds both completed (median [min..max], the median in %, how many were faster), and of
+  final coverage over every seed (median [min..max]).
 
     python bench/screen_rules.py --rulesets yield-holes paper --worlds K --seeds 0-4
     python bench/screen_rules.py --rulesets yield-holes NEW --worlds K house --groups 3 \\
@@ -169,17 +170,21 @@ def rows_for(results: dict[str, dict[int, dict]], floor: float) -> list[str]:
 
 
 def paired(base: dict[int, dict], other: dict[int, dict]) -> str:
-    """Completion tick differences other - base over the seeds both completed."""
-    pairs = [(other[s]["summary"]["completion_tick"], base[s]["summary"]["completion_tick"])
-             for s in base if s in other]
-    pairs = [(a, b) for a, b in pairs if a is not None and b is not None]
-    if not pairs:
-        return "no seed completed under both"
-    diffs = [a - b for a, b in pairs]
-    share = median([100 * (a - b) / b for a, b in pairs])
-    faster = sum(d < 0 for d in diffs)
-    return (f"{median(diffs):+,.0f} [{min(diffs):+,}..{max(diffs):+,}] ticks ({share:+.1f} %), "
-            f"faster on {faster}/{len(pairs)}")
+    """Paired differences other - base: completion ticks over the seeds both completed, and
+    final coverage over every seed both ran."""
+    seeds = [s for s in base if s in other]
+    ticks = [(other[s]["summary"]["completion_tick"], base[s]["summary"]["completion_tick"])
+             for s in seeds]
+    ticks = [(a, b) for a, b in ticks if a is not None and b is not None]
+    cover = [other[s]["summary"]["coverage"] - base[s]["summary"]["coverage"] for s in seeds]
+    text = (f"coverage {median(cover):+.4f} [{min(cover):+.4f}..{max(cover):+.4f}]"
+            if cover else "no seed in common")
+    if not ticks:
+        return text
+    diffs = [a - b for a, b in ticks]
+    share = median([100 * (a - b) / b for a, b in ticks])
+    return (f"ticks {median(diffs):+,.0f} [{min(diffs):+,}..{max(diffs):+,}] ({share:+.1f} %), "
+            f"faster on {sum(d < 0 for d in diffs)}/{len(ticks)}; {text}")
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -33,11 +33,17 @@ def test_seeds_settings_and_rates_are_read_as_documented() -> None:
     # 2 robots of 40 on target at 250 (below 10 %), 4 at 500: the phase runs 500 -> 2,500
     trace = [[0, 0, 0.0], [250, 2, 0.1], [500, 4, 0.2], [2500, 40, 0.99]]
     assert screen.delivery_rate(trace) == pytest.approx(1000 * 36 / 2000)
-    base = {0: {"summary": {"completion_tick": 1000}}, 1: {"summary": {"completion_tick": 900}},
-            2: {"summary": {"completion_tick": None}}}
-    other = {0: {"summary": {"completion_tick": 800}}, 1: {"summary": {"completion_tick": 1000}},
-             2: {"summary": {"completion_tick": 700}}}
-    assert screen.paired(base, other) == ("-50 [-200..+100] ticks (-4.4 %), faster on 1/2")
+    base = {0: {"summary": {"completion_tick": 1000, "coverage": 0.99}},
+            1: {"summary": {"completion_tick": 900, "coverage": 0.99}},
+            2: {"summary": {"completion_tick": None, "coverage": 0.95}}}
+    other = {0: {"summary": {"completion_tick": 800, "coverage": 0.99}},
+             1: {"summary": {"completion_tick": 1000, "coverage": 0.99}},
+             2: {"summary": {"completion_tick": 700, "coverage": 0.99}}}
+    assert screen.paired(base, other) == ("ticks -50 [-200..+100] (-4.4 %), faster on 1/2; "
+                                          "coverage +0.0000 [+0.0000..+0.0400]")
+    del other[2]["summary"]["completion_tick"], other[0], other[1]
+    other[2]["summary"]["completion_tick"] = None
+    assert screen.paired(base, other) == "coverage +0.0400 [+0.0400..+0.0400]"
 
 
 def _rows(text: str) -> dict[str, re.Match]:
