@@ -40,9 +40,9 @@ from swarmsim.world.world import World
 
 SAMPLE_SHARE = 1 / 250
 """Coarse sampling spacing of the target, as a share of its bounding box's diagonal."""
-REFINE_STEPS = 16
+REFINE_STEPS = 8
 """The fine grid round the coarse maximum is REFINE_STEPS times denser."""
-REFINE_CANDIDATES = 64
+REFINE_CANDIDATES = 32
 """At most this many of the best coarse samples are refined."""
 BLOCK_TOLERANCE = 1e-7
 """A segment is blocked when it cuts an obstacle shrunk by this much, units: paths may graze
