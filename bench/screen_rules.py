@@ -125,6 +125,9 @@ def run_once(job: dict, code: Path, out: Path) -> dict:
                            f"{job['ruleset']}, seed {job['seed']}: "
                            f"{lines[-1].removeprefix('swarmsim: error: ')}")
     result = {"job": job, **json.loads(done.stdout.strip().splitlines()[-1])}
+    summary = result["summary"]
+    print(f"ran {path.stem}: {summary['stop_reason']} at tick {summary['ticks']:,}, coverage "
+          f"{summary['coverage']:.4f}", file=sys.stderr, flush=True)
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(result))
     os.replace(tmp, path)
@@ -216,16 +219,22 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--code {args.code}: no swarmsim/ in it")
     sys.path.insert(0, str(HERE))
     from swarmsim.engine.config import SimConfig
+    from swarmsim.errors import ConfigError
     from swarmsim.world.floor import travel_floor_ticks
     from swarmsim.world.world import load_world
+
+    try:
+        worlds = {world: load_world(world) for world in args.worlds}
+    except ConfigError as exc:
+        print(f"screen_rules: error: {exc}", file=sys.stderr)
+        return 2
 
     args.out.mkdir(parents=True, exist_ok=True)
     settings = dict(args.settings)
     v_max = float(settings.get("v_max", SimConfig().v_max))
     code = args.code.resolve()
     jobs = []
-    for world in args.worlds:
-        loaded = load_world(world)
+    for world, loaded in worlds.items():
         counts = args.groups or (list(K_GROUPS) if loaded.name == "K" else
                                  [int(loaded.defaults.get("groups", 1))])
         for groups in counts:
@@ -247,7 +256,7 @@ def main(argv: list[str] | None = None) -> int:
         key = (job["world"], job["groups"])
         table.setdefault(key, {}).setdefault(job["ruleset"], {})[job["seed"]] = result
     for (world, groups), by_ruleset in table.items():
-        loaded = load_world(world)
+        loaded = worlds[world]
         floor = travel_floor_ticks(loaded, v_max)
         robots = next(iter(next(iter(by_ruleset.values())).values()))["summary"]["robots"]
         print(f"{loaded.name}, {groups} group(s), {robots} robots: travel floor {floor:,.0f} "

@@ -108,3 +108,14 @@ def test_a_bad_rule_set_is_refused_in_one_line(tmp_path: Path, capsys) -> None:
     assert len(err) == 1 and err[0].startswith("screen_rules: error: ")
     assert "no-such-rules" in err[0] and "ruleset" in err[0]
     assert not list((tmp_path / "screen").glob("*"))
+
+
+def test_a_missing_world_is_refused_in_one_line_before_any_run(tmp_path: Path, capsys) -> None:
+    screen = _screen()
+    argv = ["--rulesets", "paper", "--worlds", str(tmp_path / "nowhere.toml"), "--out",
+            str(tmp_path / "screen")]
+    assert screen.main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("screen_rules: error: ")
+    assert "nowhere.toml" in err[0]
+    assert not (tmp_path / "screen").exists()
