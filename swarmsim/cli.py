@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import signal
 import sys
@@ -401,11 +402,16 @@ def cmd_list_worlds() -> int:
         caps = " ".join(fit_number(w.lattice_capacity(d), 8) for d in LATTICE_SPACINGS)
         print(f"{name:<10} {fit_number(w.target_area, 9)} {caps} "
               f"{w.defaults.get('robots', '-'):>7} {w.defaults.get('groups', '-'):>6} "
-              f"{fit_number(travel_floor_ticks(w, v_max), 7)}")
+              f"{_floor_text(travel_floor_ticks(w, v_max)):>7}")
     print("cap@d = robots a hexagonal lattice of spacing d holds: area / (0.866 d^2)")
     print(f"floor = ticks a robot at v_max {v_max:g} needs from the spawn areas to the "
           "farthest target point")
     return 0
+
+
+def _floor_text(ticks: float) -> str:
+    """A travel floor for the worlds list: ticks, or "-" when no path reaches the target."""
+    return fit_number(ticks, 7).strip() if math.isfinite(ticks) else "-"
 
 
 def cmd_controllers() -> int:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import gc
+import math
 import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -736,9 +737,12 @@ class Simulation:
         return self._travel_floor
 
     def _floor_fields(self) -> dict[str, Any]:
-        """The travel floor, ticks, and the completion tick's ratio to it (None when the run
-        has not completed, or the target lies in a spawn area: a floor of 0)."""
+        """The travel floor, ticks (None when obstacles wall part of the target off), and the
+        completion tick's ratio to it (None when the run has not completed, or the floor is
+        None or 0: the target lies in a spawn area)."""
         floor = self.travel_floor_ticks()
+        if not math.isfinite(floor):
+            return {"travel_floor_ticks": None, "floor_ratio": None}
         done = self.metrics.part(CoveragePart).completion_tick
         ratio = round(done / floor, 3) if done is not None and floor > 0 else None
         return {"travel_floor_ticks": round(floor, 1), "floor_ratio": ratio}

@@ -51,7 +51,8 @@ an obstacle's edge or corner."""
 
 def travel_distance(world: World) -> float:
     """The largest shortest-path distance from the spawn areas to a point of the free target
-    floor, units (see the module's docstring). 0 when the target lies inside a spawn area."""
+    floor, units (see the module's docstring). 0 when the target lies inside a spawn area;
+    inf when obstacles wall part of the target off from every spawn area."""
     paths = _Paths(world)
     target = world.free_target
     x0, y0, x1, y1 = target.bounds
@@ -73,7 +74,8 @@ def travel_distance(world: World) -> float:
 
 
 def travel_floor_ticks(world: World, v_max: float) -> float:
-    """The travel floor: :func:`travel_distance` / ``v_max`` (units per tick), in ticks."""
+    """The travel floor: :func:`travel_distance` / ``v_max`` (units per tick), in ticks (inf
+    when no path reaches part of the target)."""
     if not (math.isfinite(v_max) and v_max > 0):
         raise ValueError(f"v_max must be positive and finite, got {v_max!r}")
     return travel_distance(world) / v_max

@@ -257,9 +257,13 @@ def format_report(r: WorldReport) -> list[str]:
                  f"~{readable(r.spawn_capacity)} robots in formation (spacing "
                  f"{START_SPACING:g}),")
     lines.append(f"              {readable(r.random_capacity)} at a random start")
-    lines.append(f"  floor       {readable(r.travel_distance / V_MAX)} ticks at v_max {V_MAX:g}: "
-                 f"the farthest target point is {r.travel_distance:,.1f} units")
-    lines.append("              from the spawn areas (shortest path, round the obstacles)")
+    if math.isfinite(r.travel_distance):
+        lines.append(f"  floor       {readable(r.travel_distance / V_MAX)} ticks at v_max "
+                     f"{V_MAX:g}: the farthest target point is {r.travel_distance:,.1f} units")
+        lines.append("              from the spawn areas (shortest path, round the obstacles)")
+    else:
+        lines.append("  floor       none: obstacles wall part of the target off from the spawn "
+                     "areas")
     if w.beacon is None:
         lines.append("  beacon      none")
     elif r.beacon_depth is None:  # no free floor to measure it against

@@ -106,3 +106,20 @@ def test_the_worlds_list_has_a_floor_column(capsys) -> None:
     assert rows["K"][-1] == "1,850" and rows["house"][-1] == "1,750"
     assert rows["K-large"][-1] == "3,260"
     assert max(len(line) for line in lines) <= 100
+
+
+def test_a_target_walled_off_has_no_floor(tmp_path, capsys) -> None:
+    """Four walls round the target leave no path from the spawn: the distance is inf, the
+    report says so and a run's summary has null floor fields."""
+    from swarmsim import Simulation
+    from swarmsim.world.worldinfo import describe_world, format_report
+
+    walls = [[[-5, 45], [45, 45], [45, 47], [-5, 47]], [[-5, 83], [45, 83], [45, 85], [-5, 85]],
+             [[-5, 45], [-3, 45], [-3, 85], [-5, 85]], [[43, 45], [45, 45], [45, 85], [43, 85]]]
+    data = _world(RECT, [BAND], walls) | {"beacon": {"position": [20, 65]}}
+    world = world_from_dict(data)
+    assert travel_distance(world) == math.inf
+    assert ("  floor       none: obstacles wall part of the target off from the spawn areas"
+            in format_report(describe_world(world)))
+    summary = Simulation(world, controller="dispersion", robots=5, max_ticks=2).run().summary
+    assert summary["travel_floor_ticks"] is None and summary["floor_ratio"] is None
