@@ -123,3 +123,17 @@ def test_a_target_walled_off_has_no_floor(tmp_path, capsys) -> None:
             in format_report(describe_world(world)))
     summary = Simulation(world, controller="dispersion", robots=5, max_ticks=2).run().summary
     assert summary["travel_floor_ticks"] is None and summary["floor_ratio"] is None
+
+
+def test_a_bad_world_is_still_refused_in_one_line_by_worlds_and_run(tmp_path, capsys) -> None:
+    """The floor is measured only on a valid world: a bad one is refused as before."""
+    from swarmsim.cli import main
+
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "bad"\n[target]\noutline = [[0, 0], [10, 0], [10, 10], [0, 10]]\n'
+                   '[[spawn]]\noutline = [[0, -9], [10, -9], [10, "x"]]\n')
+    for argv in (["worlds", str(bad)], ["run", str(bad), "--max-ticks", "5", "--quiet"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("swarmsim: error: "), err
+        assert "bad.toml" in err[0] and "spawn[0].outline" in err[0], err
