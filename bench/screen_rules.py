@@ -10,7 +10,8 @@ summary.json fields and a trace of robots on target and coverage every RECORD ti
 in --out, one JSON file per run written atomically, so an interrupted screen resumes where it
 stopped. Per rule set the table gives:
 
-- done: runs complete / runs; coverage: the median final coverage (at the horizon or abort);
+- done: runs complete / runs; aborted: runs the abort rule stopped; coverage: the median
+  final coverage (at the horizon or the abort);
 - ticks: the completion tick's median [min-max] over the runs that completed;
 - x floor: the median completion tick / the world's travel floor (swarmsim/world/floor.py);
 - arrive/1k: robots on target gained per 1,000 ticks over the delivery phase (from the first
@@ -154,7 +155,8 @@ def number(value: float | None, digits: int = 0) -> str:
 def rows_for(results: dict[str, dict[int, dict]], floor: float) -> list[str]:
     """The table's lines for one world and group count: ``results[ruleset][seed]``."""
     first = next(iter(results))
-    lines = [(f"  {'ruleset':<22} {'done':>5} {'coverage':>8} {'ticks median [min-max]':>26} "
+    lines = [(f"  {'ruleset':<22} {'done':>5} {'aborted':>7} {'coverage':>8} "
+              f"{'ticks median [min-max]':>26} "
               f"{'x floor':>7} {'arrive/1k':>9} {'dist/placed':>11}  vs {first}")]
     for name, runs in results.items():
         summaries = [r["summary"] for r in runs.values()]
@@ -165,7 +167,8 @@ def rows_for(results: dict[str, dict[int, dict]], floor: float) -> list[str]:
         rate = median([delivery_rate(r["trace"]) for r in runs.values()])
         per_placed = median([s["distance_per_placed_robot"] for s in summaries])
         versus = paired(results[first], runs) if name != first else "-"
-        lines.append(f"  {name:<22} {len(ticks):>2}/{len(summaries):<2} "
+        aborted = sum(s["stop_reason"] == "aborted" for s in summaries)
+        lines.append(f"  {name:<22} {len(ticks):>2}/{len(summaries):<2} {aborted:>7} "
                      f"{median([s['coverage'] for s in summaries]):>8.4f} {spread:>26} "
                      f"{number(ratio, 2):>7} {number(rate, 1):>9} {number(per_placed, 1):>11}  "
                      f"{versus}")

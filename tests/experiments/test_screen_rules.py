@@ -13,8 +13,8 @@ import pytest
 from swarmsim import Simulation
 
 SCRIPT = Path(__file__).resolve().parents[2] / "bench" / "screen_rules.py"
-ROW = re.compile(r"^  (\S+)\s+(\d+)/(\d+)\s+([\d.]+)\s+(\S+)(?: \[(\S+)\])?\s+(\S+)\s+(\S+)"
-                 r"\s+(\S+)  (.*)$")
+ROW = re.compile(r"^  (\S+)\s+(\d+)/(\d+)\s+(\d+)\s+([\d.]+)\s+(\S+)(?: \[(\S+)\])?\s+(\S+)"
+                 r"\s+(\S+)\s+(\S+)  (.*)$")
 
 
 def _screen():
@@ -73,20 +73,21 @@ def test_the_table_agrees_with_the_runs_and_a_screen_resumes(tmp_path: Path, cap
         summaries = [r["summary"] for r in runs.values()]
         done = [s["completion_tick"] for s in summaries if s["completion_tick"] is not None]
         assert (int(row[2]), int(row[3])) == (len(done), 2)
-        assert float(row[4]) == pytest.approx(statistics.median(s["coverage"] for s in
+        assert int(row[4]) == sum(s["stop_reason"] == "aborted" for s in summaries)
+        assert float(row[5]) == pytest.approx(statistics.median(s["coverage"] for s in
                                                                   summaries), abs=5e-5)
         assert done, "the world should complete in 2,200 ticks on a seed"
-        assert float(row[5].replace(",", "")) == pytest.approx(statistics.median(done), abs=0.5)
+        assert float(row[6].replace(",", "")) == pytest.approx(statistics.median(done), abs=0.5)
         ratios = [s["floor_ratio"] for s in summaries if s["floor_ratio"] is not None]
-        assert float(row[7]) == pytest.approx(statistics.median(ratios), abs=0.006)
+        assert float(row[8]) == pytest.approx(statistics.median(ratios), abs=0.006)
         rates = [screen.delivery_rate(r["trace"]) for r in runs.values()]
-        assert float(row[8]) == pytest.approx(statistics.median(rates), abs=0.05)
+        assert float(row[9]) == pytest.approx(statistics.median(rates), abs=0.05)
         per_placed = statistics.median(s["distance_per_placed_robot"] for s in summaries)
-        assert float(row[9]) == pytest.approx(per_placed, abs=0.05)
+        assert float(row[10]) == pytest.approx(per_placed, abs=0.05)
         assert all(r["trace"][-1][0] == r["summary"]["ticks"] for r in runs.values())
     base = {r["job"]["seed"]: r for r in kept if r["job"]["ruleset"] == "yield-holes"}
     other = {r["job"]["seed"]: r for r in kept if r["job"]["ruleset"] == "paper"}
-    assert rows["paper"][10] == screen.paired(base, other)
+    assert rows["paper"][11] == screen.paired(base, other)
 
     direct = Simulation("tiny", controller="ggc", groups=2, seed=1, max_ticks=2200,
                         settings={"ruleset": "paper"}).run().summary
