@@ -5,7 +5,9 @@ Each run is ``Simulation(world, groups=G, seed=S, max_ticks=T, settings={"rulese
 ...})`` in its own process (the public API; ``--code DIR`` puts another checkout first on the
 child's import path, so two versions can be screened alike). A run stops at completion, at the
 horizon, or when aborted: its robots on the target rose by fewer than --abort-rise in the
-last --abort-window ticks (checked every RECORD ticks; 0 turns it off). Each run's result (its
+last --abort-window ticks while its coverage is below --abort-below (checked every RECORD
+ticks; --abort-rise 0 turns it off; near completion robots on target hardly rise while
+coverage still does, so the tail is spared). Each run's result (its
 summary.json fields and a trace of robots on target and coverage every RECORD ticks) is kept
 in --out, one JSON file per run written atomically, so an interrupted screen resumes where it
 stopped. Per rule set the table gives:
@@ -61,7 +63,8 @@ class Watch(Hook):
             self.trace.append([run.tick, int(run.on_target.sum()), float(run.metrics.coverage)])
     def is_finished(self, run):
         rise, window = job["abort_rise"], job["abort_window"]
-        if rise <= 0 or run.tick < window or run.tick % job["record"] or not self.trace:
+        if (rise <= 0 or run.tick < window or run.tick % job["record"] or not self.trace
+                or self.trace[-1][2] >= job["abort_below"]):
             return None
         back = [n for t, n, _ in self.trace if t == run.tick - window]
         return "aborted" if back and self.trace[-1][1] - back[0] < rise else None
@@ -207,6 +210,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="abort a run whose robots on target rose by fewer than this in "
                         "the last --abort-window ticks (0: never; default 10)")
     parser.add_argument("--abort-window", type=int, default=2000)
+    parser.add_argument("--abort-below", type=float, default=0.95,
+                        help="abort only runs whose coverage is below this (default 0.95)")
     parser.add_argument("--set", type=setting, action="append", default=[], dest="settings",
                         metavar="KEY=VALUE", help="a run setting for every run (repeatable)")
     parser.add_argument("--workers", type=int, default=1, help="runs at a time (processes)")
@@ -245,6 +250,7 @@ def main(argv: list[str] | None = None) -> int:
                 jobs += [{"world": world, "groups": groups, "ruleset": ruleset, "seed": seed,
                           "max_ticks": args.max_ticks, "abort_rise": args.abort_rise,
                           "abort_window": args.abort_window, "record": RECORD,
+                          "abort_below": args.abort_below,
                           "settings": settings, "code": str(code)} for seed in args.seeds]
     with concurrent.futures.ThreadPoolExecutor(args.workers) as pool:
         futures = [pool.submit(run_once, job, code, args.out) for job in jobs]
@@ -265,7 +271,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{loaded.name}, {groups} group(s), {robots} robots: travel floor {floor:,.0f} "
               f"ticks (v_max {v_max:g}); seeds {','.join(map(str, args.seeds))}; horizon "
               f"{args.max_ticks:,}; abort below +{args.abort_rise} on target per "
-              f"{args.abort_window:,} ticks; code {code}")
+              f"{args.abort_window:,} ticks under coverage {args.abort_below:g}; code {code}")
         print("\n".join(rows_for(by_ruleset, floor)))
         print()
     return 0

@@ -120,3 +120,19 @@ def test_a_missing_world_is_refused_in_one_line_before_any_run(tmp_path: Path, c
     assert len(err) == 1 and err[0].startswith("screen_rules: error: ")
     assert "nowhere.toml" in err[0]
     assert not (tmp_path / "screen").exists()
+
+
+def test_the_abort_rule_stops_a_run_whose_robots_on_target_rise_too_little(tmp_path: Path,
+                                                                          capsys) -> None:
+    """Asking for 1,000 more robots on target every 250 ticks aborts at tick 250; under a
+    coverage guard of 0 it never applies and the run goes to its horizon."""
+    screen = _screen()
+    base = ["--rulesets", "yield-holes", "--worlds", "tiny", "--groups", "1", "--seeds", "0",
+            "--max-ticks", "500", "--abort-rise", "1000", "--abort-window", "250"]
+    assert screen.main([*base, "--abort-below", "1", "--out", str(tmp_path / "a")]) == 0
+    assert screen.main([*base, "--abort-below", "0", "--out", str(tmp_path / "b")]) == 0
+    cut, = (json.loads(p.read_text())["summary"] for p in (tmp_path / "a").glob("*.json"))
+    whole, = (json.loads(p.read_text())["summary"] for p in (tmp_path / "b").glob("*.json"))
+    assert (cut["stop_reason"], cut["ticks"]) == ("aborted", 250)
+    assert (whole["stop_reason"], whole["ticks"]) == ("max_ticks", 500)
+    assert _rows(capsys.readouterr().out)["yield-holes"][4] == "0"
