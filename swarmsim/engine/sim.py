@@ -316,6 +316,8 @@ class Simulation:
         self.summary_sources.add("run", self._run_fields)
         self.summary_sources.add("metrics",
                                  lambda: self.metrics.summary(self.positions, self.on_target))
+        self._travel_floor: float | None = None
+        """The world's travel floor at this run's v_max, ticks, once measured."""
         self.summary_sources.add("floor", self._floor_fields)
         self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
         if cfg.failures:
@@ -730,7 +732,7 @@ class Simulation:
     def travel_floor_ticks(self) -> float:
         """The world's travel floor at this run's v_max, ticks (swarmsim/world/floor.py):
         measured on first use, then kept by this run."""
-        if getattr(self, "_travel_floor", None) is None:
+        if self._travel_floor is None:
             from swarmsim.world.floor import travel_floor_ticks
 
             self._travel_floor = travel_floor_ticks(self.world, self.config.v_max)
