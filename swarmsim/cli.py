@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import signal
 import sys
@@ -389,18 +390,29 @@ def cmd_make_world(args: argparse.Namespace) -> int:
 
 
 def cmd_list_worlds() -> int:
+    from swarmsim.engine.config import SimConfig
+    from swarmsim.world.floor import travel_floor_ticks
     from swarmsim.world.world import available_worlds, load_world
 
+    v_max = SimConfig().v_max
     head = f"{'world':<10} {'area':>9} " + " ".join(f"{'cap@' + str(d):>8}"
                                                    for d in LATTICE_SPACINGS)
-    print(head + f" {'robots':>7} {'groups':>6}")
+    print(head + f" {'robots':>7} {'groups':>6} {'floor':>7}")
     for name in available_worlds():
         w = load_world(name)
         caps = " ".join(fit_number(w.lattice_capacity(d), 8) for d in LATTICE_SPACINGS)
         print(f"{name:<10} {fit_number(w.target_area, 9)} {caps} "
-              f"{w.defaults.get('robots', '-'):>7} {w.defaults.get('groups', '-'):>6}")
+              f"{w.defaults.get('robots', '-'):>7} {w.defaults.get('groups', '-'):>6} "
+              f"{_floor_text(travel_floor_ticks(w, v_max)):>7}")
     print("cap@d = robots a hexagonal lattice of spacing d holds: area / (0.866 d^2)")
+    print(f"floor = ticks a robot at v_max {v_max:g} needs from the spawn areas to the "
+          "farthest target point")
     return 0
+
+
+def _floor_text(ticks: float) -> str:
+    """A travel floor for the worlds list: ticks, or "-" when no path reaches the target."""
+    return fit_number(ticks, 7).strip() if math.isfinite(ticks) else "-"
 
 
 def cmd_controllers() -> int:
@@ -591,6 +603,8 @@ def _run_to_end(args: argparse.Namespace, sim: Any, recorder: Any, resumed: bool
         return 130
     s = result.summary
     done = f"complete at tick {s['completion_tick']}" if s["completion_tick"] else s["stop_reason"]
+    if s.get("floor_ratio") is not None:
+        done += f", {s['floor_ratio']:.2f}x the travel floor"
     print(f"{s['world']} {s['controller']} robots={s['robots']} groups={s['groups']} "
           f"seed={s['seed']}: coverage {100 * s['coverage']:.1f}% ({done}), ticks {s['ticks']}, "
           f"distance {s['total_distance']:.0f}, contacts {s['collisions_robot_robot']}, "

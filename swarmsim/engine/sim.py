@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import gc
+import math
 import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -46,7 +47,7 @@ from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrup
 from swarmsim.kernels import kernelbuild
 from swarmsim.kernels.carrays import as_records
 from swarmsim.kernels.warmup import registered_warm_ups
-from swarmsim.metrics import CoverageGrid, FinalState, RunMetrics, standard_parts
+from swarmsim.metrics import CoverageGrid, CoveragePart, FinalState, RunMetrics, standard_parts
 from swarmsim.physics.physics import Physics, PhysicsConfig
 from swarmsim.registry import resolve_controller
 from swarmsim.results.provenance import code_version
@@ -315,6 +316,9 @@ class Simulation:
         self.summary_sources.add("run", self._run_fields)
         self.summary_sources.add("metrics",
                                  lambda: self.metrics.summary(self.positions, self.on_target))
+        self._travel_floor: float | None = None
+        """The world's travel floor at this run's v_max, ticks, once measured."""
+        self.summary_sources.add("floor", self._floor_fields)
         self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
         if cfg.failures:
             self.summary_sources.add("faults", lambda: {
@@ -724,6 +728,26 @@ class Simulation:
     def summary(self) -> dict[str, Any]:
         """The run's summary: the fields of summary.json, from ``summary_sources``."""
         return self.summary_sources.collect()
+
+    def travel_floor_ticks(self) -> float:
+        """The world's travel floor at this run's v_max, ticks (swarmsim/world/floor.py):
+        measured on first use, then kept by this run."""
+        if self._travel_floor is None:
+            from swarmsim.world.floor import travel_floor_ticks
+
+            self._travel_floor = travel_floor_ticks(self.world, self.config.v_max)
+        return self._travel_floor
+
+    def _floor_fields(self) -> dict[str, Any]:
+        """The travel floor, ticks (None when obstacles wall part of the target off), and the
+        completion tick's ratio to it (None when the run has not completed, or the floor is
+        None or 0: the target lies in a spawn area)."""
+        floor = self.travel_floor_ticks()
+        if not math.isfinite(floor):
+            return {"travel_floor_ticks": None, "floor_ratio": None}
+        done = self.metrics.part(CoveragePart).completion_tick
+        ratio = round(done / floor, 3) if done is not None and floor > 0 else None
+        return {"travel_floor_ticks": round(floor, 1), "floor_ratio": ratio}
 
     def _run_fields(self) -> dict[str, Any]:
         """What the run was: world, controller, settings, how and when it ended."""

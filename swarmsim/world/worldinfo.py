@@ -18,6 +18,7 @@ from shapely.geometry.base import BaseGeometry
 
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_GRID_SIZE
+from swarmsim.world.floor import travel_distance
 from swarmsim.world.world import HEX_CELL_FACTOR, World
 
 LATTICE_SPACINGS = (1, 2, 4, 6, 8, 10)
@@ -25,6 +26,7 @@ DEFAULT_D_COVER = 6.0
 ROBOT_RADIUS = 0.4  # PhysicsConfig's default body radius
 START_SPACING = 1.0  # SimConfig's formation_spacing and spawn_spacing (d_safe)
 COVERAGE_RADIUS = 4.0  # SimConfig's coverage_radius r
+V_MAX = 0.1  # SimConfig's v_max, units per tick: the travel floor's speed
 GRID_SIZE = 100  # SimConfig's grid_size
 DEFAULT_ROBOTS = 100  # SimConfig's robots, when a world names none
 NARROW_WARN = 1.0  # warn when at least this much free floor (units^2) is narrower than a robot
@@ -71,6 +73,8 @@ class WorldReport:
         random_capacity: robots a random start places in the spawn areas (World's safe limit).
         beacon_depth: the beacon's distance inside the free target floor (negative: outside
             it, by that much), or None without a beacon or without free floor.
+        travel_distance: the shortest-path distance from the spawn areas to the farthest
+            point of the free target floor, units (swarmsim/world/floor.py).
         warnings: one line each, in the order they were found.
     """
 
@@ -86,6 +90,7 @@ class WorldReport:
     spawn_capacity: int
     random_capacity: int
     beacon_depth: float | None
+    travel_distance: float
     warnings: tuple[str, ...]
 
 
@@ -132,7 +137,7 @@ def describe_world(world: World) -> WorldReport:
         free_parts=len(parts), narrow_area=narrow_area, capacity=capacity,
         spawn_area=spawn_area, spawn_capacity=hex_capacity(spawn_area, START_SPACING),
         random_capacity=world.max_random_robots(START_SPACING), beacon_depth=depth,
-        warnings=())
+        travel_distance=travel_distance(world), warnings=())
     return dataclasses.replace(report, warnings=tuple(_warnings(report, d_cover)))
 
 
@@ -252,6 +257,13 @@ def format_report(r: WorldReport) -> list[str]:
                  f"~{readable(r.spawn_capacity)} robots in formation (spacing "
                  f"{START_SPACING:g}),")
     lines.append(f"              {readable(r.random_capacity)} at a random start")
+    if math.isfinite(r.travel_distance):
+        lines.append(f"  floor       {readable(r.travel_distance / V_MAX)} ticks at v_max "
+                     f"{V_MAX:g}: the farthest target point is {r.travel_distance:,.1f} units")
+        lines.append("              from the spawn areas (shortest path, round the obstacles)")
+    else:
+        lines.append("  floor       none: obstacles wall part of the target off from the spawn "
+                     "areas")
     if w.beacon is None:
         lines.append("  beacon      none")
     elif r.beacon_depth is None:  # no free floor to measure it against

@@ -261,6 +261,23 @@ def test_completion_tick_when_target_covered():
     assert s["completion_tick"] == s["ticks"] and s["coverage"] >= 0.99
 
 
+def test_the_summary_carries_the_travel_floor_and_the_completion_ticks_ratio_to_it():
+    """The 12 x 12 target's far edge is 22 units above the spawn square's top (y -10): 220
+    ticks at v_max 0.1, 440 at 0.05; the ratio is the completion tick over it, and null for a
+    run that did not complete."""
+    sim = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
+                     seed=2, max_ticks=3000, settings={"d_cover": 3.0})
+    s = sim.run().summary
+    assert s["stop_reason"] == "complete", s
+    assert s["travel_floor_ticks"] == pytest.approx(220.0)
+    assert s["floor_ratio"] == round(s["completion_tick"] / 220.0, 3) and s["floor_ratio"] > 1
+    short = Simulation(square_world(size=12, spawn=20), controller="dispersion", robots=40,
+                       seed=2, max_ticks=20, settings={"d_cover": 3.0, "v_max": 0.05})
+    s = short.run().summary
+    assert s["completion_tick"] is None and s["floor_ratio"] is None
+    assert s["travel_floor_ticks"] == pytest.approx(440.0)
+
+
 @pytest.mark.parametrize("kw,key", [
     ({"settings": {"no_such": 1}}, "no_such"),
     ({"settings": {"v_max": "fast"}}, "v_max"),
