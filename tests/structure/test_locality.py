@@ -215,10 +215,11 @@ def test_message_fields_are_optional():
 RULE_PARAMETERS = {
     "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
     "nearest", "a", "b", "r", "reach", "status", "whole", "sender", "waiting", "max_gap",
-    "side", "grad",  # rows, numbers, codes
+    "side", "grad", "stuck_now",  # rows, numbers, codes, flags
     "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",
     "dist", "wake_range", "wake_on_motion", "wake_tick",
-    "px", "py", "bx", "by", "cx", "cy", "hx", "hy"}  # points relative to me
+    "px", "py", "bx", "by", "cx", "cy", "hx", "hy",  # points relative to me
+    "ux", "uy"}  # a unit heading in my frame
 """Every parameter name a GGC rule function may take: none is anyone's position."""
 
 

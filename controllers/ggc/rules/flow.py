@@ -102,17 +102,17 @@ def ban(me, px, py):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def site_free(view, px, py, mine, P):  # pragma: no cover - compiled
-    """No stationary robot within d_cover - arrive_tolerance of (px, py), ``mine`` (units)
+def site_free(view, px, py, d, P):  # pragma: no cover - compiled
+    """No stationary robot within d_cover - arrive_tolerance of (px, py), ``d`` (units)
     away from me, and no mover within SITE_TAKEN of it nearer than I am (movers passing by
     do not hold a site: a stream of them would hide every site beside its way)."""
     clear = P.d_cover - P.arrive_tolerance
     for r in range(len(view.dist)):
-        d = math.hypot(view.off[r, 0] - px, view.off[r, 1] - py)
+        gap = math.hypot(view.off[r, 0] - px, view.off[r, 1] - py)
         if view.moving[r]:
-            if d < min(SITE_TAKEN, mine):
+            if gap < min(SITE_TAKEN, d):
                 return False
-        elif d < clear:
+        elif gap < clear:
             return False
     return True
 
