@@ -149,9 +149,29 @@ class Figure:
 
 @dataclass(frozen=True)
 class Claim:
+    """One of the paper's claims, judged on a reproduction's runs.
+
+    Attributes:
+        text: the claim as judged.
+        measured: what was measured, with the spread between seeds.
+        verdict: one of the verdicts of :mod:`.verdicts` (``"note"`` for a row that is not
+            a claim: it gets no verdict and is not counted).
+        test: how it is tested (the comparison and its rule), in one sentence.
+        where: where it is judged and why (e.g. the d_cover values whose lattice the robots
+            fill); "" = every condition of the figure.
+        paper: the paper's own words where ``text`` adapts them ("" = ``text`` is the
+            paper's claim as stated).
+        evidence: False for a check that geometry or the stop rule decides whatever the
+            algorithm does: shown, marked so, and not counted as evidence.
+    """
+
     text: str
     measured: str
     verdict: str
+    test: str = ""
+    where: str = ""
+    paper: str = ""
+    evidence: bool = True
 
 
 def dcover_panel(s: PaperSetup, groups: int, metric: str) -> tuple[Panel, ...]:
