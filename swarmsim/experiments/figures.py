@@ -8,6 +8,7 @@ per condition). The registry itself is in :mod:`.reproduce`, the claims in :mod:
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -251,6 +252,10 @@ class CondStats:
     errors: list[str]
     bands: dict[str, Band | None] = field(default_factory=dict)
     distance_at_settle: tuple[float | None, float | None, int] = (None, None, 0)
+    values: dict[str, list[float]] = field(default_factory=dict)
+    """Per finished run, in seed order: "coverage" (final), "distance" (final total),
+    "completion" (tick; ``math.inf`` for a run that never completed: the paper's Definition
+    4), "settle_cov", "settle_dist", "distance_at_settle" (runs where it is known)."""
 
     @property
     def all_complete(self) -> bool:
@@ -324,4 +329,20 @@ def condition_stats(store: RunStore, cond: Condition, runs: Sequence[RunSpec]) -
         stats(s.get("total_distance") for s in summaries),
         stats(s.get("completion_tick") for s in summaries),
         stats(settle["coverage"]), stats(settle["total_distance"]), dict(stops), curves,
-        errors, distance_at_settle=stats(s.get("distance_at_settle") for s in summaries))
+        errors, distance_at_settle=stats(s.get("distance_at_settle") for s in summaries),
+        values=run_values(summaries, settle))
+
+
+def run_values(summaries: Sequence[Mapping[str, Any]],
+               settle: Mapping[str, Sequence[float | None]]) -> dict[str, list[float]]:
+    """:attr:`CondStats.values` of finished runs' summaries and settle ticks (per metric)."""
+    def known(xs: Any) -> list[float]:
+        return [float(x) for x in xs if x is not None]
+
+    return {"coverage": known(s.get("coverage") for s in summaries),
+            "distance": known(s.get("total_distance") for s in summaries),
+            "completion": [math.inf if s.get("completion_tick") is None
+                           else float(s["completion_tick"]) for s in summaries],
+            "settle_cov": known(settle.get("coverage", ())),
+            "settle_dist": known(settle.get("total_distance", ())),
+            "distance_at_settle": known(s.get("distance_at_settle") for s in summaries)}

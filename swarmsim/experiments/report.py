@@ -24,7 +24,7 @@ from swarmsim.experiments.figures import (
 from swarmsim.experiments.runner import run_cost
 from swarmsim.experiments.spec import unique_runs
 from swarmsim.experiments.table import read_table, write_table
-from swarmsim.experiments.verdicts import _pct, _tick
+from swarmsim.experiments.verdicts import NOTE, _pct, _tick, counted
 from swarmsim.results.output import atomic_write_text, write_csv
 
 
@@ -174,22 +174,41 @@ def _conditions_table(st: list[CondStats]) -> str:
 
 
 def claims_table(names: Sequence[str], claims: Sequence[Sequence[Claim]]) -> str:
-    """The paper's claims, one row each, with each rule set's measurement and verdict side by
+    """The paper's claims, one row each: the claim (with the paper's words where it adapts
+    them), how and where it is tested, then each rule set's measurement and verdict side by
     side (``names[i]`` made ``claims[i]``; '' for a controller without rule sets)."""
     by_text: dict[str, list[Claim | None]] = {}
     for i, column in enumerate(claims):
         for c in column:
             by_text.setdefault(c.text, [None] * len(claims))[i] = c
-    head = ["paper's claim"]
+    head = ["paper's claim", "test (where)"]
     for name in names:
         head += [f"{name}: measured" if name else "measured", "verdict"]
     rows = []
     for text, found in by_text.items():
-        cells = [text]
+        first = next(c for c in found if c is not None)
+        cells = [text + (f" (paper: \"{first.paper}\")" if first.paper else ""),
+                 (first.test or "-") + (f" ({first.where})" if first.where else "")]
         for c in found:
-            cells += ["n/a", "-"] if c is None else [c.measured, f"**{c.verdict}**"]
+            cells += ["n/a", "-"] if c is None else [c.measured, verdict_text(c)]
         rows.append(cells)
     return _md_table(rows, head)
+
+
+def verdict_text(claim: Claim) -> str:
+    """A claim's verdict for a report: bold, marked when it is not counted as evidence."""
+    if claim.verdict == NOTE:
+        return "note"
+    if not claim.evidence:
+        return f"**{claim.verdict}** (decided by construction: not counted)"
+    return f"**{claim.verdict}**"
+
+
+def claim_row(claim: Claim) -> dict[str, Any]:
+    """A claim as a claims.csv row (without its figure and rule set)."""
+    return {"claim": claim.text, "measured": claim.measured, "verdict": claim.verdict,
+            "counted": counted(claim), "test": claim.test, "where": claim.where,
+            "paper": claim.paper}
 
 
 def write_figure(fig: Figure, contexts: Sequence[Context], out: Path) -> Path:
@@ -209,8 +228,7 @@ def write_figure(fig: Figure, contexts: Sequence[Context], out: Path) -> Path:
         cond_rows += [{**tag, **_cond_row(p, s)}
                       for p, st in zip(col.panels, col.stats, strict=True) for s in st]
         claims.append(fig.claims(col.ctx))
-        claim_rows += [{"figure": fig.key, **tag, "claim": c.text, "measured": c.measured,
-                        "verdict": c.verdict} for c in claims[-1]]
+        claim_rows += [{"figure": fig.key, **tag, **claim_row(c)} for c in claims[-1]]
     write_table(fig_dir / "results.csv", rows)
     write_csv(fig_dir / "conditions.csv", cond_rows)
     write_csv(fig_dir / "claims.csv", claim_rows)
@@ -275,8 +293,8 @@ def run_time_line(seconds: float, runs: int) -> str:
 def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
                  versions: Mapping[str, int] | None = None,
                  run_seconds: float | None = None) -> Path:
-    """DIR/REPORT.md: every figure of ``keys`` (the registry's, in the paper's order)
-    reproduced so far in DIR."""
+    """DIR/REPORT.md and DIR/claims.csv: every figure of ``keys`` (the registry's, in the
+    paper's order) reproduced so far in DIR."""
     sections = [(out / k / "section.md").read_text() for k in keys
                 if (out / k / "section.md").is_file()]
     judged = [c.ruleset for c in setup.columns() if c.ruleset]
@@ -285,35 +303,67 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
              + (f" Rule sets judged side by side: {', '.join(judged)}." if judged else "")
              + " Each figure's section names the setup and code it was made with."),
             ("Curves are means over seeds on a common tick grid (a run that stopped holds its "
-             "last value); bands span min-max. Verdicts compare the measured means with the "
-             "paper's statements; 'tick at 99% of final coverage' is when a curve becomes flat."),
+             "last value); bands span min-max. A comparison holds only where a 95% bootstrap "
+             "interval over seeds lies wholly on the claimed side ('not resolved at N runs' "
+             "otherwise); a run that never completes is slower than any that does (the "
+             "paper's Definition 4); claims about d_cover are judged only where the robots "
+             "fill the lattice; 'tick at 99% of final coverage' is when a curve becomes flat."),
             ""]
     if versions is not None:
         head[-1:-1] = [versions_line(versions), ""]
     if run_seconds is not None and versions:
         head[-1:-1] = [run_time_line(run_seconds, sum(versions.values())), ""]
     summary = claims_summary(out, keys)
+    write_csv(out / "claims.csv", [row for k in keys if (out / k / "claims.csv").is_file()
+                                   for row in read_table(out / k / "claims.csv")])
     path = out / "REPORT.md"
     atomic_write_text(path, "\n".join(head) + "\n" + summary + "\n".join(sections))
     return path
 
 
+TALLY = ("consistent", "partly consistent", "not consistent", "not resolved", "not measured")
+"""The verdicts a tally counts ("not resolved at N runs" counts as "not resolved")."""
+
+
+def tally(rows: Sequence[Mapping[str, Any]]) -> dict[str, Counter[str]]:
+    """Per rule set, how many counted claims (claims.csv rows with ``counted`` true: no
+    notes, no checks decided by construction) got each verdict of :data:`TALLY`."""
+    out: dict[str, Counter[str]] = {}
+    for row in rows:
+        name = str(row.get("ruleset") or "")
+        found = out.setdefault(name, Counter())
+        if str(row.get("counted")).lower() not in ("true", "1"):
+            continue
+        verdict = str(row["verdict"])
+        found["not resolved" if verdict.startswith("not resolved") else verdict] += 1
+    return out
+
+
 def claims_summary(out: Path, keys: Sequence[str]) -> str:
-    """'## Claims': every figure's claims (from DIR/<fig>/claims.csv) with one verdict column
-    per rule set, for the top of DIR/REPORT.md ('' before any figure is written)."""
+    """'## Claims' of DIR/REPORT.md from every figure's DIR/<fig>/claims.csv ('' before any
+    figure is written): see :func:`claims_summary_text`."""
+    rows = [row for key in keys if (out / key / "claims.csv").is_file()
+            for row in read_table(out / key / "claims.csv")]
+    return claims_summary_text(rows)
+
+
+def claims_summary_text(rows: Sequence[Mapping[str, Any]]) -> str:
+    """'## Claims': the tally of verdicts per rule set, then every claim (claims.csv rows)
+    with one verdict column per rule set ('' for no rows)."""
     verdicts: dict[tuple[str, str], dict[str, str]] = {}
     names: dict[str, None] = {}
-    for key in keys:
-        path = out / key / "claims.csv"
-        if not path.is_file():
-            continue
-        for row in read_table(path):
-            name = row.get("ruleset") or ""
-            names[name] = None
-            verdicts.setdefault((key, row["claim"]), {})[name] = row["verdict"]
+    for row in rows:
+        name = row.get("ruleset") or ""
+        names[name] = None
+        mark = "" if str(row.get("counted")).lower() in ("true", "1") else " (not counted)"
+        verdicts.setdefault((row["figure"], row["claim"]), {})[name] = row["verdict"] + mark
     if not verdicts:
         return ""
+    counts = tally(rows)
+    tally_rows = [[n or "-"] + [str(counts.get(n, Counter())[v]) for v in TALLY] for n in names]
     head = ["figure", "paper's claim"] + [f"{n}: verdict" if n else "verdict" for n in names]
-    rows = [[key, text] + [found.get(n, "-") for n in names]
-            for (key, text), found in verdicts.items()]
-    return "## Claims\n\n" + _md_table(rows, head) + "\n\n"
+    table = [[key, text] + [found.get(n, "-") for n in names]
+             for (key, text), found in verdicts.items()]
+    return ("## Claims\n\nCounted claims (notes and checks decided by construction left out):"
+            "\n\n" + _md_table(tally_rows, ["rule set", *TALLY]) + "\n\n"
+            + _md_table(table, head) + "\n\n")

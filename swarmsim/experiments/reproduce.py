@@ -20,12 +20,14 @@ Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditi
 grid; runs that stopped early hold their last value) and ``REPORT.md`` (the paper's claims next
 to what was measured, with a verdict); ``DIR/REPORT.md`` collects every figure reproduced so
 far in DIR (its code and run-time lines count every finished run in ``DIR/runs``, and each
-figure's section names the setup and code it was made with), ``DIR/results.csv`` the runs of
-the figures asked for this time.
+figure's section names the setup and code it was made with), ``DIR/claims.csv`` every claim
+of those figures, ``DIR/results.csv`` the runs of the figures asked for this time. How the
+claims are judged: :mod:`.verdicts` and docs/reproduction/README.md.
 
-Robot counts: the paper uses 603 robots on 'K' for every figure. At d_cover = 1 or 2 a lattice
-over K needs ~15,300 / ~3,800 robots, so 603 cannot fill it; we keep 603 (the world's default)
-and report the coverage reached (the report lists the lattice capacity next to it).
+Robot counts: the paper uses 603 robots on 'K' for every figure. At d_cover = 1, 2 or 4 a
+lattice over K needs ~15,300 / ~3,800 / ~960 robots, so 603 cannot fill it; we keep 603 (the
+world's default), report the coverage reached (the report lists the lattice capacity next
+to it), and judge every d_cover claim only at the d_cover values the robots fill.
 
 This module holds the registry and the entry point; the rest lives in :mod:`.figures` (the
 setup, the figure types, the panel builders and the analysis of runs), :mod:`.verdicts` (the
