@@ -190,6 +190,9 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--rulesets", type=_names, metavar="A,B",
                    help="GGC's rule sets judged side by side (default: its default rule set, "
                         "then paper)")
+    r.add_argument("--ghost", action="store_true",
+                   help="add a column of point robots that pass through each other (mode "
+                        "ghost, as in the paper's NetLogo model) under the first rule set")
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="another setting for every run")
     r.add_argument("--dry-run", action="store_true", dest="dry_run",
@@ -874,7 +877,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     check_workers(args.workers)
     setup = rp.setup_with(rp.PAPER, args.world, args.robots,
                           _parse_set(args.set, robots=args.robots, max_ticks=args.max_ticks),
-                          args.rulesets)
+                          args.rulesets, args.ghost)
     if args.dry_run:
         print(rp.describe_plan(rp.plan(args.fig, setup, args.reps, args.max_ticks), args.out,
                                args.retry_failed,

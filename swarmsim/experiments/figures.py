@@ -46,6 +46,11 @@ class PaperSetup:
             (:meth:`judged_rulesets`); ignored for other controllers.
         ruleset: the rule set of this column's runs (set by :meth:`columns`); None = the
             controller's default, not named in the runs' settings.
+        ghost: add a column of point robots that pass through each other (physics mode
+            "ghost", as in the paper's NetLogo model) under the first rule set judged, to
+            show which claims hold for points and fail only with bodies.
+        mode: the physics mode of this column's runs (set by :meth:`columns`); None = the
+            run's default (rigid bodies), not named in the runs' settings.
     """
 
     world: str = "K"
@@ -60,6 +65,8 @@ class PaperSetup:
     extra: Mapping[str, Any] = field(default_factory=dict)
     rulesets: tuple[str, ...] | None = None
     ruleset: str | None = None
+    ghost: bool = False
+    mode: str | None = None
 
     def judged_rulesets(self) -> tuple[str, ...]:
         """The rule sets judged side by side: :attr:`rulesets`, or else the controller's
@@ -73,8 +80,16 @@ class PaperSetup:
 
     def columns(self) -> list[PaperSetup]:
         """One setup per rule set judged (:meth:`judged_rulesets`), or just this one when
-        there is none."""
-        return [replace(self, ruleset=r) for r in self.judged_rulesets()] or [self]
+        there is none; then, with :attr:`ghost`, the first of them with point robots."""
+        base = [replace(self, ruleset=r, ghost=False) for r in self.judged_rulesets()]
+        base = base or [replace(self, ghost=False)]
+        return base + ([replace(base[0], mode="ghost")] if self.ghost else [])
+
+    @property
+    def column_name(self) -> str:
+        """This column's name in reports: its rule set, '(ghost)' for point robots."""
+        parts = [self.ruleset or "", "(ghost)" if self.mode == "ghost" else ""]
+        return " ".join(p for p in parts if p)
 
     def settings(self, controller: str | None = None, **values: Any) -> dict[str, Any]:
         """Run settings: robots (if set), the given values, then ``extra``.
@@ -87,6 +102,8 @@ class PaperSetup:
             del out["d_cover"]
         if self.ruleset is not None and _has_parameter(controller or self.controller, "ruleset"):
             out["ruleset"] = self.ruleset
+        if self.mode is not None:
+            out["mode"] = self.mode
         out.update(self.extra)
         return drop_unused_groups(controller or self.controller, out)
 

@@ -39,8 +39,9 @@ class Column:
 
     @property
     def name(self) -> str:
-        """The rule set's name ('' when the controller has no rule sets)."""
-        return self.ctx.setup.ruleset or ""
+        """The column's name: its rule set, '(ghost)' for point robots ('' for a controller
+        without rule sets in rigid mode)."""
+        return self.ctx.setup.column_name
 
     @classmethod
     def of(cls, fig: Figure, ctx: Context) -> Column:
@@ -51,7 +52,7 @@ class Column:
 def plot_figure(fig: Figure, columns: Sequence[Column], out_png: Path) -> Path:
     """Mean curves with a min-max band per condition: one row of axes per rule set, one axes
     per panel (PNG, atomic)."""
-    rows = [(f"rule set {c.name}: " if c.name else "", c.panels, c.stats) for c in columns]
+    rows = [(f"{c.name}: " if c.name else "", c.panels, c.stats) for c in columns]
     return plot_band_rows(fig.title, rows, out_png)
 
 
@@ -143,7 +144,7 @@ def figure_section(fig: Figure, columns: Sequence[Column],
     parts = [f"## {fig.title}", "", f"![{fig.key}]({image})"]
     for col in columns:
         if col.name:
-            parts += ["", f"### Rule set `{col.name}`"]
+            parts += ["", f"### Column `{col.name}`"]
         parts += ["", _runs_line(fig, col)]
         for panel, st in zip(col.panels, col.stats, strict=True):
             parts += ["", f"**{panel.title}**", "", _conditions_table(st)]
@@ -246,6 +247,7 @@ def setup_line(setup: PaperSetup) -> str:
             f"{setup.robots or 'world default'}, d_cover {num_text(setup.d_cover)} and "
             f"{setup.groups} groups where not varied"
             + (f", rule set {setup.ruleset!r}" if setup.ruleset else "")
+            + (f", physics mode {setup.mode!r}" if setup.mode else "")
             + (f", extra settings {dict(setup.extra)}" if setup.extra else "") + ".")
 
 
@@ -297,7 +299,7 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
     paper's order) reproduced so far in DIR."""
     sections = [(out / k / "section.md").read_text() for k in keys
                 if (out / k / "section.md").is_file()]
-    judged = [c.ruleset for c in setup.columns() if c.ruleset]
+    judged = [c.column_name for c in setup.columns() if c.column_name]
     head = ["# Reproduction of the paper's Section 6 experiments", "",
             (f"This run of the command: {setup_line(setup)}"
              + (f" Rule sets judged side by side: {', '.join(judged)}." if judged else "")

@@ -221,12 +221,15 @@ def _time_to_go(sweep: Sweep, retry_failed: bool = False) -> str:
 
 def setup_with(setup: PaperSetup = PAPER, world: str | None = None, robots: int | None = None,
                extra: Mapping[str, Any] | None = None,
-               rulesets: Sequence[str] | None = None) -> PaperSetup:
-    """A copy of ``setup`` with another world, robot count, rule sets judged side by side or
-    extra settings (``robots`` among them counts as the robot count: the claims judge it;
-    ``ruleset`` as the one rule set judged)."""
+               rulesets: Sequence[str] | None = None, ghost: bool = False) -> PaperSetup:
+    """A copy of ``setup`` with another world, robot count, rule sets judged side by side,
+    a ghost column or extra settings (``robots`` among them counts as the robot count: the
+    claims judge it; ``ruleset`` as the one rule set judged)."""
     extra = dict(extra or {})
-    changes: dict[str, Any] = {}
+    changes: dict[str, Any] = {"ghost": True} if ghost else {}
+    if ghost and "mode" in extra:
+        raise ConfigError(f"adds a column of point robots beside rigid ones; it cannot go "
+                          f"with --set mode={extra['mode']}", key="--ghost")
     if "ruleset" in extra:
         given = str(extra.pop("ruleset"))
         if rulesets is not None and list(rulesets) != [given]:

@@ -780,7 +780,7 @@ def test_a_reproduction_shows_both_rule_sets_side_by_side(tmp_path):
     claims = read_table(out / "fig17" / "claims.csv")
     assert {r["ruleset"] for r in claims} == {"paper", DEFAULT}
     section = (out / "fig17" / "REPORT.md").read_text()
-    assert f"### Rule set `{DEFAULT}`" in section and "### Rule set `paper`" in section
+    assert f"### Column `{DEFAULT}`" in section and "### Column `paper`" in section
     assert (f"| paper's claim | test (where) | {DEFAULT}: measured | verdict | paper: measured "
             "| verdict |") in section
     report = (out / "REPORT.md").read_text()
@@ -830,3 +830,15 @@ def test_a_run_the_same_under_both_rule_sets_is_made_once_and_shown_in_both(tmp_
     plan = rp.describe_plan(rp.plan("fig17", setup, reps=1, max_ticks=30), out,
                             shared=rp.shared_runs("fig17", setup, reps=1, max_ticks=30))
     assert "fig17: 3 runs (3 done)" in plan and "1 of them made once" in plan
+
+
+def test_a_ghost_column_runs_the_first_rule_set_with_point_robots():
+    setup = rp.setup_with(rp.PAPER, ghost=True)
+    names = [c.column_name for c in setup.columns()]
+    assert names == [DEFAULT, "paper", f"{DEFAULT} (ghost)"]
+    ghost_runs = [r for r in rp.plan("fig21", setup, reps=1)["fig21"]
+                  if r.params().get("mode") == "ghost"]
+    assert len(ghost_runs) == len(rp.PAPER.group_values)
+    assert all(r.params().get("ruleset", DEFAULT) == DEFAULT for r in ghost_runs)
+    with pytest.raises(ConfigError, match="key '--ghost': adds a column of point robots"):
+        rp.setup_with(rp.PAPER, extra={"mode": "rigid"}, ghost=True)
