@@ -73,6 +73,12 @@ class JunctionGaps:
         """The junction gaps' share of the uncovered area (None when all is covered)."""
         return self.band_uncovered / self.uncovered if self.uncovered else None
 
+    def own_excess(self) -> float:
+        """Junction gaps beyond what the band would lose at the uncovered density outside it
+        in the same run, as a share of the target (0 without a band or outside)."""
+        rest = self.outside_density
+        return 0.0 if rest is None or not self.band else self.excess(rest)
+
     def excess(self, baseline_density: float) -> float:
         """Junction gaps beyond what the band would lose at ``baseline_density`` (the
         uncovered share of the target without junctions, e.g. one group's), as a share of the

@@ -176,10 +176,12 @@ def junction_growth_claims(grouped: Mapping[float, Sequence[JunctionGaps]],
     excess = {d: [g.excess(float(np.mean([u.uncovered_density for u in one[d]])))
                   for g in grouped[d]] for d in values}
     raw = {d: [g.band_uncovered / g.target for g in grouped[d]] for d in values}
+    own = {d: [g.own_excess() for g in grouped[d]] for d in values}
     return [
         Claim("The gaps at the junctions of groups grow with d_cover",
               "junction gaps beyond the one-group uncovered share, % of the target: "
-              + _by_dcover(excess), _ordered(excess),
+              + _by_dcover(excess) + " (beyond the same run's uncovered share outside the "
+              "band, not judged: " + _by_dcover(own) + ")", _ordered(excess),
               test=("per run (band uncovered - band x the one-group runs' mean uncovered "
                     "share) / target; every run at each larger d_cover above every run at "
                     "the smaller"),

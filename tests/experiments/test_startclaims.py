@@ -59,6 +59,8 @@ def test_a_gap_between_two_groups_is_a_junction_gap():
     assert g.band_uncovered == g.uncovered  # every uncovered pixel lies between the groups
     assert 0 < g.band < g.target  # ... and the band is the middle, not the whole strip
     assert g.junction_share == 1.0 and g.outside_density == 0.0
+    assert g.own_excess() == g.band_uncovered / g.target  # nothing lost outside the band
+    assert g.excess(0.9) < 0 < g.excess(0.0)
 
 
 def test_one_group_has_no_junction_whatever_its_gaps():
