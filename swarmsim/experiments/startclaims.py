@@ -115,7 +115,8 @@ def start_time_note(random: Sequence[int | None], formation: Sequence[int | None
     """A measured note (no verdict): completion ticks from a random start vs from
     formations (Figure 18's runs at the same d_cover and groups)."""
     if formation is None:
-        text = (f"random start {spread(random)}; formation start: run fig18 too to compare")
+        text = (f"random start {spread(random)}; formation start: Figure 18's runs at this "
+                "d_cover are not all done (reproduce fig18 too)")
     else:
         a = [t for t in random if t is not None]
         b = [t for t in formation if t is not None]

@@ -147,7 +147,7 @@ def test_random_start_claim_needs_every_run_to_group_aggregate_and_complete():
 def test_start_time_note_is_not_judged():
     note = start_time_note([15000, 17000], [12000, 12000])
     assert note.verdict == "note" and "ratio of means 1.33" in note.measured
-    assert "run fig18" in start_time_note([15000], None).measured
+    assert "reproduce fig18" in start_time_note([15000], None).measured
 
 
 def _jg(uncovered, band, band_uncovered, target=1000, groups=3):
