@@ -178,3 +178,42 @@ def test_junction_growth_needs_every_run_beyond_the_smaller_d_cover():
     grouped[10] = [_jg(450, 400, 250), _jg(450, 400, 170)]  # one run at 10 below one at 8
     assert junction_growth_claims(grouped, one)[0].verdict == NOT_CONSISTENT
     assert junction_growth_claims({6: grouped[6]}, one)[0].verdict == NOT_MEASURED
+
+
+# ----------------------------------------------------------------------------- stored runs
+def test_claims_read_the_figures_runs_from_the_store(tmp_path):
+    """claims_fig14 and junction_claims find each figure's runs by their ids in the store."""
+    import json
+    import shutil
+
+    from swarmsim.experiments.figures import Context
+    from swarmsim.experiments.runner import Sweep
+    from swarmsim.experiments.startclaims import claims_fig14, junction_claims
+
+    setup = rp.setup_with(rp.PAPER, rulesets=["paper"]).columns()[0]
+    store = tmp_path / "runs"
+
+    def run_dir(key, value):
+        panel = rp.get_figure(key).build(setup)[0]
+        cond = next(i for i, c in enumerate(panel.conditions) if c.value == value)
+        return store / rp.panel_runs(panel, setup, 1)[cond][0].run_id
+
+    def done(folder, **summary):
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "summary.json").write_text(json.dumps({"robots": 603, "coverage": 0.99,
+                                                         **summary}))
+
+    done(run_dir("fig14", "random"), completion_tick=15000, grouped_tick=243,
+         formed_robots=603, formed_tick=610)
+    done(run_dir("fig18", 6), completion_tick=12000)
+    ctx = Context(Sweep([], tmp_path, runs_dir=store), setup, 1, None, rp.get_figure)
+    claim, note = claims_fig14(ctx)
+    assert claim.verdict == CONSISTENT and "ratio of means 1.25" in note.measured
+    assert junction_claims(ctx)[0].verdict == NOT_MEASURED  # no robots.csv: not measured
+    shutil.rmtree(run_dir("fig18", 6))
+    _write_run(run_dir("fig18", 6), *_two_groups_with_a_gap())  # a gap between two groups
+    done(run_dir("fig18", 6), completion_tick=12000)
+    whole = _lattice(0, 40)  # one group, every pixel covered
+    _write_run(run_dir("fig17", 6), whole, np.ones(len(whole), dtype=int))
+    done(run_dir("fig17", 6), completion_tick=20000)
+    assert junction_claims(ctx)[0].verdict == CONSISTENT
