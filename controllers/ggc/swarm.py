@@ -44,7 +44,7 @@ from .rules.common import MAX_PROBES
 from .rules.rulesets import ANY_GROUPS, BETWEEN_GROUPS, FLAG_SCOPE, HOLES, RULESETS, SURPLUS
 from .schema import BROADCAST_NAMES
 from .state import broadcast_rows, message_fields, new_state
-from .statuses import STATUSES
+from .statuses import FORMED, STATUSES
 
 
 def rule_params(params: GGCParams, groups: int, scattered: bool,
@@ -146,6 +146,9 @@ class GGCSwarm:
         body = setups[0] if setups else RobotSetup(0)
         self.rules = rule_params(params, groups, scattered, body.turn_rate, body.reverse)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
+        # scattered start only: per robot, the first tick it had a group / was Formed (-1 =
+        # not yet), for the summary's grouping and aggregation figures (GatherTicks)
+        self.gather = GatherTicks.new(len(self.state)) if scattered else None
         # the driver's saved rows, reused by every chunk (a chunk has at most one row per
         # robot; the driver writes a row there before it reads it back)
         self._saved = np.empty(len(self.state), dtype=self.state.dtype)
@@ -215,6 +218,8 @@ class GGCSwarm:
             a = a._replace(chunk=chunk)
             if len(chunk.todo):
                 self._answer(batch, chunk.todo, probes)
+        if self.gather is not None:
+            self.gather.mark(self.state, robots, int(batch.tick))
         broadcast = broadcast_rows(self.state, robots, batch.neighbours.messages.dtype)
         return ChunkActions.columns(
             velocities=actions.velocity, listen=actions.listen, broadcast=broadcast,
@@ -267,13 +272,48 @@ class GGCSwarm:
         if not working.all():
             counts["Failed"] = int((~working).sum())
         open_ = int(s["in_deadlock"].sum())
+        gather = {} if self.gather is None else self.gather.summary(working)
         return {"status_counts": dict(sorted(counts.items())),
                 "deadlocks_detected": int(s["deadlocks"].sum()),
                 "deadlock_episodes": int(s["episodes"].sum()),
                 "deadlocks_released": int(s["episodes"].sum()) - open_,
                 "deadlocks_open": open_,
                 "collision_stops": int(s["collision_stops"].sum()),
-                "surplus_stops": int(s["surplus"].sum())}
+                "surplus_stops": int(s["surplus"].sum()), **gather}
+
+
+class GatherTicks:
+    """A scattered start's grouping and aggregation (paper Section 4), as the summary reports
+    them: per robot, the first tick at whose end it had a group (``grouped``) and the first
+    at whose end it had been in its group's formation (status Formed, ``formed``); -1 = not
+    yet. Observed after each decision, from the robots' own state rows (no control use)."""
+
+    def __init__(self, grouped: np.ndarray, formed: np.ndarray):
+        self.grouped, self.formed = grouped, formed
+
+    @classmethod
+    def new(cls, robots: int) -> GatherTicks:
+        return cls(np.full(robots, -1, dtype=np.int64), np.full(robots, -1, dtype=np.int64))
+
+    def mark(self, state: np.ndarray, robots: np.ndarray, tick: int) -> None:
+        """Note ``tick`` for the robots (rows ``robots`` of ``state``) that have a group or
+        have been Formed for the first time."""
+        grouped = (state["group"][robots] != 0) & (self.grouped[robots] < 0)
+        self.grouped[robots[grouped]] = tick
+        was_formed = ((state["visited"][robots] >> FORMED) & 1).astype(bool)
+        formed = was_formed & (self.formed[robots] < 0)
+        self.formed[robots[formed]] = tick
+
+    def summary(self, working: np.ndarray) -> dict:
+        """``grouped_tick``: the tick by which every working robot had a group (None if one
+        never had); ``formed_robots``: working robots that were ever Formed; ``formed_tick``:
+        the tick the last of them first was (None if none was)."""
+        grouped, formed = self.grouped[working], self.formed[working]
+        was = formed[formed >= 0]
+        return {"grouped_tick": int(grouped.max()) if len(grouped) and grouped.min() >= 0
+                else None,
+                "formed_robots": len(was),
+                "formed_tick": int(was.max()) if len(was) else None}
 
 
 def argument_types(a: ChunkArgs, batch: DecideBatch) -> tuple:

@@ -208,6 +208,15 @@ def groups_panel(s: PaperSetup, metric: str) -> tuple[Panel, ...]:
                   conds),)
 
 
+def random_start_panel(s: PaperSetup) -> tuple[Panel, ...]:
+    """Figure 14's run: the robots start scattered ("random" start), choose groups and
+    leaders, aggregate into formations, then cover (d_cover and groups of the setup)."""
+    cond = Condition("random start", "random", s.controller,
+                     s.settings(d_cover=s.d_cover, groups=s.groups, start="random"))
+    return (Panel(f"coverage from a random start ({s.groups} groups, d_cover "
+                  f"{num_text(s.d_cover)})", "start", "coverage", (cond,)),)
+
+
 def failure_panels(s: PaperSetup) -> tuple[Panel, ...]:
     panels = []
     for tag, phase in (("a", "gradient"), ("b", "coverage")):

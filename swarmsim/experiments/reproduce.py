@@ -1,4 +1,4 @@
-"""``swarmsim reproduce FIG``: the paper's Section 6 experiments (Figures 17-24), resumably.
+"""``swarmsim reproduce FIG``: the paper's Section 6 experiments (Figures 14, 17-24), resumably.
 
 The registry (:data:`FIGURES`) says which runs each figure needs; :class:`PaperSetup` holds the
 world, robot count and parameter values they share: change them there (or with the CLI's
@@ -56,6 +56,7 @@ from swarmsim.experiments.figures import (
     groups_panel,
     num_text,
     panel_runs,
+    random_start_panel,
 )
 from swarmsim.experiments.report import (
     store_totals,
@@ -65,6 +66,7 @@ from swarmsim.experiments.report import (
 )
 from swarmsim.experiments.runner import DONE, RunStore, Sweep
 from swarmsim.experiments.spec import RunSpec, check_runs, unique_runs
+from swarmsim.experiments.startclaims import claims_fig14, junction_claims
 from swarmsim.experiments.verdicts import (
     CONSISTENT,
     claims_fig17,
@@ -108,10 +110,13 @@ def figure_keys(which: str | Sequence[str]) -> list[str]:
 
 # ----------------------------------------------------------------------------- registry
 FIGURES: dict[str, Figure] = {
+    "fig14": Figure("fig14", "Figure 14: grouping, aggregation and coverage from a random start",
+                    random_start_panel, claims_fig14),
     "fig17": Figure("fig17", "Figure 17: coverage rate vs d_cover, not grouped",
                     lambda s: dcover_panel(s, 1, "coverage"), claims_fig17),
     "fig18": Figure("fig18", "Figure 18: coverage rate vs d_cover, 3 groups",
-                    lambda s: dcover_panel(s, s.groups, "coverage"), claims_fig18),
+                    lambda s: dcover_panel(s, s.groups, "coverage"),
+                    lambda ctx: claims_fig18(ctx) + junction_claims(ctx)),
     "fig19": Figure("fig19", "Figure 19: total distance vs d_cover, not grouped",
                     lambda s: dcover_panel(s, 1, "total_distance"), claims_fig19),
     "fig20": Figure("fig20", "Figure 20: total distance vs d_cover, 3 groups",
@@ -125,7 +130,9 @@ FIGURES: dict[str, Figure] = {
     "fig24": Figure("fig24", "Figure 24: comparison of coverage algorithms",
                     comparison_panel, claims_fig24),
 }
-"""The paper's Section 6 experiments. Figures 19/20/22 plot the runs of 17/18/21."""
+"""The paper's Section 6 experiments, and Figure 14's run from a random start (Section 6.1).
+Figures 19/20/22 plot the runs of 17/18/21; Figure 18 also judges the gaps where groups meet
+(.startclaims), against Figure 17's runs."""
 
 
 # ----------------------------------------------------------------------------- entry point

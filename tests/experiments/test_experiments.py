@@ -586,7 +586,7 @@ def test_reproduce_judges_ggc_under_its_default_and_the_papers_rule_sets():
 
 def test_registry_expands_to_the_papers_runs():
     plan = rp.plan("all", rp.setup_with(rp.PAPER, rulesets=["paper"]), reps=3)
-    assert list(plan) == [f"fig{n}" for n in range(17, 25)]
+    assert list(plan) == ["fig14"] + [f"fig{n}" for n in range(17, 25)]
     fig17, fig18, fig21, fig23 = plan["fig17"], plan["fig18"], plan["fig21"], plan["fig23"]
     assert len(fig17) == 18 and {r.settings["d_cover"] for r in fig17} == {1, 2, 4, 6, 8, 10}
     assert {r.settings["groups"] for r in fig17} == {1} and {r.world for r in fig17} == {"K"}
@@ -612,6 +612,8 @@ def test_registry_expands_to_the_papers_runs():
     expected = [c for c in rp.PAPER.comparison if c in available_controllers()]
     assert sorted({r.controller for r in fig24}) == sorted(expected)
     assert _ids([r for r in fig24 if r.controller == "ggc"]) == shared
+    # Figure 14's random starts are runs of their own (Figure 18's start from formations)
+    assert not set(_ids(plan["fig14"])) & set(_ids(fig18)) and len(plan["fig14"]) == 3
 
 
 def test_registry_setup_is_easy_to_change():

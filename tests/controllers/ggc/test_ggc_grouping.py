@@ -59,6 +59,34 @@ def test_grouping_gives_k_non_empty_groups_of_every_robot(seed):
     assert set(sizes) == {1, 2, 3}, sizes  # every robot has a group, none is empty
     # sizes follow the leaders' nearness cells: not equal, but no group starves or dominates
     assert min(sizes.values()) >= 8 and max(sizes.values()) <= 0.6 * 120, sizes
+    # the summary's grouping figures (GatherTicks): grouped after leader selection, in time
+    summary = sim.swarm.summarize()
+    assert SELECTION <= summary["grouped_tick"] < sim.tick, summary
+    formed = (state["visited"] >> FORMED & 1).astype(bool)
+    assert summary["formed_robots"] == formed.sum() > 0
+    assert summary["formed_tick"] is not None and summary["formed_tick"] < sim.tick
+
+
+def test_gather_ticks_note_each_robots_first_group_and_formation():
+    from controllers.ggc.swarm import GatherTicks
+
+    state = np.zeros(3, dtype=[("group", "i2"), ("visited", "u2")])
+    ticks = GatherTicks.new(3)
+    state["group"][0] = 1
+    ticks.mark(state, np.arange(3), 5)
+    state["group"][1], state["visited"][1] = 2, 1 << FORMED
+    ticks.mark(state, np.arange(3), 9)
+    assert ticks.summary(np.ones(3, bool)) == {"grouped_tick": None, "formed_robots": 1,
+                                               "formed_tick": 9}
+    state["group"][2] = 1
+    ticks.mark(state, np.array([2]), 12)  # only robot 2 decided this tick
+    assert ticks.grouped.tolist() == [5, 9, 12]
+    assert ticks.summary(np.array([True, False, True]))["grouped_tick"] == 12
+
+
+def test_formations_report_no_grouping_figures():
+    sim = Simulation(small_world(), controller="ggc", robots=30, groups=2, seed=0)
+    assert "grouped_tick" not in sim.swarm.summarize() and sim.swarm.gather is None
 
 
 @pytest.mark.slow
