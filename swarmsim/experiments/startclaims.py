@@ -5,9 +5,9 @@ aggregation, then coverage; paper Sections 4 and 6.1) and the gaps where groups 
 Each claim has a pure function of measured values (:func:`random_start_claim`,
 :func:`start_time_note`, :func:`junction_claim`, :func:`junction_growth_claims`) and the
 figure's claims read them from a :class:`.figures.Context` (:func:`claims_fig14`,
-:func:`junction_claims`). A verdict is "consistent" only when every run holds (for an order
-between conditions: every run of one condition beyond every run of the other), and the
-measured text gives the spread between seeds (min-max).
+:func:`junction_claims`). The random-start claim is "consistent" only when every run holds;
+comparisons between conditions weigh the spread between seeds as :mod:`.verdicts` does, and
+the measured text gives the spread (min-max).
 """
 
 from __future__ import annotations
@@ -21,13 +21,17 @@ from typing import Any
 import numpy as np
 
 from swarmsim.errors import ConfigError
+from swarmsim.experiments.evidence import compare, greater
 from swarmsim.experiments.figures import Claim, Context, num_text, panel_runs
 from swarmsim.experiments.junctions import JunctionGaps, run_junction_gaps
 from swarmsim.experiments.runner import DONE
-from swarmsim.experiments.verdicts import CONSISTENT, NOT_CONSISTENT, NOT_MEASURED
-
-NOTE = "note"
-"""The verdict of a row that is not a claim (shown, not counted; see figures.Claim)."""
+from swarmsim.experiments.verdicts import (
+    CONSISTENT,
+    NOT_CONSISTENT,
+    NOT_MEASURED,
+    NOTE,
+    verdict_of,
+)
 
 FORMED_SHARE = 0.9
 """Aggregation happened when at least this share of the working robots was in its group's
@@ -146,8 +150,11 @@ def junction_claim(three: Sequence[JunctionGaps], one: Sequence[JunctionGaps],
     base = max((g.uncovered_density for g in one), default=None)
     ok = [g.band_density is not None and g.outside_density is not None and base is not None
           and g.band_density > g.outside_density and g.band_density > base for g in three]
-    verdict = NOT_MEASURED if not three or not one else (
-        CONSISTENT if all(ok) else NOT_CONSISTENT)
+    band = [g.band_density for g in three if g.band_density is not None]
+    outside = [g.outside_density for g in three if g.outside_density is not None]
+    verdict = NOT_MEASURED if not three or not one else verdict_of(
+        [greater(compare(band, outside)),
+         greater(compare(band, [g.uncovered_density for g in one]))], min(len(three), len(one)))
     measured = (f"d_cover {num_text(d_cover)}, {len(three)} grouped runs: band "
                 f"{_pct([g.band_share for g in three])} of the target, holding "
                 f"{_pct([g.junction_share for g in three])} of the uncovered area; uncovered "
@@ -157,10 +164,10 @@ def junction_claim(three: Sequence[JunctionGaps], one: Sequence[JunctionGaps],
                 f"{sum(ok)} of {len(three)}")
     return Claim(
         "With groups, gaps remain at the junctions of groups", measured, verdict,
-        test=("junction band = target pixels whose 3 nearest robots are not all of one group "
-              "(swarmsim/experiments/junctions.py); in every grouped run the band's uncovered "
-              "share exceeds both the rest of the target's and the largest uncovered share "
-              "of the one-group runs"),
+        test=("junction band = target pixels in a Delaunay triangle of grouped robots with "
+              "corners of two groups (swarmsim/experiments/junctions.py); the grouped runs' "
+              "mean uncovered share in the band exceeds the mean outside it and the one-group "
+              "runs' mean uncovered share, each beyond the spread between seeds"),
         where=(f"d_cover {num_text(d_cover)} (Section 6.1's setting): the lattice can cover "
                "the target and the robots suffice, so gaps are not the lattice's own holes"),
         paper=SECTION_61)
@@ -184,14 +191,14 @@ def junction_growth_claims(grouped: Mapping[float, Sequence[JunctionGaps]],
               + _by_dcover(excess) + " (beyond the same run's uncovered share outside the "
               "band, not judged: " + _by_dcover(own) + ")", _ordered(excess),
               test=("per run (band uncovered - band x the one-group runs' mean uncovered "
-                    "share) / target; every run at each larger d_cover above every run at "
-                    "the smaller"),
+                    "share) / target; each step to a larger d_cover raises its mean beyond "
+                    "the spread between seeds"),
               where="d_cover " + ", ".join(num_text(d) for d in values)
                     + ", 3 groups vs 1 group at each",
               paper=SECTION_62),
         Claim("(geometry) The junction band's uncovered area grows with d_cover",
               "band uncovered, % of the target: " + _by_dcover(raw), _ordered(raw),
-              test="every run at each larger d_cover above every run at the smaller",
+              test="each step to a larger d_cover raises the mean beyond the spread",
               where="as above; a lattice wider than sqrt(3) r = 6.9 leaves holes everywhere, "
                     "the band included, so this follows from geometry",
               paper=SECTION_62, evidence=False)]
@@ -202,14 +209,13 @@ def _by_dcover(values: Mapping[float, Sequence[float]]) -> str:
 
 
 def _ordered(values: Mapping[float, Sequence[float]]) -> str:
-    """Consistent when every value at each larger key is above every value at the smaller
-    (ranges apart); not consistent otherwise (means in order with overlapping ranges
-    included: not resolved at these runs); not measured with fewer than two keys."""
+    """Each step to the next larger key raises the mean beyond the spread between seeds
+    (verdicts.verdict_of over the steps); not measured with fewer than two keys."""
     keys = sorted(values)
     if len(keys) < 2:
         return NOT_MEASURED
-    apart = all(min(values[b]) > max(values[a]) for a, b in pairwise(keys))
-    return CONSISTENT if apart else NOT_CONSISTENT
+    return verdict_of([greater(compare(values[b], values[a])) for a, b in pairwise(keys)],
+                      min(len(v) for v in values.values()))
 
 
 def junction_claims(ctx: Context) -> list[Claim]:
