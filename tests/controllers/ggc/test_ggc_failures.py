@@ -66,3 +66,19 @@ def test_robots_that_lose_their_gradient_cover_first_and_settle():
     # be wedged against its formation soon after it sets off, as any mover may)
     assert (sim.swarm.state["gradient"][failed] < INF_GRADIENT).all()  # one taken up again
     assert not sim.failed.any()
+
+
+def test_sleeping_changes_nothing_when_gradients_are_lost():
+    """A robot that loses its gradient while asleep (at tick 250 most robots wait, asleep, in
+    their formation) is woken to act on it: the run is the run without sleeping."""
+    def run(allow_sleep):
+        sim = Simulation("tiny", seed=1, max_ticks=700,
+                         settings={**GRADIENT_FAILURES, "failure_phase": "tick",
+                                   "failure_tick": 250, "allow_sleep": allow_sleep})
+        res = sim.run()
+        fewest_awake = min(r["awake"] for r in res.timeseries[1:])
+        return sim.positions, sim.messages, fewest_awake
+
+    (pa, ma, fewest), (pb, mb, _) = run(True), run(False)
+    assert np.array_equal(pa, pb) and np.array_equal(ma, mb)
+    assert fewest < len(pa) // 2  # robots really slept
