@@ -430,14 +430,19 @@ def cmd_controllers() -> int:
 
 def cmd_params(controller: str) -> int:
     from swarmsim.controller import get_controller
-    from swarmsim.engine.config import SimConfig
-    from swarmsim.engine.paramhelp import format_params, help_width
+    from swarmsim.engine.config import DEAD, SimConfig
+    from swarmsim.engine.controller_info import describe
+    from swarmsim.engine.paramhelp import format_choices, format_params, help_width
     from swarmsim.physics.physics import PhysicsConfig
 
     cls = get_controller(controller)
     sections = (("engine", SimConfig), ("physics", PhysicsConfig),
                 (f"controller {controller}", cls.Params))
-    print("\n".join(format_params(sections, help_width())))
+    width = help_width()
+    print("\n".join(format_params(sections, width)))
+    modes = {DEAD: "stops moving and communicating, stays in the way (every controller's)",
+             **describe(cls, controller).failure_modes}
+    print("\n".join(format_choices(f"failure_mode of controller {controller}", modes, width)))
     return 0
 
 

@@ -397,7 +397,8 @@ class Swarm(Protocol):
     A batch controller class makes one with ``create_swarm``; per-robot controllers are driven
     through :class:`swarmsim.engine.swarm.RobotSwarm`, which calls each robot's ``step``. Optional:
     ``warm_up()``, compile or load the kernels this swarm's run uses (called once, after the
-    class's ``warm_up``, before the run's clock starts: no kernel is then compiled mid-run).
+    class's ``warm_up``, before the run's clock starts: no kernel is then compiled mid-run);
+    ``fail(robots, mode)``, for a class that declares ``FAILURE_MODES`` (:class:`FailingSwarm`).
     """
 
     def decide(self, robots: np.ndarray, batch: DecideBatch) -> ChunkActions | list[Action]:
@@ -408,6 +409,27 @@ class Swarm(Protocol):
     def summarize(self, failed: np.ndarray) -> dict[str, Any]:
         """The controller's own summary figures (failed: (N,) bool, robots failed by the run:
         counted as "Failed" in any status count)."""
+        ...
+
+
+@runtime_checkable
+class FailingController(Protocol):
+    """A per-robot controller whose class declares ``FAILURE_MODES`` (ControllerClass)."""
+
+    def fail(self, mode: str) -> None:
+        """This robot fails now, as ``mode`` (one of its class's FAILURE_MODES) says: change
+        the robot's own state so that its next ``step`` acts as a robot failed so would."""
+        ...
+
+
+@runtime_checkable
+class FailingSwarm(Protocol):
+    """A batch controller's Swarm whose class declares ``FAILURE_MODES`` (ControllerClass)."""
+
+    def fail(self, robots: np.ndarray, mode: str) -> None:
+        """The robots at ``robots`` (indices, ascending) fail now, as ``mode`` (one of its
+        class's FAILURE_MODES) says: change their own state rows so that their next
+        decisions act as robots failed so would."""
         ...
 
 
@@ -451,6 +473,16 @@ class ControllerClass(Protocol):
       name the same canonical settings share one run id, so a sweep or reproduction makes
       them once (swarmsim.experiments.spec.run_id). It must give {} for a run that is
       canonical already, and the same answer for every run that is the same.
+    - ``FAILURE_MODES`` ({}: only the engine's "dead"): the ways its robots can fail that it
+      simulates itself, name -> meaning (e.g. GGC's ``{"no_gradient": "its gradient is lost
+      ..."}``), chosen by a run's ``failure_mode`` setting. At the failure moment (the end of
+      a tick, swarmsim/engine/faults.py) the engine tells the failing robots' controllers,
+      once: a per-robot controller's ``fail(mode)`` (:class:`FailingController`), a batch
+      controller's swarm's ``fail(robots, mode)`` (:class:`FailingSwarm`). From then on the
+      robot is decided as before, woken if it slept, and its new state is its own to act on:
+      it keeps moving and broadcasting as its controller decides (unlike "dead", which
+      silences it). A name may not be "dead"; the run refuses a mode the class does not
+      declare, and a class that declares modes without ``fail``.
     - Per-robot controllers only: ``summarize(robots)`` (the controller's own summary
       figures from its robots' controllers).
     """
@@ -464,7 +496,8 @@ class ControllerClass(Protocol):
 
 
 __all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Controller",
-           "ControllerClass", "DecideBatch", "NeighbourBatch", "Perception", "RobotSetup",
-           "Swarm", "available_controllers", "get_controller", "make_action",
-           "make_perception", "message_dtype", "require_non_negative", "require_positive",
-           "run_message_fields", "silent_message", "stamp_kernels_by_code"]
+           "ControllerClass", "DecideBatch", "FailingController", "FailingSwarm",
+           "NeighbourBatch", "Perception", "RobotSetup", "Swarm", "available_controllers",
+           "get_controller", "make_action", "make_perception", "message_dtype",
+           "require_non_negative", "require_positive", "run_message_fields", "silent_message",
+           "stamp_kernels_by_code"]

@@ -47,7 +47,7 @@ from .params import GGCParams
 from .schema import SILENT
 from .state import MAX_GROUPS, message_fields
 from .statuses import SETTLED, STATUSES
-from .swarm import GGCSwarm, same_run_ruleset
+from .swarm import FAILURE_MODES, GGCSwarm, same_run_ruleset
 
 
 class GGC:
@@ -70,6 +70,7 @@ class GGC:
     GROUP_FIELD = "group"
     INITIAL_STATUSES = ("Initial",)
     COVERING_STATUSES = ("Coverage",)
+    FAILURE_MODES = FAILURE_MODES
     default_start = "formation"
     max_groups = MAX_GROUPS
     requires_beacon = True

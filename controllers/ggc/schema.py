@@ -102,6 +102,8 @@ DATA: tuple[Datum, ...] = (
     D("orbit_chosen", "?", "my orbit sense is chosen"),
     D("initial_since", "i8", "tick I entered Initial"),
     D("gradient_low", "i4", "lowest gradient I had while travelling (rules/aside.py)"),
+    D("no_gradient", "?", "my gradient is lost (failure mode no_gradient): I take none from "
+      "my formation until I set off to cover (rules/gradient.py)"),
     # edge following
     D("sense", "f8", "my orbit sense: +1 counter-clockwise, -1 clockwise"),
     D("head_x", "f8", "my heading, x"),

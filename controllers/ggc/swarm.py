@@ -41,10 +41,20 @@ from .decide import (
 from .heard import Heard
 from .params import GGCParams
 from .rules.common import MAX_PROBES
+from .rules.gradient import lose_gradient
 from .rules.rulesets import ANY_GROUPS, BETWEEN_GROUPS, FLAG_SCOPE, HOLES, RULESETS, SURPLUS
 from .schema import BROADCAST_NAMES
 from .state import broadcast_rows, message_fields, new_state
 from .statuses import FORMED, STATUSES
+
+FAILURE_MODES = {
+    "no_gradient": "the paper's failure during gradient formation (Section 5): the robot "
+                   "cannot obtain its neighbours' gradient, so its gradient is infinite; it "
+                   "sets off to cover first, follows the edge round its nearest robot and "
+                   "takes a gradient from the structure from then on (a mover loses its "
+                   "gradient and takes one again; a leader keeps its own)",
+}
+"""The failure modes GGC simulates (GGC.FAILURE_MODES), beside the engine's "dead"."""
 
 
 def rule_params(params: GGCParams, groups: int, scattered: bool,
@@ -262,6 +272,15 @@ class GGCSwarm:
                                                                      strict=True)]
         probes.ans[k, c] = answers
 
+    def fail(self, robots: np.ndarray, mode: str) -> None:
+        """The robots at ``robots`` fail as ``mode`` (one of :data:`FAILURE_MODES`) says: for
+        "no_gradient", each loses its gradient (rules/gradient.py, lose_gradient). ValueError
+        for another mode."""
+        if mode not in FAILURE_MODES:
+            raise ValueError(f"GGC simulates the failure modes {sorted(FAILURE_MODES)}, not "
+                             f"{mode!r}")
+        _lose_gradients(self.state, np.ascontiguousarray(robots, dtype=np.int64))
+
     def summarize(self, failed: np.ndarray | None = None) -> dict:
         """Per-run GGC figures: final statuses (failed robots as "Failed"), deadlocks (every
         detection; episodes of consecutive detections, released or still open), Stops for
@@ -325,6 +344,13 @@ def argument_types(a: ChunkArgs, batch: DecideBatch) -> tuple:
     return (batch.neighbours.messages.dtype, heard.starts.ndim, heard.off.ndim,
             heard.dist.ndim, sensors.on_target.ndim, sensors.moved.ndim, sensors.beacons.ndim,
             sensors.has_beacon)
+
+
+@njit(cache=True)
+def _lose_gradients(state, rows):  # pragma: no cover - compiled
+    """lose_gradient for the robots at ``rows``, in their state rows."""
+    for i in rows:
+        lose_gradient(state[i])
 
 
 @njit(cache=True)

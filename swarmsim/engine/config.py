@@ -26,6 +26,10 @@ from swarmsim.limits import MAX_GRID_SIZE, MAX_RECORD_ROWS, MAX_ROBOTS, MAX_TICK
 from swarmsim.physics.physics import PhysicsConfig
 from swarmsim.robots.imperfections import NoiseLevels
 
+DEAD = "dead"
+"""The failure mode every controller has (SimConfig.failure_mode's default): a failed robot stops
+moving and communicating but stays a physical body (swarmsim/engine/faults.py)."""
+
 UNBOUNDED_PARAMS = frozenset({"spin_traction"})
 """Parameters for which +inf is a documented value (PhysicsConfig.spin_traction: robots never
 turn). Every other number must be finite; nan never is."""
@@ -69,6 +73,11 @@ class SimConfig:
             status; tick 1 for controllers without one), "coverage" (when the first robot
             starts moving to cover) or "tick" (at failure_tick).
         failure_tick: the tick at which robots fail with failure_phase = "tick" (>= 1).
+        failure_mode: how they fail: "dead" (they stop moving and communicating but stay in
+            the way) or a mode the controller declares (its FAILURE_MODES, e.g. GGC's
+            "no_gradient": the robot loses its gradient and cannot take one from its
+            formation, so it sets off to cover first; 'swarmsim params --controller NAME'
+            lists a controller's modes). Only with failures > 0.
         speed_noise: actuation noise: relative sd of a moving robot's speed each tick (0 = off;
             0.05 = 5 %). See swarmsim/robots/imperfections.py for every imperfection's model.
         heading_noise: actuation noise: sd of a moving robot's heading each tick, radians.
@@ -122,6 +131,7 @@ class SimConfig:
     failures: int = 0
     failure_phase: str = "coverage"
     failure_tick: int = field(default=0, metadata=at_most(MAX_TICKS))
+    failure_mode: str = DEAD
     speed_noise: float = 0.0
     heading_noise: float = 0.0
     distance_noise: float = 0.0
@@ -184,6 +194,12 @@ class SimConfig:
             raise ConfigError(f"is used only with failure_phase 'tick' (got {self.failure_tick!r} "
                               f"with failure_phase {self.failure_phase!r}): set failure_phase "
                               "too", key="failure_tick")
+        if not isinstance(self.failure_mode, str) or not self.failure_mode:
+            raise ConfigError(f"must be a failure mode's name, got {self.failure_mode!r}",
+                              key="failure_mode")
+        if self.failure_mode != DEAD and not self.failures:
+            raise ConfigError(f"is used only with failures > 0 (got {self.failure_mode!r} with "
+                              "failures 0): set failures too", key="failure_mode")
 
 
     def _check_imperfections(self) -> None:

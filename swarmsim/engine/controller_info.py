@@ -49,6 +49,8 @@ class ControllerInfo:
         min_probe_range: the floor probe reach it needs at least, units.
         commands: what its actions' velocities are: "velocity" (a wish) or "wheels" (the
             (left, right) wheel speeds; needs a drive with wheels).
+        failure_modes: the failure modes it simulates itself (its FAILURE_MODES), name ->
+            meaning; the engine's own "dead" is not among them.
     """
 
     cls: type
@@ -68,6 +70,8 @@ class ControllerInfo:
     probe_params: tuple[str, ...]
     min_probe_range: float
     commands: str = "velocity"
+    failure_modes: Mapping[str, str] = dataclasses.field(
+        default_factory=lambda: MappingProxyType({}))
 
     @property
     def batch(self) -> bool:
@@ -181,7 +185,8 @@ def describe(cls: type, name: str | None = None) -> ControllerInfo:
         max_groups=getattr(cls, "max_groups", None),
         probe_params=tuple(getattr(cls, "probe_params", ())),
         min_probe_range=float(getattr(cls, "min_probe_range", 0.0)),
-        commands=_commands(cls, name))
+        commands=_commands(cls, name),
+        failure_modes=_failure_modes(cls, name))
 
 
 COMMAND_KINDS = ("velocity", "wheels")
@@ -195,6 +200,26 @@ def _commands(cls: type, name: str) -> str:
         raise ConfigError(f"{name}: COMMANDS must be one of {', '.join(COMMAND_KINDS)}, got "
                           f"{commands!r}", key="controller")
     return commands
+
+
+def _failure_modes(cls: type, name: str) -> Mapping[str, str]:
+    """The class's ``FAILURE_MODES`` (none unless it declares some), read-only; ConfigError
+    unless they map names other than "dead" to their meanings, or when a per-robot class that
+    declares some has no ``fail`` (a batch class's swarm is checked by the run that fails its
+    robots so)."""
+    from swarmsim.engine.config import DEAD
+
+    declared = getattr(cls, "FAILURE_MODES", {})
+    if not isinstance(declared, Mapping) or not all(
+            isinstance(k, str) and k and k != DEAD and isinstance(v, str)
+            for k, v in declared.items()):
+        raise ConfigError(f"{name}: FAILURE_MODES must map failure mode names (not {DEAD!r}, "
+                          f"the engine's own) to their meanings, got {declared!r}",
+                          key="controller")
+    if declared and not hasattr(cls, "create_swarm") and not callable(getattr(cls, "fail", None)):
+        raise ConfigError(f"{name}: declares FAILURE_MODES {sorted(declared)} but has no "
+                          "fail(mode) method to simulate them", key="controller")
+    return MappingProxyType(dict(declared))
 
 
 def _refuse_engine_names(cls: type, name: str) -> None:

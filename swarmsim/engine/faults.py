@@ -1,8 +1,16 @@
 """Robot failures injected at a phase of the run (paper Sections 5 and 6.6, Figure 23).
 
-A failed robot stops moving and communicating but stays a physical body that others must go
-around (:meth:`swarmsim.engine.sim.Simulation.fail`). A :class:`FaultPlan` says how many robots fail
-and when:
+How a robot fails is the plan's mode (:meth:`swarmsim.engine.sim.Simulation.fail`):
+
+* ``"dead"`` (the default, every controller's): it stops moving and communicating but stays a
+  physical body that others must go around.
+* a mode its controller declares (``FAILURE_MODES``: name -> meaning; the engine knows no
+  controller's modes): the engine tells the failing robots' controllers, which simulate it
+  (``fail(mode)``; see swarmsim.controller.ControllerClass); the robots keep working. GGC's
+  ``"no_gradient"`` is the paper's gradient-phase failure: the robot's gradient is lost and
+  it sets off to cover first.
+
+A :class:`FaultPlan` says how many robots fail, how and when:
 
 * ``"gradient"``: during gradient formation: at the end of the first tick on which some robot
   has left the controller's ``INITIAL_STATUSES`` (GGC: the formation has reached the target
@@ -21,9 +29,9 @@ are left than ``count``, the rest are drawn from the arrived robots, and leaders
 The draw uses its own numpy Generator derived from the run seed (:func:`fault_rng`), so the run
 stays reproducible and its other random streams are unchanged by failures.
 
-Run settings ``failures``, ``failure_phase`` and ``failure_tick`` (see
+Run settings ``failures``, ``failure_phase``, ``failure_tick`` and ``failure_mode`` (see
 :class:`swarmsim.engine.config.SimConfig`) build the plan, e.g.
-``swarmsim run K --set failures=10 --set failure_phase=gradient``.
+``swarmsim run K --set failures=10 --set failure_phase=gradient --set failure_mode=no_gradient``.
 """
 
 from __future__ import annotations
@@ -33,6 +41,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from swarmsim.engine.config import DEAD
 from swarmsim.engine.controller_info import ControllerInfo
 from swarmsim.engine.hooks import Hook
 from swarmsim.errors import ConfigError
@@ -44,17 +53,20 @@ FAULT_STREAM = 0xFA17
 
 @dataclass(frozen=True)
 class FaultPlan:
-    """How many robots fail, and when.
+    """How many robots fail, how and when.
 
     Attributes:
         count: number of robots that fail (0 = none).
         phase: "gradient", "coverage" or "tick" (see the module docstring).
         tick: the tick at which they fail, for phase "tick" (>= 1).
+        mode: how they fail: "dead" or a mode the run's controller declares (the run checks
+            that it does: Simulation).
     """
 
     count: int = 0
     phase: str = "coverage"
     tick: int | None = None
+    mode: str = DEAD
 
     def __post_init__(self) -> None:
         if isinstance(self.count, bool) or not isinstance(self.count, int) or self.count < 0:
@@ -68,10 +80,12 @@ class FaultPlan:
 
     @classmethod
     def from_config(cls, config: Any) -> FaultPlan:
-        """The plan of a SimConfig's ``failures``, ``failure_phase`` and ``failure_tick``."""
+        """The plan of a SimConfig's ``failures``, ``failure_phase``, ``failure_tick`` and
+        ``failure_mode``."""
         tick = int(getattr(config, "failure_tick", 0)) or None
         return cls(int(getattr(config, "failures", 0)),
-                   str(getattr(config, "failure_phase", "coverage")), tick)
+                   str(getattr(config, "failure_phase", "coverage")), tick,
+                   str(getattr(config, "failure_mode", DEAD)))
 
 
 def fault_rng(seed: int) -> np.random.Generator:
@@ -88,7 +102,7 @@ class FaultTarget(Protocol):
     messages: np.ndarray
     failed: np.ndarray
 
-    def fail(self, robots: np.ndarray) -> None: ...
+    def fail(self, robots: np.ndarray, mode: str = DEAD) -> None: ...
 
 
 class FaultInjector(Hook):
@@ -107,7 +121,7 @@ class FaultInjector(Hook):
     def post_step(self, sim: FaultTarget) -> None:
         if self.fired_tick is None and self.plan.count > 0 and self.due(sim):
             self.robots = self.choose(sim)
-            sim.fail(self.robots)
+            sim.fail(self.robots, self.plan.mode)
             self.fired_tick = sim.tick
 
     def due(self, sim: FaultTarget) -> bool:

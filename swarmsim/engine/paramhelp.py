@@ -13,7 +13,7 @@ import dataclasses
 import inspect
 import shutil
 import textwrap
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 MAX_WIDTH = 100
 MIN_WIDTH = 60
@@ -81,6 +81,19 @@ def format_params(sections: Iterable[tuple[str, type]], width: int) -> list[str]
                                         subsequent_indent=" " * desc_col,
                                         break_long_words=True, break_on_hyphens=False)
                 lines.extend(wrapped or [first.rstrip()])
+    return lines
+
+
+def format_choices(title: str, choices: Mapping[str, str], width: int) -> list[str]:
+    """A ``[title]`` line, then per choice its name and meaning, wrapped at ``width``
+    characters (e.g. a controller's failure modes)."""
+    lines = [f"[{title}]"]
+    desc_col = 2 + NAME_COLUMN + 1
+    for name, meaning in choices.items():
+        lines.extend(textwrap.wrap(meaning, width=width,
+                                   initial_indent=f"  {name:<{NAME_COLUMN}} ",
+                                   subsequent_indent=" " * desc_col, break_long_words=True,
+                                   break_on_hyphens=False))
     return lines
 
 

@@ -26,6 +26,7 @@ from swarmsim.controller import (
     Action,
     ChunkActions,
     DecideBatch,
+    FailingSwarm,
     NeighbourBatch,
     Perception,
     RobotSetup,
@@ -40,7 +41,7 @@ from swarmsim.engine.actioncheck import (
     column_problems,
     columns_of,
 )
-from swarmsim.engine.config import SimConfig, build_configs, check_given_once
+from swarmsim.engine.config import DEAD, SimConfig, build_configs, check_given_once
 from swarmsim.engine.controller_info import ControllerInfo, describe
 from swarmsim.engine.hooks import LoopHook, stop_rules
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrupt_within
@@ -179,6 +180,7 @@ class Simulation:
             raise ConfigError(f"controller {self.controller_name!r} commands wheels (COMMANDS = "
                               "'wheels'), but drive=holonomic has none: set drive=diff or "
                               "drive=kilobot", key="drive")
+        self._check_failure_mode()
         spawn.check_capacity(self.world, self.config.robots, self._start(),
                              self.config.spawn_spacing, self.config.formation_spacing)
         reach = self._probe_range()
@@ -187,6 +189,22 @@ class Simulation:
             if not 0 < value <= reach:
                 raise ConfigError(f"must be in (0, {reach:g}], got {value!r}: a floor probe reaches"
                                   " probe_range at most (set probe_range too)", key=name)
+
+    def _check_failure_mode(self) -> None:
+        """Refuse a failure_mode the run's controller does not simulate ("dead" is every
+        controller's; others are its FAILURE_MODES), naming the controller and its modes."""
+        mode, modes = self.config.failure_mode, self.info.failure_modes
+        if mode == DEAD or mode in modes:
+            return
+        name, known = self.controller_name, [DEAD, *modes]
+        hint = did_you_mean(mode, known).removeprefix("; ")
+        others = _controllers_with_failure_mode(mode)
+        what = (f"is a failure mode of {', '.join(others)}, not of controller {name!r}"
+                if others else f"is not a failure mode of controller {name!r}"
+                               + (f" ({hint})" if hint else ""))
+        offered = (f"its modes: {', '.join(known)} ('swarmsim params --controller {name}' "
+                   "says what each does)" if modes else f"its only mode is {DEAD!r}")
+        raise ConfigError(f"{mode!r} {what}; {offered}", key="failure_mode")
 
     def _start(self) -> str:
         """The run's start layout: the setting, else the controller class's default_start,
@@ -278,6 +296,9 @@ class Simulation:
         self.wake_on_motion = np.ones(self.n, dtype=bool)
         self.wake_tick = np.full(self.n, NEVER, dtype=np.int64)
         self.failed = np.zeros(self.n, dtype=bool)
+        """(N,) the robots failed "dead": silent bodies, never decided again."""
+        self.failed_in_mode = np.zeros(self.n, dtype=bool)
+        """(N,) the robots failed in a mode of the controller's (FAILURE_MODES): still working."""
         self.velocities = np.zeros((self.n, 2))
         self._turned = np.zeros(self.n)
         """(N,) each body's turn over the previous tick, rad (Perception.turned); zeros for a
@@ -319,7 +340,8 @@ class Simulation:
         self._travel_floor: float | None = None
         """The world's travel floor at this run's v_max, ticks, once measured."""
         self.summary_sources.add("floor", self._floor_fields)
-        self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
+        self.summary_sources.add("failures", lambda: {
+            "failed_robots": int(self.failed.sum() + self.failed_in_mode.sum())})
         if cfg.failures:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
@@ -354,6 +376,10 @@ class Simulation:
         if not all(callable(getattr(swarm, name, None)) for name in ("decide", "summarize")):
             raise ControllerError(f"{call} returned {show(swarm)}; expected a Swarm (with "
                                   "decide and summarize)", controller=self.controller_name)
+        if cfg.failures and cfg.failure_mode != DEAD and not isinstance(swarm, FailingSwarm):
+            raise ControllerError(f"{call} returned a Swarm without fail(robots, mode), which "
+                                  "its class's FAILURE_MODES need (failure_mode "
+                                  f"{cfg.failure_mode!r})", controller=self.controller_name)
         return swarm
 
     @contextmanager
@@ -663,9 +689,18 @@ class Simulation:
             raise BadAction(bad if rows is None else int(rows[bad]),
                             self.broadcasts.status_problem(status))
 
-    def fail(self, robots: np.ndarray) -> None:
-        """Make robots fail now: they stop moving and communicating but stay physical bodies."""
+    def fail(self, robots: np.ndarray, mode: str = DEAD) -> None:
+        """Make robots fail now. "dead": they stop moving and communicating but stay physical
+        bodies. A mode of the controller's (its FAILURE_MODES; the run checked it): its
+        swarm's ``fail(robots, mode)`` changes their state, and they are woken to act on it
+        (ControllerError if the controller's fail raises)."""
         robots = np.asarray(robots, dtype=np.intp)
+        if mode != DEAD:
+            with self._controller_call("fail()", self.tick):
+                self.swarm.fail(robots, mode)
+            self.failed_in_mode[robots] = True
+            self.asleep[robots] = False
+            return
         self.failed[robots] = True
         self.messages[self.failed] = self.silent
         if hasattr(self, "_changed_msg"):  # fell silent: wakes sleeping neighbours next tick
@@ -912,6 +947,22 @@ def _old_objects_frozen() -> Iterator[None]:
         yield
     finally:
         gc.unfreeze()
+
+
+def _controllers_with_failure_mode(mode: str) -> list[str]:
+    """The registered controllers that declare failure mode ``mode`` (for an error message;
+    one that cannot be loaded or described is left out)."""
+    from swarmsim.registry import available_controllers, get_controller
+
+    found = []
+    for name in available_controllers():
+        try:
+            modes = describe(get_controller(name), name).failure_modes
+        except Exception:  # noqa: BLE001 - a broken controller is not this run's error
+            modes = {}
+        if mode in modes:
+            found.append(name)
+    return found
 
 
 def _has_field(cls: type, name: str) -> bool:

@@ -56,6 +56,16 @@ class RobotSwarm:
                                   tick=batch.tick) from exc
         return actions
 
+    def fail(self, robots: np.ndarray, mode: str) -> None:
+        """Robots ``robots`` fail as ``mode`` says: each one's controller's ``fail(mode)``
+        (swarmsim.controller.FailingController); an exception is raised as a ControllerError
+        naming the robot."""
+        for i in np.asarray(robots, dtype=np.intp).tolist():
+            try:
+                self.robots[i].fail(mode)
+            except Exception as exc:
+                raise ControllerError(raised("fail()", exc), robot=i) from exc
+
     def summarize(self, failed: np.ndarray) -> dict[str, Any]:
         """The class's ``summarize(robots)`` figures, if it has one; its ``status_counts``
         count failed robots as "Failed", not under the status they had when they failed."""

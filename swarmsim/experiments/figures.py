@@ -217,18 +217,45 @@ def random_start_panel(s: PaperSetup) -> tuple[Panel, ...]:
                   f"{num_text(s.d_cover)})", "start", "coverage", (cond,)),)
 
 
+PAPER_GRADIENT_FAILURE = "no_gradient"
+"""The failure mode of the paper's gradient-phase failures (Sections 5 and 6.6): a robot that
+cannot obtain a gradient, for a controller that declares it (its FAILURE_MODES)."""
+
+
 def failure_panels(s: PaperSetup) -> tuple[Panel, ...]:
-    panels = []
-    for tag, phase in (("a", "gradient"), ("b", "coverage")):
-        conds = tuple(Condition(f"N = {n}", n, s.controller,
-                                s.settings(d_cover=s.d_cover, groups=s.groups,
-                                           **({"failures": n, "failure_phase": phase} if n
-                                              else {})))
-                      for n in s.failure_counts)
-        panels.append(Panel(f"({tag}) failures during {phase} "
-                            f"{'formation' if phase == 'gradient' else 'process'}",
-                            "failures", "coverage", conds))
-    return tuple(panels)
+    """Figure 23's panels: (a) failures during gradient formation, (b) during coverage, each
+    for N in ``s.failure_counts``. Failed robots are dead bodies (failure_mode "dead"), but in
+    (a) for a controller that declares the paper's gradient-phase failure
+    (:data:`PAPER_GRADIENT_FAILURE`): then (a) uses it, and (c) adds the gradient phase with
+    dead bodies, for comparison. Panels 0 and 1 are always the paper's (a) and (b)."""
+    paper_mode = _declares_failure_mode(s.controller, PAPER_GRADIENT_FAILURE)
+    kinds = [("a", "gradient", PAPER_GRADIENT_FAILURE if paper_mode else None),
+             ("b", "coverage", None)]
+    if paper_mode:
+        kinds.append(("c", "gradient", "dead"))
+    return tuple(_failure_panel(s, tag, phase, mode) for tag, phase, mode in kinds)
+
+
+def _failure_panel(s: PaperSetup, tag: str, phase: str, mode: str | None) -> Panel:
+    """One panel of Figure 23: failures in ``phase``, in failure ``mode`` (None: the default,
+    "dead", not named in the runs' settings, so their ids are the runs' without the setting;
+    "dead" named is the same run)."""
+    named = {} if mode is None or mode == "dead" else {"failure_mode": mode}
+    conds = tuple(Condition(f"N = {n}", n, s.controller,
+                            s.settings(d_cover=s.d_cover, groups=s.groups,
+                                       **({"failures": n, "failure_phase": phase, **named}
+                                          if n else {})))
+                  for n in s.failure_counts)
+    what = "formation" if phase == "gradient" else "process"
+    how = {None: "", "dead": ", dead bodies"}.get(mode, f", failure mode {mode}")
+    return Panel(f"({tag}) failures during {phase} {what}{how}", "failures", "coverage", conds)
+
+
+def _declares_failure_mode(controller: str, mode: str) -> bool:
+    """Does the controller (a name or module:Class) declare failure mode ``mode``?"""
+    from swarmsim.controller import get_controller
+
+    return mode in getattr(get_controller(controller), "FAILURE_MODES", {})
 
 
 def comparison_panel(s: PaperSetup) -> tuple[Panel, ...]:

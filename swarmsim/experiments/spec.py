@@ -23,7 +23,8 @@ naming the spec file, the key and the value.
 
 A run's id is a hash of its world, controller, settings and seed (numbers compared by value, so
 ``6`` and ``6.0`` are the same run; ``failure_phase``/``failure_tick`` are left out when
-``failures`` is 0 because they change nothing). The same parameters always give the same id, in
+``failures`` is 0 because they change nothing, and ``failure_mode`` when it is "dead", its
+default, so that runs keep the ids they had before the setting existed). The same parameters always give the same id, in
 any sweep: that is what resume and sharing runs between figures rely on. Runs that the
 controller says are the same by construction (its ``same_run_settings``: e.g. GGC's rule sets
 whose extra rules act nowhere in a run) share one id too, made from the canonical settings;
@@ -42,7 +43,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from swarmsim.engine.config import PhysicsConfig, SimConfig, coerce, field_defaults
+from swarmsim.engine.config import DEAD, PhysicsConfig, SimConfig, coerce, field_defaults
 from swarmsim.errors import ConfigError, did_you_mean, unknown_name
 from swarmsim.limits import MAX_REPS, MAX_RUNS, check_at_most
 from swarmsim.tomlfile import read_toml
@@ -51,7 +52,11 @@ TOP_KEYS = ("name", "description", "world", "controller", "reps", "seeds", "seed
             "params", "grid")
 RUN_KEYS = ("world", "controller")
 """Grid keys that choose the run's world/controller rather than a setting."""
-INERT_WITHOUT_FAILURES = ("failures", "failure_phase", "failure_tick")
+INERT_WITHOUT_FAILURES = ("failures", "failure_phase", "failure_tick", "failure_mode")
+"""Settings left out of a run's id when it has no failures (they change nothing then)."""
+LEFT_OUT_AT_DEFAULT = {"failure_mode": DEAD}
+"""Settings left out of a run's id at these values, their defaults: they were added after runs
+had ids, and a run that names the default is the run that did not name it."""
 SCALAR_TYPES = (bool, int, float, str)
 
 
@@ -107,6 +112,9 @@ def run_id(world: str, controller: str, settings: Mapping[str, Any], seed: int,
     if not canon.get("failures"):
         for key in INERT_WITHOUT_FAILURES:
             canon.pop(key, None)
+    for key, default in LEFT_OUT_AT_DEFAULT.items():
+        if key in canon and canon[key] == default:
+            del canon[key]
     blob = json.dumps({"world": world, "controller": controller, "settings": canon,
                        "seed": int(seed)}, sort_keys=True, separators=(",", ":"))
     return hashlib.sha256(blob.encode()).hexdigest()[:16]

@@ -96,3 +96,16 @@ def test_engine_help_quotes_no_run_results() -> None:
     for name, paragraphs in attribute_docs(SimConfig).items():
         for text in paragraphs:
             assert not pattern.search(text), f"SimConfig.{name}: {text}"
+
+
+def test_params_lists_the_controllers_failure_modes(capsys: pytest.CaptureFixture[str],
+                                                    monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("COLUMNS", "200")
+    assert main(["params", "--controller", "ggc"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    modes = out[out.index("[failure_mode of controller ggc]") + 1:]
+    assert [ln.split()[0] for ln in modes if not ln.startswith("   ")] == ["dead", "no_gradient"]
+    assert max(len(ln) for ln in out) <= 100
+    assert main(["params", "--controller", "dispersion"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[-2:][0] == "[failure_mode of controller dispersion]" and "dead" in out[-1]

@@ -24,6 +24,7 @@ from swarmsim.engine.faults import FaultInjector, FaultPlan
 from swarmsim.engine.sim import TIMING_FIELDS, Simulation
 from swarmsim.experiments import claims, load_spec, run_id, run_sweep, spec_from_dict
 from swarmsim.experiments import reproduce as rp
+from swarmsim.experiments.figures import failure_panels
 from swarmsim.experiments.runner import Sweep, run_cost
 from swarmsim.experiments.table import read_table
 
@@ -602,10 +603,20 @@ def test_registry_expands_to_the_papers_runs():
     shared = _ids(_by(fig18, "d_cover", 6))
     assert shared == _ids(_by(fig21, "groups", 3)) == _ids([r for r in fig23
                                                             if not r.settings.get("failures")])
-    assert len(fig23) == 3 * (1 + 2 * 4)
-    phases = {(r.settings.get("failures", 0), r.settings.get("failure_phase")) for r in fig23}
-    assert phases == {(0, None)} | {(n, p) for n in (1, 5, 10, 20)
-                                    for p in ("gradient", "coverage")}
+    # (a) the paper's gradient-phase failure (no_gradient), (b) coverage, (c) gradient phase
+    # with dead bodies
+    assert len(fig23) == 3 * (1 + 3 * 4)
+    phases = {(r.settings.get("failures", 0), r.settings.get("failure_phase"),
+               r.settings.get("failure_mode")) for r in fig23}
+    assert phases == {(0, None, None)} | {(n, p, m) for n in (1, 5, 10, 20)
+                                          for p, m in (("gradient", "no_gradient"),
+                                                       ("coverage", None), ("gradient", None))}
+    panels = failure_panels(rp.setup_with(rp.PAPER, rulesets=["paper"]).columns()[0])
+    assert [p.title[:3] for p in panels] == ["(a)", "(b)", "(c)"]
+    assert "no_gradient" in panels[0].title and "coverage" in panels[1].title
+    dispersion = failure_panels(rp.PaperSetup(world="tiny", controller="dispersion"))
+    assert len(dispersion) == 2  # declares no gradient-phase failure of its own
+    assert not any("failure_mode" in c.settings for p in dispersion for c in p.conditions)
     fig24 = plan["fig24"]
     from swarmsim.controller import available_controllers
 

@@ -132,6 +132,7 @@ def start_coverage(me, sense, P):  # pragma: no cover - compiled
     restart_lap(me, True)
     restart_turn(me)
     set_status(me, COVERAGE)
+    me.no_gradient = False  # I take my gradient from the structure I follow from now on
     me.odo_x, me.odo_y = 0.0, 0.0
     me.path = 0.0
     me.flow_rest, me.ban_next = 0.0, 0
@@ -145,7 +146,7 @@ def detection(view, me, sense, pb, P):  # pragma: no cover - compiled
         set_status(me, SURPLUS)  # my group's structure is full: stay where I am
         return rest(0.0, True, -1)
     grad = formation_gradient(view, me, 1.5 * P.d_min)
-    if grad >= 0:
+    if grad >= 0 and not me.no_gradient:  # a lost gradient stays lost (gradient.py)
         me.gradient = grad
     blocker = blocked(view, me, P)
     if me.yield_count and waiting_near(view, P) < me.yield_count:
