@@ -42,6 +42,8 @@ from swarmsim.engine.actioncheck import (
 )
 from swarmsim.engine.config import SimConfig, build_configs, check_given_once
 from swarmsim.engine.controller_info import ControllerInfo, describe
+from swarmsim.engine.costs import TIMING_FIELDS as COST_TIMING_FIELDS
+from swarmsim.engine.costs import CostCounter
 from swarmsim.engine.hooks import LoopHook, stop_rules
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrupt_within
 from swarmsim.kernels import kernelbuild
@@ -71,9 +73,9 @@ DEFAULT_CONTROLLER = "ggc"
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
-TIMING_FIELDS = ("wall_seconds", "cpu_seconds")
-"""Summary fields that time the run (seconds): the only ones in which two runs of the same
-seed and settings differ."""
+TIMING_FIELDS = ("wall_seconds", "cpu_seconds", *COST_TIMING_FIELDS)
+"""Summary fields that time the run (the run's seconds, the controller's milliseconds per
+robot-tick): the only ones in which two runs of the same seed and settings differ."""
 
 DECIDE_CHUNK = 1024
 """Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's
@@ -267,6 +269,8 @@ class Simulation:
         self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
+        self.costs = CostCounter.for_dtype(self.dtype)
+        """Decisions, broadcasts heard and controller time so far (swarmsim/engine/costs.py)."""
         self.tick = 0
         self.positions, _ = self.physics.read()
         self._prev_positions = self.positions.copy()
@@ -320,6 +324,7 @@ class Simulation:
         """The world's travel floor at this run's v_max, ticks, once measured."""
         self.summary_sources.add("floor", self._floor_fields)
         self.summary_sources.add("failures", lambda: {"failed_robots": int(self.failed.sum())})
+        self.summary_sources.add("costs", lambda: self.costs.fields())
         if cfg.failures:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
@@ -557,10 +562,12 @@ class Simulation:
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
                             bearings, lambda k: probe_at(*listed()[1][k]), perceive,
                             self.floor.probes(here), turned)
+        began = time.process_time()
         try:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
             raise self._blamed(exc, self._decider, tick, awake)  # a BadAction of put: its row
+        self.costs.add(len(awake), heard, time.process_time() - began)
         try:
             self._apply(awake, actions, new_messages, velocities)
         except BadAction as bad:
