@@ -41,6 +41,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.errors import ConfigError
+from swarmsim.experiments.costs import claims_table3, table3
 from swarmsim.experiments.figures import (
     PAPER,
     Condition,
@@ -122,8 +123,11 @@ FIGURES: dict[str, Figure] = {
                     failure_panels, claims_fig23),
     "fig24": Figure("fig24", "Figure 24: comparison of coverage algorithms",
                     comparison_panel, claims_fig24),
+    "table3": Figure("table3", "Table 3: communication and computing costs (Figure 24's runs)",
+                     comparison_panel, claims_table3, table=table3),
 }
-"""The paper's Section 6 experiments. Figures 19/20/22 plot the runs of 17/18/21."""
+"""The paper's Section 6 experiments. Figures 19/20/22 plot the runs of 17/18/21; Table 3
+measures Figure 24's (swarmsim/experiments/costs.py)."""
 
 
 # ----------------------------------------------------------------------------- entry point
