@@ -27,8 +27,6 @@ from typing import Any
 
 import numpy as np
 
-from swarmsim.controller import NO_SENDER
-
 TIMING_FIELDS = ("controller_ms_per_robot_tick",)
 """The cost fields that time the run (they differ between two runs of the same seed)."""
 
@@ -58,11 +56,11 @@ class CostCounter:
         """A counter at zero for a run whose broadcasts have ``dtype``."""
         return cls(int(dtype.itemsize), len(dtype.names or ()))
 
-    def add(self, robots: int, heard: np.ndarray, seconds: float) -> None:
-        """Count one decided chunk: ``robots`` deciding robots, the rows they ``heard``
-        (a structured array with an ``id`` field), ``seconds`` of CPU time in the controller."""
+    def add(self, robots: int, heard: int, seconds: float) -> None:
+        """Count one decided chunk: ``robots`` deciding robots, the broadcasts they ``heard``
+        (:func:`heard_count`), ``seconds`` of CPU time in the controller."""
         self.decisions += robots
-        self.heard += int(np.count_nonzero(heard["id"] != NO_SENDER))
+        self.heard += heard
         self.controller_seconds += seconds
 
     def fields(self) -> dict[str, Any]:
@@ -79,4 +77,20 @@ class CostCounter:
         }
 
 
-__all__ = ["TIMING_FIELDS", "CostCounter"]
+def heard_count(senders: np.ndarray, quiet: np.ndarray, lost: np.ndarray | None) -> int:
+    """How many of a chunk's heard rows arrive with a sender: rows from ``senders`` (P,)
+    robot indices, less those from a ``quiet`` robot ((N,) bool: its broadcast is silent, it
+    never broadcast or has failed) and those ``lost`` ((P,) bool, or None: none).
+
+    Reads the senders' indices, never the rows themselves (a row is a cache line or more: on
+    K, reading every heard row's id cost more than the rest of the count); when no robot is
+    quiet and none is lost (most ticks), reads nothing of size P."""
+    if not quiet.any():
+        return len(senders) - (0 if lost is None else int(np.count_nonzero(lost)))
+    silent = quiet[senders]
+    if lost is not None:
+        silent |= lost
+    return len(senders) - int(np.count_nonzero(silent))
+
+
+__all__ = ["TIMING_FIELDS", "CostCounter", "heard_count"]

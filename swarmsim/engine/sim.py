@@ -23,6 +23,7 @@ import numpy as np
 from swarmsim import interrupts
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.controller import (
+    NO_SENDER,
     Action,
     ChunkActions,
     DecideBatch,
@@ -43,7 +44,7 @@ from swarmsim.engine.actioncheck import (
 from swarmsim.engine.config import SimConfig, build_configs, check_given_once
 from swarmsim.engine.controller_info import ControllerInfo, describe
 from swarmsim.engine.costs import TIMING_FIELDS as COST_TIMING_FIELDS
-from swarmsim.engine.costs import CostCounter
+from swarmsim.engine.costs import CostCounter, heard_count
 from swarmsim.engine.hooks import LoopHook, stop_rules
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrupt_within
 from swarmsim.kernels import kernelbuild
@@ -535,7 +536,8 @@ class Simulation:
         """Decide the awake robots of one chunk from their neighbourhood ``views``."""
         if len(awake) == 0:
             return
-        heard = self._heard(views.neighbours, lambda: np.repeat(awake, views.counts))
+        heard, heard_rows = self._heard(views.neighbours,
+                                        lambda: np.repeat(awake, views.counts))
         starts = np.zeros(len(awake) + 1, dtype=np.int64)
         np.cumsum(views.counts, out=starts[1:])
         offsets, distances = views.offsets, views.distances
@@ -567,19 +569,23 @@ class Simulation:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
             raise self._blamed(exc, self._decider, tick, awake)  # a BadAction of put: its row
-        self.costs.add(len(awake), heard, time.process_time() - began)
+        self.costs.add(len(awake), heard_rows, time.process_time() - began)
         try:
             self._apply(awake, actions, new_messages, velocities)
         except BadAction as bad:
             raise self._blamed(bad, self._decider, tick, awake) from None
 
-    def _heard(self, senders: np.ndarray, receivers: Callable[[], np.ndarray]) -> np.ndarray:
+    def _heard(self, senders: np.ndarray, receivers: Callable[[], np.ndarray]
+               ) -> tuple[np.ndarray, int]:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
-        read as silent); ``receivers()``: who hears each (asked only by a message model that
-        depends on distance)."""
+        read as silent), and how many of them have a sender (costs.heard_count);
+        ``receivers()``: who hears each (asked only by a message model that depends on
+        distance)."""
         # the rows as opaque records, taken with np.take: bytes copied, not field by field
         heard = np.take(as_records(self.messages), senders).view(self.dtype)
+        quiet = self.messages["id"] == NO_SENDER
         if np.count_nonzero(self.failed):
+            quiet |= self.failed
             heard[self.failed[senders]] = self.silent
         distances = None
         if self.imperfect.loss_needs_distances:  # true distances, not the sensed ones
@@ -589,7 +595,7 @@ class Simulation:
         if lost is not None:
             heard[lost] = self.silent
         heard.flags.writeable = False  # every robot gets a read-only view of its part
-        return heard
+        return heard, heard_count(senders, quiet, lost)
 
     def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
                new_messages: np.ndarray, velocities: np.ndarray) -> None:

@@ -17,7 +17,8 @@ own settings in the figure's results.csv.
 Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditions.csv``
 (mean, sd per condition), ``claims.csv`` (each claim's measurement and verdict),
 ``<fig>.png`` (mean curves with a min-max band, on a common tick
-grid; runs that stopped early hold their last value) and ``REPORT.md`` (the paper's claims next
+grid; runs that stopped early hold their last value; ``table3``, the paper's Table 3 measured
+on Figure 24's runs, writes ``table.csv`` instead) and ``REPORT.md`` (the paper's claims next
 to what was measured, with a verdict); ``DIR/REPORT.md`` collects every figure reproduced so
 far in DIR (its code and run-time lines count every finished run in ``DIR/runs``, and each
 figure's section names the setup and code it was made with), ``DIR/results.csv`` the runs of

@@ -68,17 +68,23 @@ def test_ggc_costs_count_its_decisions_and_its_message_dtype():
     assert "controller_ms_per_robot_tick" in TIMING_FIELDS
 
 
+def _fail_two_at_tick_8(sim: Simulation) -> None:
+    if sim.tick == 8:
+        sim.fail(np.array([0, 1]))
+
+
 def test_heard_broadcasts_are_those_the_controllers_perceive_with_a_sender():
-    """Per-robot controllers, with lost messages and a first tick of silence: the engine's
-    count is what the robots themselves heard (rows with a sender), over their decisions."""
+    """Per-robot controllers, with lost messages, two robots failing and a first tick of
+    silence: the engine's count is what the robots themselves heard (rows with a sender),
+    over their decisions."""
     sim = Simulation("tiny", controller=Listener, seed=1, max_ticks=20,
                      settings={"message_loss": 0.3})
-    summary = sim.run().summary
+    summary = sim.run(on_tick=_fail_two_at_tick_8).summary
     robots = sim.controllers
     heard = sum(r.heard for r in robots)
     decided = sum(r.decided for r in robots)
     assert heard > 0
-    assert summary["decisions"] == decided == sim.n * summary["ticks"]
+    assert summary["decisions"] == decided == sim.n * summary["ticks"] - 2 * 12
     assert sim.costs.heard == heard
     assert summary["messages_heard_per_robot_tick"] == round(heard / decided, 4)
     assert summary["message_bytes"] == 6 and summary["message_fields"] == 3
