@@ -176,10 +176,11 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
     p.add_argument("spec", type=Path, help="sweep spec (.toml)")
     p.add_argument("--out", type=Path, required=True, help="output folder")
     _add_executor_args(p)
-    r = sub.add_parser("reproduce", help="run the paper's Section 6 figures (fig14, fig17..fig24, all)",
+    r = sub.add_parser("reproduce", help="run the paper's Section 6 figures (fig14, "
+                       "fig17..fig24, table3, all)",
                        description="Run (or resume) the runs of the paper's figures and write "
                        "tables, plots and REPORT.md.")
-    r.add_argument("fig", help="fig14, fig17 .. fig24, or all")
+    r.add_argument("fig", help="fig14, fig17 .. fig24, table3 (Figure 24's runs' costs), or all")
     r.add_argument("--reps", type=int, default=3,
                    help=f"seeds per condition (default 3, at most {MAX_REPS:,})")
     r.add_argument("--out", type=Path, default=Path("results/reproduce"),

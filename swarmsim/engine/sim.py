@@ -23,6 +23,7 @@ import numpy as np
 from swarmsim import interrupts
 from swarmsim.actionvalues import BadAction, move_problem, show, wake_range_problem
 from swarmsim.controller import (
+    NO_SENDER,
     Action,
     ChunkActions,
     DecideBatch,
@@ -43,6 +44,8 @@ from swarmsim.engine.actioncheck import (
 )
 from swarmsim.engine.config import DEAD, SimConfig, build_configs, check_given_once
 from swarmsim.engine.controller_info import ControllerInfo, describe
+from swarmsim.engine.costs import TIMING_FIELDS as COST_TIMING_FIELDS
+from swarmsim.engine.costs import CostCounter, heard_count
 from swarmsim.engine.hooks import LoopHook, stop_rules
 from swarmsim.errors import ConfigError, ControllerError, did_you_mean, interrupt_within
 from swarmsim.kernels import kernelbuild
@@ -72,9 +75,9 @@ DEFAULT_CONTROLLER = "ggc"
 PHASES = ("sense", "decide", "physics", "metrics")
 """Where a tick's time goes (Simulation.phase_seconds accumulates seconds per phase)."""
 
-TIMING_FIELDS = ("wall_seconds", "cpu_seconds")
-"""Summary fields that time the run (seconds): the only ones in which two runs of the same
-seed and settings differ."""
+TIMING_FIELDS = ("wall_seconds", "cpu_seconds", *COST_TIMING_FIELDS)
+"""Summary fields that time the run (the run's seconds, the controller's milliseconds per
+robot-tick): the only ones in which two runs of the same seed and settings differ."""
 
 DECIDE_CHUNK = 1024
 """Robots sensed and decided, or whose neighbours are woken, together: bounds a tick's
@@ -285,6 +288,8 @@ class Simulation:
         self.silent = silent_message(self.dtype, self.info.silent)
         self.messages = np.zeros(self.n, dtype=self.dtype)
         self.messages[:] = self.silent
+        self.costs = CostCounter.for_dtype(self.dtype)
+        """Decisions, broadcasts heard and controller time so far (swarmsim/engine/costs.py)."""
         self.tick = 0
         self.positions, _ = self.physics.read()
         self._prev_positions = self.positions.copy()
@@ -342,6 +347,7 @@ class Simulation:
         self.summary_sources.add("floor", self._floor_fields)
         self.summary_sources.add("failures", lambda: {
             "failed_robots": int(self.failed.sum() + self.failed_in_mode.sum())})
+        self.summary_sources.add("costs", lambda: self.costs.fields())
         if cfg.failures:
             self.summary_sources.add("faults", lambda: {
                 "fault_tick": None if injector is None else injector.fired_tick})
@@ -556,7 +562,8 @@ class Simulation:
         """Decide the awake robots of one chunk from their neighbourhood ``views``."""
         if len(awake) == 0:
             return
-        heard = self._heard(views.neighbours, lambda: np.repeat(awake, views.counts))
+        heard, heard_rows = self._heard(views.neighbours,
+                                        lambda: np.repeat(awake, views.counts))
         starts = np.zeros(len(awake) + 1, dtype=np.int64)
         np.cumsum(views.counts, out=starts[1:])
         offsets, distances = views.offsets, views.distances
@@ -583,22 +590,28 @@ class Simulation:
         batch = DecideBatch(tick, NeighbourBatch(heard, distances, starts), offsets, on, shift,
                             bearings, lambda k: probe_at(*listed()[1][k]), perceive,
                             self.floor.probes(here), turned)
+        began = time.process_time()
         try:
             actions = self.swarm.decide(awake, batch)
         except Exception as exc:  # noqa: BLE001 - the controller's code may raise anything
             raise self._blamed(exc, self._decider, tick, awake)  # a BadAction of put: its row
+        self.costs.add(len(awake), heard_rows, time.process_time() - began)
         try:
             self._apply(awake, actions, new_messages, velocities)
         except BadAction as bad:
             raise self._blamed(bad, self._decider, tick, awake) from None
 
-    def _heard(self, senders: np.ndarray, receivers: Callable[[], np.ndarray]) -> np.ndarray:
+    def _heard(self, senders: np.ndarray, receivers: Callable[[], np.ndarray]
+               ) -> tuple[np.ndarray, int]:
         """The broadcasts heard from ``senders`` (read-only; failed robots and lost messages
-        read as silent); ``receivers()``: who hears each (asked only by a message model that
-        depends on distance)."""
+        read as silent), and how many of them have a sender (costs.heard_count);
+        ``receivers()``: who hears each (asked only by a message model that depends on
+        distance)."""
         # the rows as opaque records, taken with np.take: bytes copied, not field by field
         heard = np.take(as_records(self.messages), senders).view(self.dtype)
+        quiet = self.messages["id"] == NO_SENDER
         if np.count_nonzero(self.failed):
+            quiet |= self.failed
             heard[self.failed[senders]] = self.silent
         distances = None
         if self.imperfect.loss_needs_distances:  # true distances, not the sensed ones
@@ -608,7 +621,7 @@ class Simulation:
         if lost is not None:
             heard[lost] = self.silent
         heard.flags.writeable = False  # every robot gets a read-only view of its part
-        return heard
+        return heard, heard_count(senders, quiet, lost)
 
     def _apply(self, awake: np.ndarray, actions: list[Action] | ChunkActions,
                new_messages: np.ndarray, velocities: np.ndarray) -> None:

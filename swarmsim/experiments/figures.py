@@ -158,11 +158,31 @@ class Panel:
 
 
 @dataclass(frozen=True)
+class FigureTable:
+    """A table a figure shows instead of its curves (the paper's Table 3).
+
+    Attributes:
+        rows: DIR/<fig>/table.csv's rows, one per condition.
+        markdown: the table as the figure's REPORT.md shows it.
+    """
+
+    rows: tuple[Mapping[str, Any], ...]
+    markdown: str
+
+
+@dataclass(frozen=True)
 class Figure:
+    """One of the paper's figures (or tables): its runs (``build``'s panels) and claims.
+
+    ``table``, if given, makes it a table: its report shows ``table(context)`` for each rule
+    set instead of the curves and the conditions' coverage, and no plot is drawn.
+    """
+
     key: str
     title: str
     build: Callable[[PaperSetup], tuple[Panel, ...]]
     claims: Callable[[Context], list[Claim]]
+    table: Callable[[Context], FigureTable] | None = None
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from swarmsim.experiments.figures import (
     CondStats,
     Context,
     Figure,
+    FigureTable,
     Panel,
     PaperSetup,
     num_text,
@@ -138,14 +139,19 @@ def _mean_sd(x: tuple[float | None, float | None, int], fmt: Callable) -> str:
 
 
 def figure_section(fig: Figure, columns: Sequence[Column],
-                   claims: Sequence[Sequence[Claim]], image: str) -> str:
-    """The markdown section of one figure: per rule set its setup and measurements, then the
-    paper's claims with each rule set's measurement and verdict side by side."""
-    parts = [f"## {fig.title}", "", f"![{fig.key}]({image})"]
-    for col in columns:
+                   claims: Sequence[Sequence[Claim]], image: str,
+                   tables: Sequence[FigureTable] | None = None) -> str:
+    """The markdown section of one figure: per rule set its setup and measurements (its
+    ``tables[i]`` for a figure that is a table), then the paper's claims with each rule
+    set's measurement and verdict side by side."""
+    parts = [f"## {fig.title}"] + ([] if tables else ["", f"![{fig.key}]({image})"])
+    for i, col in enumerate(columns):
         if col.name:
             parts += ["", f"### Column `{col.name}`"]
         parts += ["", _runs_line(fig, col)]
+        if tables:
+            parts += ["", tables[i].markdown]
+            continue
         for panel, st in zip(col.panels, col.stats, strict=True):
             parts += ["", f"**{panel.title}**", "", _conditions_table(st)]
             parts += [f"\n_Note: {n}_" for n in panel.notes]
@@ -213,8 +219,8 @@ def claim_row(claim: Claim) -> dict[str, Any]:
 
 
 def write_figure(fig: Figure, contexts: Sequence[Context], out: Path) -> Path:
-    """Write DIR/<fig>/results.csv, conditions.csv, claims.csv, <fig>.png and REPORT.md, with
-    one column (rule set) per context."""
+    """Write DIR/<fig>/results.csv, conditions.csv, claims.csv, <fig>.png (table.csv instead
+    for a figure that is a table) and REPORT.md, with one column (rule set) per context."""
     columns = [Column.of(fig, ctx) for ctx in contexts]
     fig_dir = out / fig.key
     rows, cond_rows, claim_rows, claims = [], [], [], []
@@ -233,11 +239,17 @@ def write_figure(fig: Figure, contexts: Sequence[Context], out: Path) -> Path:
     write_table(fig_dir / "results.csv", rows)
     write_csv(fig_dir / "conditions.csv", cond_rows)
     write_csv(fig_dir / "claims.csv", claim_rows)
-    plot_figure(fig, columns, fig_dir / f"{fig.key}.png")
+    tables = None if fig.table is None else [fig.table(col.ctx) for col in columns]
+    if tables is None:
+        plot_figure(fig, columns, fig_dir / f"{fig.key}.png")
+    else:
+        write_csv(fig_dir / "table.csv", [{**({"ruleset": col.name} if col.name else {}), **row}
+                                          for col, t in zip(columns, tables, strict=True)
+                                          for row in t.rows])
     atomic_write_text(fig_dir / "REPORT.md",
-                      figure_section(fig, columns, claims, f"{fig.key}.png"))
+                      figure_section(fig, columns, claims, f"{fig.key}.png", tables))
     atomic_write_text(fig_dir / "section.md",
-                      figure_section(fig, columns, claims, f"{fig.key}/{fig.key}.png"))
+                      figure_section(fig, columns, claims, f"{fig.key}/{fig.key}.png", tables))
     return fig_dir
 
 
@@ -305,10 +317,10 @@ def write_report(out: Path, keys: Sequence[str], setup: PaperSetup,
              + (f" Rule sets judged side by side: {', '.join(judged)}." if judged else "")
              + " Each figure's section names the setup and code it was made with."),
             ("Curves are means over seeds on a common tick grid (a run that stopped holds its "
-             "last value); bands span min-max. A comparison holds only where a 95% bootstrap "
-             "interval over seeds lies wholly on the claimed side ('not resolved at N runs' "
-             "otherwise); a run that never completes is slower than any that does (the "
-             "paper's Definition 4); claims about d_cover are judged only where the robots "
+             "last value); bands span min-max. A comparison holds only where it is "
+             "significant at 95% over seeds (Welch's interval, or ranks where a run never "
+             "completed: it is slower than any that does, the paper's Definition 4; 'not "
+             "resolved at N runs' otherwise); claims about d_cover are judged only where the robots "
              "fill the lattice; 'tick at 99% of final coverage' is when a curve becomes flat."),
             ""]
     if versions is not None:

@@ -17,7 +17,8 @@ own settings in the figure's results.csv.
 Outputs, for each figure: ``DIR/<fig>/results.csv`` (one row per run), ``conditions.csv``
 (mean, sd per condition), ``claims.csv`` (each claim's measurement and verdict),
 ``<fig>.png`` (mean curves with a min-max band, on a common tick
-grid; runs that stopped early hold their last value) and ``REPORT.md`` (the paper's claims next
+grid; runs that stopped early hold their last value; ``table3``, the paper's Table 3 measured
+on Figure 24's runs, writes ``table.csv`` instead) and ``REPORT.md`` (the paper's claims next
 to what was measured, with a verdict); ``DIR/REPORT.md`` collects every figure reproduced so
 far in DIR (its code and run-time lines count every finished run in ``DIR/runs``, and each
 figure's section names the setup and code it was made with), ``DIR/claims.csv`` every claim
@@ -43,6 +44,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.errors import ConfigError
+from swarmsim.experiments.costs import claims_table3, table3
 from swarmsim.experiments.figures import (
     PAPER,
     Condition,
@@ -129,10 +131,13 @@ FIGURES: dict[str, Figure] = {
                     failure_panels, claims_fig23),
     "fig24": Figure("fig24", "Figure 24: comparison of coverage algorithms",
                     comparison_panel, claims_fig24),
+    "table3": Figure("table3", "Table 3: communication and computing costs (Figure 24's runs)",
+                     comparison_panel, claims_table3, table=table3),
 }
 """The paper's Section 6 experiments, and Figure 14's run from a random start (Section 6.1).
 Figures 19/20/22 plot the runs of 17/18/21; Figure 18 also judges the gaps where groups meet
-(.startclaims), against Figure 17's runs."""
+(.startclaims), against Figure 17's runs; Table 3 measures Figure 24's runs
+(swarmsim/experiments/costs.py)."""
 
 
 # ----------------------------------------------------------------------------- entry point

@@ -587,7 +587,7 @@ def test_reproduce_judges_ggc_under_its_default_and_the_papers_rule_sets():
 
 def test_registry_expands_to_the_papers_runs():
     plan = rp.plan("all", rp.setup_with(rp.PAPER, rulesets=["paper"]), reps=3)
-    assert list(plan) == ["fig14"] + [f"fig{n}" for n in range(17, 25)]
+    assert list(plan) == ["fig14", *(f"fig{n}" for n in range(17, 25)), "table3"]
     fig17, fig18, fig21, fig23 = plan["fig17"], plan["fig18"], plan["fig21"], plan["fig23"]
     assert len(fig17) == 18 and {r.settings["d_cover"] for r in fig17} == {1, 2, 4, 6, 8, 10}
     assert {r.settings["groups"] for r in fig17} == {1} and {r.world for r in fig17} == {"K"}

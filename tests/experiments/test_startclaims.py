@@ -155,13 +155,13 @@ def _jg(uncovered, band, band_uncovered, target=1000, groups=3):
 
 
 def test_junction_claim_holds_only_where_the_band_loses_more():
-    one = [_jg(10, 0, 0, groups=1), _jg(12, 0, 0, groups=1)]  # 1.0 % and 1.2 % uncovered
-    three = [_jg(10, 400, 8), _jg(10, 500, 9)]  # band 2.0 %, 1.8 %; outside 0.3 %, 0.2 %
+    one = [_jg(10, 0, 0, groups=1), _jg(12, 0, 0, groups=1), _jg(11, 0, 0, groups=1)]
+    three = [_jg(10, 400, 8), _jg(10, 500, 9), _jg(10, 450, 9)]  # band ~2 %, outside ~0.3 %
     claim = junction_claim(three, one, 6)
     assert claim.verdict == CONSISTENT and claim.evidence and "Section 6.1" in claim.paper
-    flipped = [_jg(10, 400, 1), _jg(10, 500, 1)]  # the gaps lie outside the band
+    flipped = [_jg(10, 400, 1), _jg(10, 500, 1), _jg(10, 450, 1)]  # the gaps lie outside
     assert junction_claim(flipped, one, 6).verdict == NOT_CONSISTENT
-    below_one_group = [_jg(2, 400, 2), _jg(2, 400, 2)]  # band 0.5 %: below 1 group's 1.1 %
+    below_one_group = [_jg(2, 400, 2), _jg(2, 400, 2), _jg(2, 420, 2)]  # band ~0.5 %
     assert junction_claim(below_one_group, one, 6).verdict == PARTLY
     mixed = [_jg(10, 400, 8), _jg(10, 500, 1)]  # one run each way: the spread decides nothing
     assert junction_claim(mixed, one, 6).verdict.startswith("not resolved")
@@ -171,13 +171,13 @@ def test_junction_claim_holds_only_where_the_band_loses_more():
 def test_junction_growth_needs_each_step_beyond_the_spread():
     one = {6: [_jg(10, 0, 0, groups=1)], 8: [_jg(100, 0, 0, groups=1)],
            10: [_jg(400, 0, 0, groups=1)]}
-    grouped = {6: [_jg(10, 400, 8), _jg(10, 400, 9)],  # excess 0.4 %, 0.5 %
-               8: [_jg(120, 400, 60), _jg(120, 400, 70)],  # 2.0 %, 3.0 %
-               10: [_jg(450, 400, 250), _jg(450, 400, 260)]}  # 9.0 %, 10.0 %
+    grouped = {6: [_jg(10, 400, 8), _jg(10, 400, 9), _jg(10, 400, 8)],  # excess ~0.4 %
+               8: [_jg(120, 400, 60), _jg(120, 400, 70), _jg(120, 400, 65)],  # ~2.5 %
+               10: [_jg(450, 400, 250), _jg(450, 400, 260), _jg(450, 400, 255)]}  # ~9.5 %
     claim, geometry = junction_growth_claims(grouped, one)
     assert claim.verdict == CONSISTENT and claim.evidence
     assert geometry.evidence is False and geometry.verdict == CONSISTENT
-    grouped[10] = [_jg(450, 400, 60), _jg(450, 400, 65)]  # at 10 below 8: the last step flips
+    grouped[10] = [_jg(450, 400, 60), _jg(450, 400, 65), _jg(450, 400, 62)]  # 10 below 8
     assert junction_growth_claims(grouped, one)[0].verdict == PARTLY
     assert junction_growth_claims({6: grouped[6]}, one)[0].verdict == NOT_MEASURED
 

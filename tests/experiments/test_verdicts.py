@@ -65,10 +65,18 @@ def test_a_comparison_holds_only_beyond_the_spread_between_seeds():
 
 
 def test_a_run_that_never_completes_is_slower_than_any_that_does():
-    c = ev.compare([5000, 6000, 7000], [INF, INF, INF], "median")
-    assert c.diff == -INF and ev.less(c) == ev.HOLDS and "never" in c.text()
-    both_never = ev.compare([INF, INF], [INF, INF], "median")
+    c = ev.compare([5000, 6000, 7000, 6500], [INF] * 4)
+    assert c.method == "ranks" and c.diff == -INF and "never" in c.text()
+    assert ev.less(c) == ev.HOLDS and ev.greater(c) == ev.CONTRADICTS
+    # 3 runs a side: no rank test reaches 2.5 % one-sided (the smallest p is 1/20)
+    assert ev.less(ev.compare([5000, 6000, 7000], [INF] * 3)) == ev.UNRESOLVED
+    both_never = ev.compare([INF, INF], [INF, INF])
     assert both_never.diff == 0 and ev.less(both_never) == ev.UNRESOLVED
+
+
+def test_welch_is_not_fooled_by_three_seeds_that_overlap():
+    assert ev.less(ev.compare([1, 2, 5], [4, 5, 6])) == ev.UNRESOLVED
+    assert ev.less(ev.compare([1, 2, 3], [10, 11, 12])) == ev.HOLDS
 
 
 def test_equivalence_needs_the_whole_interval_inside_the_margin():
@@ -191,7 +199,7 @@ def _groups(completions, coverage=None):
 
 def test_fig21_three_groups_faster_and_fewer_groups_faster_and_their_flips():
     good = {1: [12000, 12500, 13000], 3: [8000, 8200, 8400], 4: [7000, 7100, 7200],
-            6: [6000, 6100, 6200], 8: [6500, 6600, 6700], 10: [7500, 7600, INF]}
+            6: [6000, 6100, 6200], 8: [6500, 6600, 6700], 10: [7500, 7600, 7700]}
     claims = {c.text: c for c in vd.claims_fig21(Ctx({"fig21": _groups(good)}))}
     assert claims["3 groups complete faster than 1 group"].verdict == C
     assert claims["For K < 6, more groups cover faster and every run completes"].verdict == C
@@ -252,9 +260,11 @@ def test_fig23_early_faster_and_later_slower_and_their_flips():
     quick = cs(20, completion=[8000, 8000, 8000], curves=_curves([0.40, 0.41, 0.42]))
     assert vd.early_faster(base, quick).verdict == C
     assert vd.early_faster(quick, base).verdict == N
-    slow = cs(20, completion=[9000, 9100, INF])
-    assert vd.later_slower(base, slow).verdict == C
-    assert vd.later_slower(slow, base).verdict == N
+    slow = cs(20, completion=[9000, 9100, 9200, INF])
+    four = cs(0, completion=[8000, 8010, 8020, 8030])
+    assert vd.later_slower(four, slow).verdict == C
+    assert vd.later_slower(slow, four).verdict == N
+    assert vd.later_slower(base, cs(20, completion=[9000, 9100, 9200])).verdict == C
 
 
 def test_fig23_dead_body_panel_gives_notes_only():
@@ -271,19 +281,20 @@ def _methods(ggc, others):
             {"ggc": ggc, **others}.items()]
 
 
-DONE = ([6000, 6100, 6200], [0.99] * 3)
-NEVER = ([INF] * 3, [0.80, 0.81, 0.82])
+DONE = ([6000, 6100, 6200, 6300], [0.99] * 4)
+NEVER = ([INF] * 4, [0.80, 0.81, 0.82, 0.81])
 
 
 def test_fig24_follows_the_papers_rule_and_its_flip():
-    st = _methods(DONE, {"kilobot": ([9000, 9500, INF], [0.95, 0.96, 0.97]), "dash": NEVER,
-                         "fcdfs": NEVER, "cvt": ([2000, 2100, 2200], [0.99] * 3)})
+    st = _methods(DONE, {"kilobot": ([9000, 9500, INF, INF], [0.95, 0.96, 0.97, 0.96]),
+                         "dash": NEVER, "fcdfs": NEVER,
+                         "cvt": ([2000, 2100, 2200, 2150], [0.99] * 4)})
     claims = vd.claims_fig24(Ctx({"fig24": st}))
     fastest, highest, fcdfs, cvt = claims
     assert fastest.verdict == C and "cvt" not in fastest.text
     assert highest.verdict == C and highest.evidence
     assert fcdfs.verdict == C
-    assert cvt.verdict == vd.NOTE and "0.34" in cvt.measured and "local map" in cvt.text
+    assert cvt.verdict == vd.NOTE and "0.35" in cvt.measured and "local map" in cvt.text
     # DASH levelling off early no longer wins: it never completes
     flipped = _methods(NEVER, {"kilobot": DONE, "dash": DONE, "fcdfs": DONE})
     fastest, highest, fcdfs = vd.claims_fig24(Ctx({"fig24": flipped}))
