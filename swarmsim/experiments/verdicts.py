@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from itertools import pairwise
 from typing import Any
 
@@ -124,6 +125,42 @@ def _steps_text(st: Sequence[CondStats], found: Sequence[Comparison], fmt: str =
                                                                       strict=True))
 
 
+@dataclass(frozen=True)
+class Trend:
+    """A claim that a measure falls (or rises) from each condition to the next.
+
+    Attributes:
+        text: the claim. measure: what is measured, for the report ("tick at 99% of final
+        coverage"). metric: the :attr:`CondStats.values` key. decreasing: the claimed
+        direction. step: what a step is ("to the next larger d_cover"). paper: the paper's
+        words. scale, fmt: how values are shown (100 and ".1f" for coverage in %).
+    """
+
+    text: str
+    measure: str
+    metric: str
+    decreasing: bool
+    step: str
+    paper: str
+    scale: float = 1.0
+    fmt: str = ".0f"
+
+    def claim(self, shown: Sequence[CondStats], judged: Sequence[CondStats], where: str = "",
+              evidence: bool = True, test_note: str = "") -> Claim:
+        """The claim judged on ``judged`` (each step), with every condition of ``shown``
+        in its measurement."""
+        outcomes, found = steps(judged, self.metric, self.decreasing)
+        return Claim(
+            self.text,
+            f"{self.measure}, median (range): "
+            + _spreads(shown, self.metric, self.scale, self.fmt) + "; steps, difference [95% "
+            "interval]: " + (_steps_text(judged, found, self.fmt, self.scale) or "none"),
+            verdict_of(outcomes, _runs(judged)),
+            test=f"each step {self.step} {'lowers' if self.decreasing else 'raises'} the "
+                 f"mean {self.measure} beyond the spread between seeds" + test_note,
+            where=where, paper=self.paper, evidence=evidence)
+
+
 def lattice_cover_bound(d_cover: float, r: float = COVERAGE_RADIUS) -> float:
     """The largest share of the plane a hexagonal lattice of spacing ``d_cover`` covers
     with discs of radius ``r`` (1 up to d_cover = sqrt(3) r; pi r^2 / cell area from 2 r)."""
@@ -161,41 +198,34 @@ def enough_robots(ctx: Context, st: list[CondStats]) -> tuple[list[CondStats], s
     return enough, where
 
 
+SETTLE_SOONER = Trend(
+    "With enough robots, a larger d_cover reaches its stable coverage sooner",
+    "tick at 99% of final coverage", "settle_cov", True, "to the next larger d_cover",
+    "If the number of robots is large enough, as the coverage distance increases, ... the "
+    "time for coverage rate to reach a stable level will also decrease")
+COVERAGE_FALLS = Trend(
+    "Coverage falls below 100% once d_cover > r = 4, the more the larger d_cover",
+    "final coverage %", "coverage", True, "to the next larger d_cover",
+    "When the coverage distance of the robot increases to greater than its coverage radius "
+    "(d_cover > r), it will lead to the coverage rate less than 100%. The larger the "
+    "coverage distance is, the smaller the coverage rate will be.", 100, ".1f")
+
+
 def _settle_claim(ctx: Context, st: list[CondStats]) -> Claim:
     enough, where = enough_robots(ctx, st)
-    outcomes, found = steps(enough, "settle_cov", decreasing=True)
-    return Claim(
-        "With enough robots, a larger d_cover reaches its stable coverage sooner",
-        "tick at 99% of final coverage, median (range): " + _spreads(st, "settle_cov")
-        + "; steps, difference [95% interval]: " + (_steps_text(enough, found) or "none"),
-        verdict_of(outcomes, _runs(enough)),
-        test="each step to the next larger d_cover lowers the mean tick at 99% of final "
-             "coverage beyond the spread between seeds",
-        where=where,
-        paper="If the number of robots is large enough, as the coverage distance increases, "
-              "... the time for coverage rate to reach a stable level will also decrease")
+    return SETTLE_SOONER.claim(st, enough, where)
 
 
 def _falling_coverage_claim(ctx: Context, st: list[CondStats]) -> Claim:
     enough, where = enough_robots(ctx, st)
-    outcomes, found = steps(enough, "coverage", decreasing=True)
-    bounds = ", ".join(f"{num_text(s.cond.value)}: {_pct(lattice_cover_bound(float(s.cond.value)))}"
-                       for s in enough)
-    return Claim(
-        "Coverage falls below 100% once d_cover > r = 4, the more the larger d_cover",
-        "final coverage %, median (range): " + _spreads(st, "coverage", 100, ".1f")
-        + "; steps, points [95% interval]: " + (_steps_text(enough, found, ".1f", 100) or "none")
-        + "; a hexagonal lattice covers at most " + (bounds or "-"),
-        verdict_of(outcomes, _runs(enough)),
-        test="each step to the next larger d_cover lowers the mean final coverage beyond the "
-             "spread; decided by geometry: a hexagonal lattice covers fully up to d_cover = "
-             "sqrt(3) r = 6.93 and at most 90.7% at 8 and 58.0% at 10, so the literal "
-             "'d_cover > r' is false from 4 to 6.9 and the drop from 8 on is forced",
-        where=where,
-        paper="When the coverage distance of the robot increases to greater than its coverage "
-              "radius (d_cover > r), it will lead to the coverage rate less than 100%. The "
-              "larger the coverage distance is, the smaller the coverage rate will be.",
-        evidence=False)
+    bounds = ", ".join(f"{num_text(s.cond.value)}: "
+                       f"{_pct(lattice_cover_bound(float(s.cond.value)))}" for s in enough)
+    return COVERAGE_FALLS.claim(
+        st, enough, where + "; a hexagonal lattice covers at most " + (bounds or "-"),
+        evidence=False,
+        test_note="; decided by geometry: a hexagonal lattice covers fully up to d_cover = "
+                  "sqrt(3) r = 6.93 and at most 90.7% at 8 and 58.0% at 10, so the literal "
+                  "'d_cover > r' is false from 4 to 6.9 and the drop from 8 on is forced")
 
 
 def _robots_note(ctx: Context, st: list[CondStats]) -> Claim:
@@ -304,32 +334,25 @@ def dcover_distance_claims(ctx: Context, key: str) -> list[Claim]:
     judged on the distance moved until coverage reached its final level."""
     st = ctx.stats(key)
     enough, where = enough_robots(ctx, st)
-    less_out, less_found = steps(enough, "distance_at_settle", decreasing=True)
-    flat_out, flat_found = steps(enough, "settle_dist", decreasing=True)
-    return [Claim("The larger d_cover, the smaller the total distance moved",
-                  "distance moved until coverage reached its final level, median (range): "
-                  + _spreads(st, "distance_at_settle") + "; steps [95% interval]: "
-                  + (_steps_text(enough, less_found) or "none"),
-                  verdict_of(less_out, _runs(enough)),
-                  test="each step to the next larger d_cover lowers the mean distance moved "
-                       "until coverage reached its final level, beyond the spread",
-                  where=where,
-                  paper="the larger the coverage distance is, the smaller the total moving "
-                        "distance of the swarm robots will be (measured on the final total "
-                        "distance, which runs that stop at completion and runs that walk on "
-                        "do not share)"),
+    return [LESS_DISTANCE.claim(st, enough, where),
             Claim("(note) Final total distance, every d_cover: completed runs stop at "
                   "completion, the others when every robot stands or coverage plateaus",
                   "final total distance, median (range): " + _spreads(st, "distance"), NOTE),
-            Claim("The larger d_cover, the sooner the total-distance curve flattens",
-                  "tick at 99% of final distance, median (range): " + _spreads(st, "settle_dist")
-                  + "; steps [95% interval]: " + (_steps_text(enough, flat_found) or "none"),
-                  verdict_of(flat_out, _runs(enough)),
-                  test="each step to the next larger d_cover lowers the mean tick at 99% of "
-                       "the final total distance, beyond the spread",
-                  where=where,
-                  paper="the shorter the time for the curve of the total moving distance of "
-                        "the robot to reach a flat level")]
+            FLATTENS_SOONER.claim(st, enough, where)]
+
+
+LESS_DISTANCE = Trend(
+    "The larger d_cover, the smaller the total distance moved",
+    "distance moved until coverage reached its final level", "distance_at_settle", True,
+    "to the next larger d_cover",
+    "the larger the coverage distance is, the smaller the total moving distance of the swarm "
+    "robots will be (measured on the final total distance, which runs that stop at "
+    "completion and runs that walk on do not share)")
+FLATTENS_SOONER = Trend(
+    "The larger d_cover, the sooner the total-distance curve flattens",
+    "tick at 99% of final distance", "settle_dist", True, "to the next larger d_cover",
+    "the shorter the time for the curve of the total moving distance of the robot to reach "
+    "a flat level")
 
 
 def claims_fig19(ctx: Context) -> list[Claim]:
@@ -413,18 +436,16 @@ def fewer_groups_faster(low: Sequence[CondStats]) -> Claim:
               "rate can reach 100%")
 
 
+PLATEAU_LATER = Trend(
+    "From 6 to 10 groups, the more groups the later coverage reaches its plateau",
+    "tick at 99% of final coverage", "settle_cov", False, "to more groups",
+    "When the number of groups K varies from 6 to 10, the time when the robot's coverage "
+    "curve reaches a plateau increases")
+
+
 def many_groups_slower(high: Sequence[CondStats]) -> Claim:
     """Fig. 21: from 6 groups up, each step to more groups plateaus later."""
-    outcomes, found = steps(high, "settle_cov", decreasing=False)
-    return Claim(
-        "From 6 to 10 groups, the more groups the later coverage reaches its plateau",
-        "tick at 99% of final coverage, median (range): " + _spreads(high, "settle_cov")
-        + "; steps [95% interval]: " + (_steps_text(high, found) or "none"),
-        verdict_of(outcomes, _runs(high)),
-        test="each step to more groups raises the mean tick at 99% of final coverage beyond "
-             "the spread",
-        paper="When the number of groups K varies from 6 to 10, the time when the robot's "
-              "coverage curve reaches a plateau increases")
+    return PLATEAU_LATER.claim(high, high)
 
 
 def many_groups_lose_coverage(six: CondStats, top: CondStats) -> Claim:
@@ -463,23 +484,19 @@ def claims_fig22(ctx: Context) -> list[Claim]:
                   "swarm robotic system is the shortest"))
     low = [st[k] for k in sorted(st) if k < 6]
     high = [st[k] for k in sorted(st) if k >= 6]
-    for part, decreasing, text, words in (
-            (low, True, "Below 6 groups, more groups give a shorter total distance",
-             ("When the number of groups is less than 6, the total moving distance of the "
-              "swarm robots will be shorter with the increase in the number of groups")),
-            (high, False, "Above 6 groups, more groups give a longer total distance",
-             ("When the number of robot groups is greater than 6, with the increase of the "
-              "number of groups ... the increase of the total moving distance"))):
-        outcomes, found = steps(part, "distance", decreasing=decreasing)
-        out.append(Claim(text, "final total distance, median (range): "
-                         + _spreads(part, "distance") + "; steps [95% interval]: "
-                         + (_steps_text(part, found) or "none"),
-                         verdict_of(outcomes, _runs(part)),
-                         test="each step to more groups "
-                              + ("lowers" if decreasing else "raises")
-                              + " the mean final total distance beyond the spread",
-                         paper=words))
-    return out
+    return [*out, FEWER_GROUPS_SHORTER.claim(low, low), MORE_GROUPS_LONGER.claim(high, high)]
+
+
+FEWER_GROUPS_SHORTER = Trend(
+    "Below 6 groups, more groups give a shorter total distance", "final total distance",
+    "distance", True, "to more groups",
+    "When the number of groups is less than 6, the total moving distance of the swarm robots "
+    "will be shorter with the increase in the number of groups")
+MORE_GROUPS_LONGER = Trend(
+    "Above 6 groups, more groups give a longer total distance", "final total distance",
+    "distance", False, "to more groups",
+    "When the number of robot groups is greater than 6, with the increase of the number of "
+    "groups ... the increase of the total moving distance")
 
 
 # ----------------------------------------------------------------------------- failures
