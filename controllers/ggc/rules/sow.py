@@ -50,12 +50,13 @@ def travel_unit(me):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def rearmost(view, me, tx, ty, P):  # pragma: no cover - compiled
-    """Am I the rearmost robot of my formation within d_cover (see the module docstring)?"""
+def rearmost(view, me, ux, uy, P):  # pragma: no cover - compiled
+    """Am I the rearmost robot of my formation within d_cover, travelling along the unit
+    vector (ux, uy) (see the module docstring)?"""
     for r in range(within(view.dist, P.d_cover)):
         if view.group[r] != me.group or view.status[r] != INITIAL:
             continue
-        along = view.off[r, 0] * tx + view.off[r, 1] * ty
+        along = view.off[r, 0] * ux + view.off[r, 1] * uy
         if along < -LEVEL or (along <= LEVEL and view.id[r] > me.id):
             return False
     return True
