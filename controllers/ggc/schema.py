@@ -102,9 +102,6 @@ DATA: tuple[Datum, ...] = (
     D("orbit_chosen", "?", "my orbit sense is chosen"),
     D("initial_since", "i8", "tick I entered Initial"),
     D("gradient_low", "i4", "lowest gradient I had while travelling (rules/aside.py)"),
-    D("sow_turns", "i4", "turns my sowing formation made, its leader's count (rules/sow.py)"),
-    D("sow_turn_tick", "i8", "tick of my sowing formation's last turn, its leader's"),
-    D("sow_quick", "i4", "turns in a row my sowing formation made soon after the last"),
     # edge following
     D("sense", "f8", "my orbit sense: +1 counter-clockwise, -1 clockwise"),
     D("head_x", "f8", "my heading, x"),

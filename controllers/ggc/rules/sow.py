@@ -38,13 +38,6 @@ from .common import probe, within
 LEVEL = 0.25
 """Two robots of a formation whose offsets along the travel vector differ by at most this
 (units) are level: the larger id is the rearmost."""
-TURN_SETTLE = 40
-"""Ticks after a turn in which the sowing leader ignores the touch signal: the turn runs back
-to the front and the touch dies out meanwhile."""
-BOXED = 40
-"""A touch within TURN_SETTLE + BOXED ticks of a turn is quick: the new way is closed too."""
-BOXED_TURNS = 3
-"""After this many quick touches in a row (every way tried) the formation halts."""
 
 
 @njit(cache=True)
@@ -112,20 +105,13 @@ def front_out(me, sense, pb, P):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def sow_touching(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """SOW's touch signal (replaces travel.touching): my front reached the target's far edge,
-    or met another group's settled or waiting robot or my group's settled robot ahead, or a
-    robot of my formation (in Initial or Detection) farther from the leader (higher
-    gradient) says so. It runs only toward the leader, so it dies out once the front is
-    clear (no two robots keep it up for each other)."""
-    ux, uy = travel_unit(me)
+    """SOW's halt signal (replaces travel.touching): my front reached the target's far edge,
+    or met another group's settled or waiting robot, or a robot of my formation (in Initial
+    or Detection) says so."""
     for r in range(within(view.dist, 1.5 * P.d_min)):
         s = view.status[r]
         if view.group[r] == me.group:
-            if (view.touch[r] and (s == INITIAL or s == DETECTION)
-                    and view.gradient[r] > me.gradient):
-                return True
-            if ((s == ARRIVE or s == SURPLUS)
-                    and view.off[r, 0] * ux + view.off[r, 1] * uy > 0.7 * view.dist[r]):
+            if view.touch[r] and (s == INITIAL or s == DETECTION):
                 return True
         elif s == ARRIVE or s == SURPLUS or s == DETECTION:
             return True
@@ -133,38 +119,7 @@ def sow_touching(view, me, sense, pb, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def alone(view, me, P):  # pragma: no cover - compiled
-    """No robot of my formation (in Initial) within 1.5 d_min: all of it is sown."""
-    for r in range(within(view.dist, 1.5 * P.d_min)):
-        if view.group[r] == me.group and view.status[r] == INITIAL:
-            return False
-    return True
-
-
-@njit(cache=True)
-def sow_heading(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """The sowing leader's way for this tick: (halt, ux, uy). Toward the beacon until I stand
-    on the target, then straight on; at a touch (after TURN_SETTLE ticks since the last
-    turn, the time the turn takes to reach the front and the touch to clear) a quarter turn,
-    counter-clockwise and clockwise by turns, so the formation zigzags on across the target;
-    touches soon after each turn BOXED_TURNS times in a row (every way closed), or my
-    formation all sown, halt it."""
-    if not sense.has_beacon or (sense.on_target and alone(view, me, P)):
-        return True, 0.0, 0.0
-    ux, uy = travel_unit(me)
-    if me.cmd != CMD_TRAVEL or (me.sow_turns == 0 and not sense.on_target) or (
-            ux == 0.0 and uy == 0.0):
-        ux, uy = sense.beacon_x, sense.beacon_y
-    since = sense.tick - me.sow_turn_tick
-    if since < TURN_SETTLE or not sow_touching(view, me, sense, pb, P):
-        return False, ux, uy
-    quick = me.sow_turns > 0 and since < TURN_SETTLE + BOXED
-    me.sow_quick = me.sow_quick + 1 if quick else 0
-    if me.sow_quick >= BOXED_TURNS:
-        return True, 0.0, 0.0
-    turn = 1.0 if me.sow_turns % 2 == 0 else -1.0
-    if quick:
-        turn = -turn  # the way just taken is closed too: on round the same way
-    me.sow_turns += 1
-    me.sow_turn_tick = sense.tick
-    return False, -uy * turn, ux * turn
+def passed_beacon(me, sense):  # pragma: no cover - compiled
+    """The leader has passed the beacon: its bearing is more than a quarter turn from the
+    route it travelled."""
+    return me.has_route and sense.beacon_x * me.route_x + sense.beacon_y * me.route_y < 0.0

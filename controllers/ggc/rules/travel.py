@@ -17,7 +17,7 @@ from .aside import blocked_side, lost, turned
 from .common import INF, move, rest, set_status, still, within
 from .gradient import formation_gradient, parent_row
 from .rulesets import BESIDE, SOW
-from .sow import settle_sown, sow_heading, sow_touching, sows
+from .sow import passed_beacon, settle_sown, sow_touching, sows
 
 
 @njit(cache=True)
@@ -42,19 +42,25 @@ def remember_route(me):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def lead(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """The leader: toward the beacon until the front touches the target, then halt (under
-    SOW: across the target, turning where the front meets its edge: rules/sow.py)."""
+def halts(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """The leader's halt: the front touched the target (under SOW: rules/sow.py's signal, or
+    the beacon passed), or there is no beacon."""
+    if not sense.has_beacon:
+        return True
     if P.flags & SOW:
-        halt, ux, uy = sow_heading(view, me, sense, pb, P)
-        if halt:
-            return halt_formation(me)
-        me.cmd = CMD_TRAVEL
-        me.travel_x, me.travel_y = ux * P.v, uy * P.v
-        remember_route(me)
-        return move(me.travel_x, me.travel_y)
-    if touching(view, me, sense, P) or not sense.has_beacon:
-        return halt_formation(me)
+        return sow_touching(view, me, sense, pb, P) or passed_beacon(me, sense)
+    return touching(view, me, sense, P)
+
+
+@njit(cache=True)
+def lead(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """The leader: toward the beacon until the front touches the target, then halt."""
+    if halts(view, me, sense, pb, P):
+        me.cmd = CMD_HALT
+        me.travel_x, me.travel_y = 0.0, 0.0
+        me.blocked = 0
+        set_status(me, ARRIVE)
+        return still()
     me.cmd = CMD_TRAVEL
     bx, by = sense.beacon_x, sense.beacon_y
     me.travel_x, me.travel_y = bx * P.v, by * P.v  # "ahead" is toward the beacon
@@ -64,16 +70,6 @@ def lead(view, me, sense, pb, P):  # pragma: no cover - compiled
         me.travel_x, me.travel_y = bx * P.v, by * P.v
     remember_route(me)
     return move(me.travel_x, me.travel_y)
-
-
-@njit(cache=True)
-def halt_formation(me):  # pragma: no cover - compiled
-    """The leader halts its formation and settles."""
-    me.cmd = CMD_HALT
-    me.travel_x, me.travel_y = 0.0, 0.0
-    me.blocked = 0
-    set_status(me, ARRIVE)
-    return still()
 
 
 @njit(cache=True)
