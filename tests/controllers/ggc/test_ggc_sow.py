@@ -58,6 +58,20 @@ def test_a_formation_sows_robots_while_it_travels_and_they_stand_apart():
     assert d.min() >= rules.d_cover - rules.arrive_tolerance - 0.3, d.min()
 
 
+@pytest.mark.parametrize(("ruleset", "floor_ahead", "halts"), [
+    ("yield-holes", True, True),   # the default halts where the front touches the target
+    (SOW, True, False),            # sow walks on across the target
+    (SOW, False, True),            # ... until the floor ahead leaves it
+])
+def test_the_sowing_leader_walks_on_until_its_front_reaches_the_far_edge(ruleset, floor_ahead,
+                                                                         halts):
+    bot = Bot(groups=3, status=INITIAL, leader=True, ruleset=ruleset)
+    bot.me["cmd"], bot.me["travel_x"], bot.me["travel_y"] = CMD_TRAVEL, 0.0, 0.1
+    bot.step([((0.0, -1.0), 6, 1, INITIAL)], on_target=True,
+             probe=lambda offset: floor_ahead, beacon_deg=90.0)
+    assert (int(bot.me["status"]) == ARRIVE) == halts
+
+
 def test_sow_acts_with_one_group_so_the_run_is_its_own():
     from controllers.ggc import GGCParams
     from controllers.ggc.rules.rulesets import SOW as SOW_FLAG
