@@ -26,7 +26,7 @@ from .rules.common import Probe, Sense
 from .rules.coverage import coverage, stopped
 from .rules.detection import detection
 from .rules.holes import cover_radius, settled
-from .rules.rulesets import HOLES
+from .rules.rulesets import HOLES, SOW
 from .rules.travel import initial
 from .statuses import (
     APPROACH,
@@ -111,7 +111,7 @@ def status_rule(view, me, sense, pb, P):  # pragma: no cover - compiled
     if s == COVERAGE:
         return coverage(view, me, sense, pb, P)
     if s == INITIAL:
-        return initial(view, me, sense, P)
+        return initial(view, me, sense, pb, P)
     if s == DETECTION:
         return detection(view, me, sense, pb, P)
     if s == STOP:
@@ -129,7 +129,7 @@ def listen_range(status, P):  # pragma: no cover - compiled
     if status == APPROACH or status == PEND or status == JOIN or status == FORMED:
         return P.R_c
     if status == INITIAL:
-        return 1.5 * P.d_min
+        return max(P.d_cover, 1.5 * P.d_min) if P.flags & SOW else 1.5 * P.d_min
     if status == DETECTION:
         return max(P.d_cover, 1.5 * P.d_min)
     if status == ARRIVE and P.flags & HOLES:

@@ -239,7 +239,7 @@ def formed(view, me, sense, pb, P):  # pragma: no cover - compiled
         me.initial_since = sense.tick
         if me.leader:
             me.gradient = 0
-        return initial(view, me, sense, P)
+        return initial(view, me, sense, pb, P)
     return still()
 
 

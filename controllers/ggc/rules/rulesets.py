@@ -49,6 +49,15 @@ each flag switches on the functions of one module:
   with no way through sensed they follow the edge as before. Experimental: rule set "flow"
   (docs/reports/ggc-findings-journal.md, "Walking through the structure").
 
+* SOW (rules/sow.py): a formation does not halt where its front first touches the target;
+  it walks on across the target toward the beacon, and its rear drops robots on the target
+  about d_cover apart as it goes (the rearmost robot within d_cover with no settled robot
+  near settles where it is), several across its width at once, none waiting for a turn or
+  enclosed. It halts where its front reaches the target's far edge or another group's
+  robots, or its leader passes the beacon, and releases the rest by Algorithm 7.
+  Experimental: rule set "sow" (docs/reports/ggc-findings-journal.md, "Formations that sow
+  robots as they cross the target").
+
 Adding a rule set is an entry in RULESETS; adding a flag is a bit here, its scope in
 FLAG_SCOPE and a branch where its rule applies. docs/reports/ggc-findings-journal.md has each
 rule set's measurements.
@@ -56,7 +65,8 @@ rule set's measurements.
 
 from __future__ import annotations
 
-YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE, THROUGH, TRAINS = 1, 2, 4, 8, 16, 32, 64, 128
+YIELD, HOLES, CROSS, SURPLUS, ASIDE, BESIDE, THROUGH, TRAINS, SOW = (
+    1, 2, 4, 8, 16, 32, 64, 128, 256)
 """The flags."""
 RULESETS = {
     "yield-holes": YIELD | HOLES | SURPLUS | BESIDE,
@@ -68,6 +78,7 @@ RULESETS = {
     "yield-holes-aside": YIELD | HOLES | SURPLUS | ASIDE,
     "yield-holes-trains": YIELD | HOLES | SURPLUS | BESIDE | TRAINS,
     "flow": YIELD | HOLES | SURPLUS | BESIDE | THROUGH,
+    "sow": YIELD | HOLES | SURPLUS | BESIDE | SOW,
 }
 """Rule set names and their flags. "paper": the paper's rules (Section 4.3's Stop between
 groups, nothing reported about holes)."""
@@ -90,6 +101,7 @@ FLAG_SCOPE = {
     BESIDE: BETWEEN_GROUPS,  # travel.touching halts only beside another group's formation
     TRAINS: ANY_GROUPS,  # trains.train_blockers releases robots of one group as of several
     THROUGH: ANY_GROUPS,
+    SOW: ANY_GROUPS,  # sow.sows drops robots of one formation as of several
 }
 """Where each flag's rules act: :data:`ANY_GROUPS`, :data:`BETWEEN_GROUPS`, or the name of a
 GGCParams length L: between groups only while d_cover > L (with one group too at d_cover <=

@@ -16,7 +16,8 @@ from ..statuses import ARRIVE, CMD_HALT, CMD_NONE, CMD_TRAVEL, DETECTION
 from .aside import blocked_side, lost, turned
 from .common import INF, move, rest, set_status, still, within
 from .gradient import formation_gradient, parent_row
-from .rulesets import BESIDE
+from .rulesets import BESIDE, SOW
+from .sow import passed_beacon, settle_sown, sow_touching, sows
 
 
 @njit(cache=True)
@@ -41,9 +42,20 @@ def remember_route(me):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def lead(view, me, sense, P):  # pragma: no cover - compiled
+def halts(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """The leader's halt: the front touched the target (under SOW: rules/sow.py's signal, or
+    the beacon passed), or there is no beacon."""
+    if not sense.has_beacon:
+        return True
+    if P.flags & SOW:
+        return sow_touching(view, me, sense, pb, P) or passed_beacon(me, sense)
+    return touching(view, me, sense, P)
+
+
+@njit(cache=True)
+def lead(view, me, sense, pb, P):  # pragma: no cover - compiled
     """The leader: toward the beacon until the front touches the target, then halt."""
-    if touching(view, me, sense, P) or not sense.has_beacon:
+    if halts(view, me, sense, pb, P):
         me.cmd = CMD_HALT
         me.travel_x, me.travel_y = 0.0, 0.0
         me.blocked = 0
@@ -61,10 +73,15 @@ def lead(view, me, sense, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def initial(view, me, sense, P):  # pragma: no cover - compiled
-    """Travel with the formation: copy my gradient parent's command."""
+def initial(view, me, sense, pb, P):  # pragma: no cover - compiled
+    """Travel with the formation: copy my gradient parent's command (under SOW, settle on
+    the target where the formation leaves me behind: rules/sow.py)."""
     if me.leader:
-        return lead(view, me, sense, P)
+        return lead(view, me, sense, pb, P)
+    if P.flags & SOW and sows(view, me, sense, P):
+        settle_sown(me)
+        set_status(me, ARRIVE)
+        return still()
     reach = 1.5 * P.d_min
     grad = formation_gradient(view, me, reach)
     if grad < 0:  # nobody to follow (yet): wait, and after init_timeout start alone
@@ -76,7 +93,10 @@ def initial(view, me, sense, P):  # pragma: no cover - compiled
         me.gradient, me.cmd, me.travel_x, me.travel_y, me.blocked = INF, CMD_NONE, 0.0, 0.0, 0
         return still()
     me.gradient = grad
-    me.touch = touching(view, me, sense, P)
+    if P.flags & SOW:
+        me.touch = sow_touching(view, me, sense, pb, P)
+    else:
+        me.touch = touching(view, me, sense, P)
     parent = parent_row(view, me, reach)
     me.cmd = view.cmd[parent]
     me.travel_x, me.travel_y = float(view.travel_x[parent]), float(view.travel_y[parent])
