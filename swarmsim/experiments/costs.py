@@ -10,9 +10,9 @@ fields in summary.json (swarmsim/engine/costs.py, docs/outputs.md):
 - computing: the controller's CPU milliseconds per robot-tick (:data:`COMPUTING`): a timing of
   this implementation on this machine, not an operation count.
 
-A comparison is consistent only where it holds beyond the spread between seeds: every seed's
-value of one side below every seed's value of the other (the ranges do not overlap; with 3
-seeds a side, a chance of 2 in 20 when the two do not differ), else "not resolved at N runs".
+A comparison is consistent only where it holds beyond the spread between seeds (significant
+at 95 %: Welch's interval of the difference of means, :func:`.evidence.compare`), else "not
+resolved at N runs".
 """
 
 from __future__ import annotations
@@ -188,8 +188,8 @@ def communication_claim(costs: Sequence[ControllerCosts], study: str = "ggc") ->
         "GGC's communication cost is small (like DASH, FCDFS, Kilobot) and CVT's large",
         measured, verdict,
         test=(f"bytes a deciding robot hears per tick (broadcasts heard x bytes per broadcast) "
-              f"of each of {', '.join(small)} below {LARGE}'s in every seed (ranges over seeds "
-              f"do not overlap); {study} above {LARGE} is not consistent, a baseline above "
+              f"of each of {', '.join(small)} below {LARGE}'s beyond the spread between seeds "
+              f"(Welch's 95% interval); {study} above {LARGE} is not consistent, a baseline above "
               "it partly"),
         where=("Figure 24's runs (the paper's setup); swarmsim's CVT senses its neighbours' "
                "positions and a local floor map instead of asking for them, so its broadcasts "
@@ -209,8 +209,8 @@ def computing_claim(costs: Sequence[ControllerCosts], study: str = "ggc") -> Cla
     measured = text + ("" if ratio is None else f"; {LARGE}/{study} {ratio:.1f}")
     return Claim(
         "GGC's computing cost is small and CVT's large", measured, combine(verdicts),
-        test=(f"{study}'s controller CPU ms per robot-tick below {LARGE}'s in every seed "
-              "(ranges over seeds do not overlap)"),
+        test=(f"{study}'s controller CPU ms per robot-tick below {LARGE}'s beyond the spread "
+              "between seeds (Welch's 95% interval)"),
         where=("Figure 24's runs; CPU time of this implementation on this machine (GGC decides "
                "a chunk of robots in one compiled call, the baselines robot by robot), not an "
                "operation count"),
