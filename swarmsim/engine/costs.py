@@ -29,6 +29,10 @@ import numpy as np
 
 TIMING_FIELDS = ("controller_ms_per_robot_tick",)
 """The cost fields that time the run (they differ between two runs of the same seed)."""
+WORK_FIELDS = ("decisions", "messages_heard_per_robot_tick")
+"""The cost fields that count the work done: the same for two runs of one seed and setting,
+but fewer when robots sleep (``allow_sleep``: a sleeping robot neither decides nor
+listens), so a check that sleeping changes nothing else leaves them out."""
 
 
 @dataclass
@@ -93,4 +97,4 @@ def heard_count(senders: np.ndarray, quiet: np.ndarray, lost: np.ndarray | None)
     return len(senders) - int(np.count_nonzero(silent))
 
 
-__all__ = ["TIMING_FIELDS", "CostCounter", "heard_count"]
+__all__ = ["TIMING_FIELDS", "WORK_FIELDS", "CostCounter", "heard_count"]

@@ -14,6 +14,7 @@ from controllers.ggc.statuses import ARRIVE
 from swarmsim import ConfigError, Simulation
 from swarmsim.cli import main
 from swarmsim.controller import Action, Perception, RobotSetup
+from swarmsim.engine.costs import WORK_FIELDS
 from swarmsim.engine.hooks import Hook
 from swarmsim.engine.sim import TIMING_FIELDS
 from tests.conftest import square_world
@@ -100,10 +101,12 @@ def test_sleeping_changes_nothing_but_saves_work():
                          seed=2, max_ticks=1500, settings={"d_cover": 3.0, "allow_sleep":
                                                            allow_sleep, "stop_on_complete": False})
         res = sim.run()
-        return {k: v for k, v in res.summary.items() if k not in TIMING_FIELDS}, res.timeseries
+        return {k: v for k, v in res.summary.items()
+                if k not in TIMING_FIELDS + WORK_FIELDS}, res.timeseries, res.summary
 
-    (a, ta), (b, tb) = settle(True), settle(False)
+    (a, ta, sa), (b, tb, sb) = settle(True), settle(False)
     assert a == b
+    assert sa["decisions"] < sb["decisions"]  # sleeping saved decisions
     assert [r["coverage"] for r in ta] == [r["coverage"] for r in tb]
     assert min(r["awake"] for r in ta[5:]) < 20  # robots really slept
     assert min(r["awake"] for r in tb[5:]) == 40
