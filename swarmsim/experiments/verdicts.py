@@ -262,18 +262,24 @@ def claims_fig18(ctx: Context) -> list[Claim]:
     return out + [_robots_note(ctx, three)]
 
 
+def by_dcover(one: dict[Any, CondStats], three: dict[Any, CondStats], values: Sequence[Any],
+              metric: str) -> tuple[dict[Any, Comparison], int]:
+    """3 groups against 1 group at each d_cover of ``values`` (3 groups' ``metric`` minus 1
+    group's), and the runs per condition behind them (the fewest)."""
+    found = {d: compare(_values(three[d], metric), _values(one[d], metric)) for d in values}
+    return found, _runs([s for d in values for s in (one[d], three[d])])
+
+
 def grouping_sooner(one: dict[Any, CondStats], three: dict[Any, CondStats],
                     common: Sequence[Any], where: str) -> Claim:
     """Fig. 18: at each d_cover, 3 groups' tick at 99% of final coverage is below 1 group's."""
-    found = {d: compare(_values(three[d], "settle_cov"), _values(one[d], "settle_cov"))
-             for d in common}
+    found, runs = by_dcover(one, three, common, "settle_cov")
     return Claim(
         "With the same d_cover, 3 groups reach stable coverage sooner than 1 group",
         "3 groups - 1 group, tick at 99% of final coverage, difference [95% "
         "interval]: " + (", ".join(f"{num_text(d)}: {c.text()}" for d, c in found.items())
                          or "none"),
-        verdict_of([less(c) for c in found.values()],
-                   _runs([s for d in common for s in (one[d], three[d])])),
+        verdict_of([less(c) for c in found.values()], runs),
         test="at each d_cover the mean tick at 99% of final coverage of 3 groups is below 1 "
              "group's beyond the spread", where=where,
         paper="With the same coverage distance, the stable coverage time of grouping coverage "
@@ -286,8 +292,7 @@ def same_coverage(one: dict[Any, CondStats], three: dict[Any, CondStats],
     :data:`SAME_COVERAGE_MARGIN`). Where both always complete, the stop rule decides: such
     d_cover values are judged only when there is no other (and the claim is then marked as
     no evidence)."""
-    found = {d: compare(_values(three[d], "coverage"), _values(one[d], "coverage"))
-             for d in values}
+    found, runs = by_dcover(one, three, values, "coverage")
     stopped = [d for d in values if one[d].all_complete and three[d].all_complete]
     return Claim(
         "For d_cover <= 8 the final coverage is the same with and without groups",
@@ -297,8 +302,7 @@ def same_coverage(one: dict[Any, CondStats], three: dict[Any, CondStats],
         + (f"; both complete every run at d_cover {', '.join(map(num_text, stopped))} (the stop "
            "rule decides there)" if stopped else ""),
         verdict_of([within(c, SAME_COVERAGE_MARGIN) for d, c in found.items()
-                    if d not in stopped or len(stopped) == len(values)],
-                   _runs([s for d in values for s in (one[d], three[d])])),
+                    if d not in stopped or len(stopped) == len(values)], runs),
         test="equivalence: the interval of the difference of mean final coverages lies within "
              f"+-{100 * SAME_COVERAGE_MARGIN:.0f} points at each d_cover",
         where=where + "; d_cover <= 8",
@@ -373,8 +377,7 @@ def claims_fig20(ctx: Context) -> list[Claim]:
 def grouped_distance(one: dict[Any, CondStats], three: dict[Any, CondStats],
                      common: Sequence[Any], where: str) -> Claim:
     """Fig. 20: at each d_cover 3 groups move less in total than 1 group."""
-    found = {d: compare(_values(three[d], "distance"), _values(one[d], "distance"))
-             for d in common}
+    found, runs = by_dcover(one, three, common, "distance")
 
     def ratio(d: Any) -> str:
         x, y = np.mean(_values(three[d], "distance")), np.mean(_values(one[d], "distance"))
@@ -385,8 +388,7 @@ def grouped_distance(one: dict[Any, CondStats], three: dict[Any, CondStats],
         "3 groups / 1 group, mean final total distance: "
         + (", ".join(f"{num_text(d)}: {ratio(d)} (difference {c.text()})"
                      for d, c in found.items()) or "none"),
-        verdict_of([less(c) for c in found.values()],
-                   _runs([s for d in common for s in (one[d], three[d])])),
+        verdict_of([less(c) for c in found.values()], runs),
         test="at each d_cover the mean final total distance of 3 groups is below 1 group's "
              "beyond the spread", where=where,
         paper="the total moving distance of the swarm robots covered by groups is much smaller "
