@@ -180,7 +180,9 @@ def _add_sweep_parsers(sub: argparse._SubParsersAction) -> None:
                        "fig17..fig24, table3, all)",
                        description="Run (or resume) the runs of the paper's figures and write "
                        "tables, plots and REPORT.md.")
-    r.add_argument("fig", help="fig14, fig17 .. fig24, table3 (Figure 24's runs' costs), or all")
+    r.add_argument("fig", nargs="+",
+                   help="fig14, fig17 .. fig24, table3 (Figure 24's runs' costs), or all; "
+                        "several figures share one report and one run store")
     r.add_argument("--reps", type=int, default=3,
                    help=f"seeds per condition (default 3, at most {MAX_REPS:,})")
     r.add_argument("--out", type=Path, default=Path("results/reproduce"),

@@ -647,6 +647,9 @@ def test_reproduce_dry_run_lists_runs(capsys):
     assert "total:" in out
     assert main(["reproduce", "fig17", "--dry-run", "--reps", "2", "--rulesets", "paper"]) == 0
     assert "fig17: 12 runs" in capsys.readouterr().out
+    assert main(["reproduce", "fig21", "fig22", "--dry-run", "--reps", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "fig21:" in out and "fig22:" in out and "fig17:" not in out
 
 
 @pytest.mark.slow
