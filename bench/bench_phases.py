@@ -51,6 +51,7 @@ from bench_tick import square_world
 
 from swarmsim import Simulation
 from swarmsim.engine.sim import PHASES
+from swarmsim.limits import MAX_TICKS
 
 
 def parse_settings(pairs: list[str]) -> dict:
@@ -86,7 +87,7 @@ def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int,
     """
     variants = {"on": True, "off": False} if pair else {"": settings.get("physics_sleep", True)}
     sims = {name: Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
-                             max_ticks=10**9, settings={**settings, "physics_sleep": sleep})
+                             max_ticks=MAX_TICKS, settings={**settings, "physics_sleep": sleep})
             for name, sleep in variants.items()}
     for _ in range(0, warmup, ticks):
         for sim in sims.values():

@@ -21,6 +21,7 @@ import time
 
 from swarmsim import Simulation
 from swarmsim.engine.sim import PHASES
+from swarmsim.limits import MAX_TICKS
 from swarmsim.world.world import World, world_from_dict
 
 
@@ -43,7 +44,7 @@ def square_world(robots: int) -> World:
 
 def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int) -> dict:
     sim = Simulation(square_world(robots), controller=controller, robots=robots, seed=1,
-                     max_ticks=10**9)
+                     max_ticks=MAX_TICKS)
     for _ in range(warmup):
         sim.step()
     blocks = []

@@ -1,0 +1,37 @@
+"""The benches the issues' figures come from still run: bench_floor.py (a run's tick against
+pymunk's bare step) and bench_tick.py (the phases of a tick), on a tiny world."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parents[2] / "bench"
+
+
+def load(name: str):
+    sys.path.insert(0, str(BENCH))  # the benches import one another
+    try:
+        spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+    finally:
+        sys.path.remove(str(BENCH))
+
+
+def test_bench_floor_times_a_run_and_its_bare_step():
+    floor = load("bench_floor")
+    r = floor.measure("tiny", "ggc", seed=0, every=20, bare_ticks=2, max_ticks=60)
+    assert r["ticks"] == 60 and r["robots"] > 0
+    assert r["tick"] > 0 and r["bare"] > 0
+    assert r["tick"] >= r["physics"]  # the whole tick holds its physics phase
+    assert floor.seeds_of("0-2") == [0, 1, 2] and floor.seeds_of("1,4") == [1, 4]
+
+
+def test_bench_tick_measures_every_phase():
+    tick = load("bench_tick")
+    r = tick.measure(40, "ggc", warmup=2, ticks=3, repeats=1)
+    assert {"sense", "decide", "physics", "metrics", "tick", "bare_step"} <= set(r)
+    assert r["tick"] > 0 and r["bare_step"] > 0 and r["awake"] > 0
