@@ -223,7 +223,7 @@ class Simulation:
                         settings: Mapping[str, Any]) -> dict[str, Any]:
         merged: dict[str, Any] = {}
         defaults = self.world.defaults
-        for key in ("robots", "groups", "max_ticks", "start", "drive"):
+        for key in ("robots", "groups", "max_ticks", "start", "drive", "grid_size"):
             if key in defaults:
                 merged[key] = defaults[key]
         if "d_cover" in defaults and _has_field(self.controller_cls.Params, "d_cover"):

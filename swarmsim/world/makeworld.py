@@ -28,7 +28,7 @@ from shapely.ops import polylabel
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, check_count
 from swarmsim.world.world import World, world_from_dict
-from swarmsim.world.worldinfo import describe_world, hex_capacity, layout_rng
+from swarmsim.world.worldinfo import describe_world, fine_grid_size, hex_capacity, layout_rng
 
 K_AREA = 13_280.0  # the shipped K world's target area, units^2
 CAPACITY_SHARE = 0.7  # lattice capacity / robots, as the shipped worlds are sized
@@ -204,8 +204,17 @@ def _world_data(target: Polygon, robots: int, groups: int, spec: WorldSpec,
         "spawn": [{"outline": [[round(x, DECIMALS), round(y, DECIMALS)] for x, y in spawn]}],
         "beacon": {"position": [round(beacon.x, DECIMALS), round(beacon.y, DECIMALS)]},
         "arena": {"margin": 20.0},
-        "defaults": {"robots": robots, "groups": groups, "d_cover": float(spec.d_cover)},
+        "defaults": _defaults(robots, groups, float(spec.d_cover), placed),
     }
+
+
+def _defaults(robots: int, groups: int, d_cover: float, target: Polygon) -> dict:
+    """A made world's run defaults; a large target's grid_size, fine enough that coverage
+    cells are no wider than the coverage radius."""
+    x0, y0, x1, y1 = target.bounds
+    grid = fine_grid_size(x1 - x0, y1 - y0)
+    return {"robots": robots, "groups": groups, "d_cover": d_cover,
+            **({"grid_size": grid} if grid is not None else {})}
 
 
 def central_deep_point(target: Polygon, share: float = 0.8, samples: int = 100) -> shapely.Point:
@@ -286,6 +295,9 @@ def to_toml(data: dict, header: str = "") -> str:
             f"margin = {data['arena']['margin']:.1f}", "", "[defaults]"]
     d = data["defaults"]
     out += [f"robots = {d['robots']}", f"groups = {d['groups']}", f"d_cover = {d['d_cover']!r}"]
+    if "grid_size" in d:
+        out.append(f"grid_size = {d['grid_size']}  # coverage cells no wider than the "
+                   "coverage radius")
     return "\n".join(out) + "\n"
 
 

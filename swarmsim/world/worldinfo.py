@@ -191,19 +191,34 @@ def _warnings(r: WorldReport, d_cover: float) -> list[str]:
     return out
 
 
+def fine_grid_size(width: float, height: float) -> int | None:
+    """The grid_size a target of ``width`` x ``height`` units needs for coverage cells no
+    wider than the coverage radius, or None when the default GRID_SIZE is fine enough."""
+    need = needed_grid_size(width, height)
+    return need if need > GRID_SIZE else None
+
+
+def needed_grid_size(width: float, height: float) -> int:
+    """The smallest grid_size whose cells over a ``width`` x ``height`` target (units) are no
+    wider than the coverage radius."""
+    return math.ceil(max(width, height) / COVERAGE_RADIUS)
+
+
 def _coarse_cells(world: World) -> list[str]:
-    """A warning when the default coverage raster's cells (the target's bounding box over
-    GRID_SIZE x GRID_SIZE) are wider than the coverage radius: a cell then counts as covered
-    when a robot is near its centre only, so coverage is measured coarsely."""
+    """A warning when the coverage raster's cells (the target's bounding box over grid_size
+    x grid_size, the world's default or GRID_SIZE) are wider than the coverage radius: a cell
+    then counts as covered when a robot is near its centre only, so coverage is measured
+    coarsely."""
     x0, y0, x1, y1 = world.target.bounds
-    cell = max(x1 - x0, y1 - y0) / GRID_SIZE
+    grid = int(world.defaults.get("grid_size", GRID_SIZE))
+    cell = max(x1 - x0, y1 - y0) / grid
     if cell <= COVERAGE_RADIUS:
         return []
-    need = math.ceil(max(x1 - x0, y1 - y0) / COVERAGE_RADIUS)
+    need = needed_grid_size(x1 - x0, y1 - y0)
     fix = (f"set grid_size={need}" if need <= MAX_GRID_SIZE else
            f"no grid_size up to {MAX_GRID_SIZE:,} makes cells that small: the target is very "
            "large for robots of this size")
-    return [(f"coverage cells are {readable(cell)} units wide at grid_size {GRID_SIZE} (the "
+    return [(f"coverage cells are {readable(cell)} units wide at grid_size {grid} (the "
             f"target is {readable(x1 - x0)} x {readable(y1 - y0)} units), wider than the "
             f"coverage radius {COVERAGE_RADIUS:g}: coverage is measured coarsely; {fix}")]
 

@@ -215,6 +215,11 @@ def test_coverage_cells_wider_than_the_coverage_radius_are_a_warning(side, warne
     assert bool(found) == warned, found
     if warned and side <= 8000:
         assert f"set grid_size={math.ceil(side / 4)}" in found[0]
+    fine = world_from_dict(world(target={"outline": [[0, 0], [side, 0], [side, 20], [0, 20]]},
+                                 beacon={"position": [10, 10]},
+                                 defaults={"grid_size": min(2000, math.ceil(side / 4))}))
+    found = [x for x in describe_world(fine).warnings if "coverage cells are" in x]
+    assert bool(found) == (side > 8000), found  # a world's own grid_size is what counts
 
 
 @pytest.mark.parametrize("controller", ["cvt", "meanshift"])

@@ -56,6 +56,19 @@ def test_options_set_robots_groups_and_d_cover(tmp_path: Path) -> None:
     wide = load_world(_make(tmp_path, "--text", "K", "--d-cover", "8", name="k8.toml"))
     assert wide.defaults["d_cover"] == 8.0
     assert wide.defaults["robots"] == round(hex_capacity(wide.target_area, 8.0) / 0.7)
+    assert "grid_size" not in wide.defaults  # the default raster is fine enough
+
+
+def test_a_large_world_gets_coverage_cells_no_wider_than_the_coverage_radius(
+        tmp_path: Path, capsys) -> None:
+    path = _make(tmp_path, "--text", "K", "--size", "640", "--robots", "20")
+    assert "coarsely" not in capsys.readouterr().out
+    world = load_world(path)
+    x0, y0, x1, y1 = world.target.bounds
+    assert world.defaults["grid_size"] == 160  # 640 units / the coverage radius 4
+    sim = Simulation(path, max_ticks=1)
+    assert sim.config.grid_size == 160
+    assert max(x1 - x0, y1 - y0) / sim.config.grid_size <= sim.config.coverage_radius
 
 
 def _mask_png(path: Path) -> None:
