@@ -10,10 +10,10 @@ target, 0 not, -1 not yet probed). A chunk's tick is two steps:
    it (:func:`advance`: as ``LocalMap._recentre``) and probes, in one ``probe_many`` query for
    the whole chunk, every lattice point within the radius not yet known (as
    ``LocalMap.sense``);
-2. a controller's compiled kernel reads the maps at any offsets with :func:`lattice_value`
-   (as ``LocalMap.lookup``). After step 1 every lattice point within the radius is known, so
-   a lookup never needs a probe (``LocalMap.lookup`` probed none either once ``sense`` ran);
-   :func:`lattice_value` reports such a point instead (:data:`UNPROBED`).
+2. a controller's compiled kernel reads a robot's map at any offsets with
+   :func:`lattice_values` (as ``LocalMap.lookup``). After step 1 every lattice point within
+   the radius is known, so a lookup never needs a probe (``LocalMap.lookup`` probed none
+   either once ``sense`` ran); :func:`lattice_values` reports such a point instead.
 """
 
 from __future__ import annotations
@@ -25,9 +25,6 @@ import numpy as np
 from numba import njit
 
 from .localmap import LocalMap
-
-UNPROBED = -1
-""":func:`lattice_value`'s answer for a lattice point within the radius never probed."""
 
 ProbeMany = Callable[[np.ndarray, np.ndarray], np.ndarray]
 """``probe_many(ks, offsets)``: (M,) bool, the floor at chunk robot ``ks[j]``'s position plus
@@ -134,24 +131,31 @@ def store(rows, ks, cells, answers, grid):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def lattice_value(odo, origin, grid, cell, radius2, ox, oy):  # pragma: no cover - compiled
-    """What one robot's map knows of the floor at offset (ox, oy), units, from the robot: its
-    nearest lattice point's value, 1 target or 0 not (0 outside the window, and -1, not yet
-    probed, beyond the radius, as LocalMap.lookup reads them); :data:`UNPROBED` for a point
-    within the radius (``radius2``, units^2) not yet probed, which LocalMap.lookup would
-    probe. ``odo`` (2,), ``origin`` (2,), ``grid`` (size, size): the robot's rows."""
-    ix = np.int64(np.floor((odo[0] + ox) / cell + 0.5))
-    iy = np.int64(np.floor((odo[1] + oy) / cell + 0.5))
-    row, col = ix - origin[0], iy - origin[1]
+def lattice_values(odo, origin, grid, cell, radius2, points, scale,
+                   values):  # pragma: no cover - compiled
+    """What one robot's map knows of the floor at ``points * scale`` (offsets from the robot,
+    units): each one's nearest lattice point's value into ``values`` (P,) int8, 1 target or 0
+    not (0 outside the window, and -1, not yet probed, beyond the radius: as LocalMap.lookup
+    reads them). ``odo`` (2,), ``origin`` (2,), ``grid`` (size, size): the robot's rows;
+    ``points`` (P, 2); ``radius2``: the squared sensing radius, units^2.
+
+    Returns -1, or the first j whose lattice point lies within the radius but was never
+    probed (LocalMap.lookup would probe it; the values from j on are not written).
+    """
+    odo0, odo1, o0, o1 = odo[0], odo[1], origin[0], origin[1]
     size = grid.shape[0]
-    if not (0 <= row < size and 0 <= col < size):
-        return 0
-    value = grid[row, col]
-    if value < 0:
-        px = ix * cell - odo[0]
-        py = iy * cell - odo[1]
-        return UNPROBED if px * px + py * py <= radius2 else 0
-    return value
+    for j in range(points.shape[0]):
+        ix = np.int64(np.floor((odo0 + points[j, 0] * scale) / cell + 0.5))
+        iy = np.int64(np.floor((odo1 + points[j, 1] * scale) / cell + 0.5))
+        row, col = ix - o0, iy - o1
+        value = grid[row, col] if 0 <= row < size and 0 <= col < size else 0
+        if value < 0:
+            px, py = ix * cell - odo0, iy * cell - odo1
+            if px * px + py * py <= radius2:
+                return j
+            value = 0
+        values[j] = value
+    return -1
 
 
 def warm_up() -> None:
@@ -160,4 +164,5 @@ def warm_up() -> None:
     maps = MapRows(1, 1.0, 1.0)
     rows = np.zeros(1, dtype=np.int64)
     maps.sense(rows, np.zeros((1, 2)), lambda ks, offsets: np.ones(len(ks), dtype=np.bool_))
-    lattice_value(maps.odo[0], maps.origin[0], maps.grid[0], maps.cell, maps.radius2, 0.0, 0.0)
+    lattice_values(maps.odo[0], maps.origin[0], maps.grid[0], maps.cell, maps.radius2,
+                   np.zeros((1, 2)), 1.0, np.zeros(1, dtype=np.int8))

@@ -18,7 +18,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from controllers.common.mapbatch import UNPROBED, lattice_value
+from controllers.common.mapbatch import lattice_values
 from controllers.common.push import push_away
 from controllers.common.pyhypot import py_hypot
 
@@ -76,33 +76,45 @@ class Out(NamedTuple):
     sleep: np.ndarray  # (R,) bool
 
 
+class Work(NamedTuple):
+    """The kernel's scratch, reused robot after robot."""
+
+    mine: np.ndarray  # (D, 2) the robot's cell's sample points, units
+    values: np.ndarray  # (D,) int8 its map at the sampling disc's points
+    near: np.ndarray  # (most neighbours, 2) the offsets of those that may own a point, units
+
+
 @njit(cache=True)
 def decide_chunk(s, sensed, p, out):  # pragma: no cover - compiled
     """Decide the chunk's robots (``s``: Rows, ``sensed``: Sensed, ``p``: Params; ``out``:
     Out, written). Their maps must have sensed this tick (MapRows.sense). Returns -1, or the
     first chunk robot whose map lacked a lattice point within its radius (then nothing
     after it is decided)."""
-    mine = np.empty((p.disc.shape[0], 2))
+    most = 0
     for k in range(sensed.rows.shape[0]):
-        if not _decide_one(k, s, sensed, p, out, mine):
+        most = max(most, sensed.starts[k + 1] - sensed.starts[k])
+    work = Work(mine=np.empty((p.disc.shape[0], 2)),
+                values=np.empty(p.disc.shape[0], dtype=np.int8), near=np.empty((most, 2)))
+    for k in range(sensed.rows.shape[0]):
+        if not _decide_one(k, s, sensed, p, out, work):
             return k
     return -1
 
 
 @njit(cache=True)
-def _decide_one(k, s, sensed, p, out, mine):  # pragma: no cover - compiled
+def _decide_one(k, s, sensed, p, out, work):  # pragma: no cover - compiled
     """Robot k's tick (CVTRobot.step after its map's move); False if its map lacked a point."""
     i = sensed.rows[k]
     a, b = sensed.starts[k], sensed.starts[k + 1]
     on = sensed.on_target[k]
     was_extent, was_heard = s.extent[i], s.heard[i]
-    n = _cell(i, a, b, s, sensed, p, mine)
+    n = _cell(i, a, b, s, sensed, p, work)
     if n < 0:
         return False
     rest = False
     vx = vy = 0.0
     if n > 0:
-        cx, cy = _centroid(mine, n, s.extent[i])
+        cx, cy = _centroid(work.mine, n, s.extent[i])
         vx, vy = p.gain * cx, p.gain * cy
         rest = py_hypot(cx, cy) < p.tolerance * s.reach[i] and on
         s.status[i] = MOVING if on else SEEKING
@@ -134,53 +146,65 @@ def _decide_one(k, s, sensed, p, out, mine):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _cell(i, a, b, s, sensed, p, mine):  # pragma: no cover - compiled
-    """CVTRobot.cell: robot i's cell's sample points into ``mine`` (their count; -1 if its
-    map lacked a point), its extent, heard and reach updated."""
+def _cell(i, a, b, s, sensed, p, work):  # pragma: no cover - compiled
+    """CVTRobot.cell: robot i's cell's sample points into ``work.mine`` (their count; -1 if
+    its map lacked a point), its extent, heard and reach updated."""
     full = p.cell_radius
     radius = min(full, s.heard[i] / 2, s.extent[i])
     h = radius / DISC_STEPS
-    near = 2 * radius
+    if lattice_values(s.odo[i], s.origin[i], s.grid[i], p.map_cell, p.map_radius2, p.disc,
+                      radius, work.values) >= 0:
+        return -1
+    m = _near(a, b, 2 * radius, sensed, work.near)
     n = 0
     for j in range(p.disc.shape[0]):
-        qx, qy = p.disc[j, 0] * radius, p.disc[j, 1] * radius
-        value = lattice_value(s.odo[i], s.origin[i], s.grid[i], p.map_cell, p.map_radius2,
-                              qx, qy)
-        if value == UNPROBED:
-            return -1
-        if value != 1:
+        if work.values[j] != 1:
             continue
-        own = qx * qx + qy * qy
-        owned = True
-        for r in range(a, b):
-            if sensed.distances[r] <= near:
-                dx, dy = qx - sensed.offsets[r, 0], qy - sensed.offsets[r, 1]
-                if own > dx * dx + dy * dy:
-                    owned = False
-                    break
-        if owned:
-            mine[n, 0], mine[n, 1] = qx, qy
+        qx, qy = p.disc[j, 0] * radius, p.disc[j, 1] * radius
+        if _owned(qx, qy, work.near, m):
+            work.mine[n, 0], work.mine[n, 1] = qx, qy
             n += 1
     if n == 0:
         s.extent[i] = full
         s.reach[i] = 0.0
-        near_target = False
-        for j in range(p.disc.shape[0]):
-            value = lattice_value(s.odo[i], s.origin[i], s.grid[i], p.map_cell,
-                                  p.map_radius2, p.disc[j, 0] * full, p.disc[j, 1] * full)
-            if value == UNPROBED:
-                return -1
-            near_target = near_target or value == 1
+        if lattice_values(s.odo[i], s.origin[i], s.grid[i], p.map_cell, p.map_radius2,
+                          p.disc, full, work.values) >= 0:
+            return -1
+        near_target = (work.values == 1).any()
         s.heard[i] = 2 * full if near_target else max(2 * p.d_safe, 1.0)
         return 0
     far = 0.0
     for j in range(n):
-        far = max(far, mine[j, 0] * mine[j, 0] + mine[j, 1] * mine[j, 1])
+        far = max(far, work.mine[j, 0] * work.mine[j, 0] + work.mine[j, 1] * work.mine[j, 1])
     s.reach[i] = math.sqrt(far)
     margin = 2 * h + 2 * p.v
     s.extent[i] = full if s.reach[i] >= radius - 1.5 * h else min(full, s.reach[i] + margin)
     s.heard[i] = 2 * s.extent[i]
     return n
+
+
+@njit(cache=True)
+def _near(a, b, reach, sensed, near):  # pragma: no cover - compiled
+    """The offsets of neighbour rows a..b-1 no farther than ``reach`` (by their distances),
+    in order, into ``near``; their count. (Farther ones cannot own a point of the disc.)"""
+    m = 0
+    for r in range(a, b):
+        if sensed.distances[r] <= reach:
+            near[m, 0], near[m, 1] = sensed.offsets[r, 0], sensed.offsets[r, 1]
+            m += 1
+    return m
+
+
+@njit(cache=True)
+def _owned(qx, qy, near, m):  # pragma: no cover - compiled
+    """Whether point (qx, qy) is at least as near the robot as each of the first ``m``
+    ``near`` offsets (controllers/cvt/kernel.py's owned, one point)."""
+    own = qx * qx + qy * qy
+    for r in range(m):
+        dx, dy = qx - near[r, 0], qy - near[r, 1]
+        if own > dx * dx + dy * dy:
+            return False
+    return True
 
 
 @njit(cache=True)

@@ -15,7 +15,7 @@ import pytest
 from shapely.geometry import Polygon
 
 from controllers.common.localmap import LocalMap
-from controllers.common.mapbatch import MapRows, lattice_value
+from controllers.common.mapbatch import MapRows, lattice_values
 from controllers.common.pyhypot import py_hypot
 from controllers.cvt import CVT
 from controllers.cvt.robot import CVTRobot
@@ -113,10 +113,17 @@ def test_map_rows_remember_what_local_maps_remember():
             assert np.array_equal(maps.grid[i], lm._grid)
             assert np.array_equal(maps.origin[i], lm._origin)
             assert maps.odo[i].tobytes() == lm.odo.tobytes()
-            offsets = rng.uniform(-radius, radius, size=(30, 2))
-            want = lm.lookup(perception, offsets)
-            got = [lattice_value(maps.odo[i], maps.origin[i], maps.grid[i], cell,
-                                 maps.radius2, *o) == 1 for o in offsets]
-            assert got == want.tolist()
+            offsets = rng.uniform(-1, 1, size=(30, 2))
+            scale = rng.uniform(0.5, 1.2) * radius  # some points beyond the radius
+            want = lm.lookup(perception, offsets * scale)
+            got = np.zeros(len(offsets), dtype=np.int8)
+            assert lattice_values(maps.odo[i], maps.origin[i], maps.grid[i], cell,
+                                  maps.radius2, offsets, scale, got) == -1
+            assert np.array_equal(got == 1, want)
     assert (maps.grid[[1, 2]] == -1).all()  # robots outside the chunk never sensed
+    values = np.full(2, 7, dtype=np.int8)
+    far = np.array([[radius + 2 * cell, 0.0], [0.0, 0.0]])  # beyond the radius, then within
+    assert lattice_values(maps.odo[1], maps.origin[1], maps.grid[1], cell, maps.radius2, far,
+                          1.0, values) == 1  # robot 1 never sensed: its own point is unknown
+    assert values[0] == 0
     assert sum(asked) > 0 and len(asked) > 10
