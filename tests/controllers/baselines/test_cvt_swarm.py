@@ -70,6 +70,13 @@ def test_the_batch_cvt_makes_the_per_robot_runs(case):
     assert summary["total_distance"] > 0
 
 
+def test_chunks_change_nothing(monkeypatch):
+    """Robots decided 7 at a time (K decides its 603 in one chunk): the same run."""
+    whole = run_digest(CVT, *RUNS["tiny seed 2 noisy"])
+    monkeypatch.setattr("swarmsim.engine.sim.DECIDE_CHUNK", 7)
+    assert run_digest(CVT, *RUNS["tiny seed 2 noisy"]) == whole
+
+
 def test_py_hypot_is_pythons_hypot_to_the_bit():
     """The C library's hypot (numba's math.hypot) rounds some of these the other way."""
     rng = np.random.default_rng(4)
