@@ -77,6 +77,22 @@ def test_chunks_change_nothing(monkeypatch):
     assert run_digest(CVT, *RUNS["tiny seed 2 noisy"]) == whole
 
 
+def test_a_restored_cvt_run_goes_on_as_the_run(tmp_path):
+    """The swarm's arrays (maps, discs, statuses) are all of a checkpoint needs of CVT."""
+    run = Simulation("tiny", controller="cvt", seed=1, max_ticks=400,
+                     settings={"stop_on_complete": False})
+    for _ in range(200):
+        run.advance()
+    run.save(tmp_path / "cvt.ckpt")
+    restored = Simulation.restore(tmp_path / "cvt.ckpt")
+    for _ in range(150):
+        run.advance()
+        restored.advance()
+        assert np.array_equal(run.positions, restored.positions)
+    assert run.messages.tobytes() == restored.messages.tobytes()
+    assert run.swarm.rows.status.tobytes() == restored.swarm.rows.status.tobytes()
+
+
 def test_py_hypot_is_pythons_hypot_to_the_bit():
     """The C library's hypot (numba's math.hypot) rounds some of these the other way."""
     rng = np.random.default_rng(4)
