@@ -80,7 +80,7 @@ def absolute_imports(path: Path) -> set[str]:
 
 
 def test_absolute_imports_resolve_relative_ones():
-    assert absolute_imports(CONTROLLERS / "cvt" / "controller.py") >= {
+    assert absolute_imports(CONTROLLERS / "cvt" / "robot.py") >= {
         "controllers.cvt.kernel", "controllers.common.localmap"}
 
 

@@ -12,8 +12,9 @@ from controllers.common.localmap import probe_all
 from controllers.common.mapkernel import lattice_values, window_within
 from controllers.common.npsum import pairwise_sum
 from controllers.common.push import push_away
-from controllers.cvt import CVT, CVTParams
+from controllers.cvt import CVTParams
 from controllers.cvt.kernel import owned
+from controllers.cvt.robot import CVTRobot
 from controllers.dash.kernel import spacing_view
 from controllers.meanshift.kernel import explore, interact
 from swarmsim.controller import NO_SENDER, RobotSetup
@@ -207,7 +208,7 @@ def test_a_still_cvt_robot_sleeps_once_its_sampling_disc_settles():
     """Asleep, a robot must answer as it would awake, so a still CVT robot sleeps only when
     its next cell is sampled in the same disc: a change within one grid step keeps the old
     disc; a larger one keeps it awake; two discs in turn count as settled."""
-    robot = CVT(RobotSetup(0), CVTParams(), np.random.default_rng(0))
+    robot = CVTRobot(RobotSetup(0), CVTParams(), np.random.default_rng(0))
     step = 3.5 / 7  # one grid step of a disc of radius 3.5
     robot.extent, robot.heard = 3.5 + 0.9 * step, 7.0 + 1.8 * step  # as cell() may leave it
     assert robot.settle_disc((3.5, 7.0))

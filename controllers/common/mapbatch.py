@@ -1,0 +1,168 @@
+"""Many robots' local maps of the floor as arrays, for a swarm that decides a chunk of robots
+at once (:class:`MapRows`): the same lattice, window and answers as one
+:class:`~controllers.common.localmap.LocalMap` per robot, to the bit.
+
+Robot i's map is row i of each array: its odometry (``odo``), the lattice index of its window's
+first row and column (``origin``) and the window of remembered floor answers (``grid``: 1
+target, 0 not, -1 not yet probed). A chunk's tick is two steps:
+
+1. :meth:`MapRows.sense` adds each robot's displacement, moves its window when the robot left
+   it (:func:`advance`: as ``LocalMap._recentre``) and probes, in one ``probe_many`` query for
+   the whole chunk, every lattice point within the radius not yet known (as
+   ``LocalMap.sense``);
+2. a controller's compiled kernel reads a robot's map at any offsets with
+   :func:`lattice_values` (as ``LocalMap.lookup``). After step 1 every lattice point within
+   the radius is known, so a lookup never needs a probe (``LocalMap.lookup`` probed none
+   either once ``sense`` ran); :func:`lattice_values` reports such a point instead.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+from numba import njit
+
+from .localmap import LocalMap
+
+ProbeMany = Callable[[np.ndarray, np.ndarray], np.ndarray]
+"""``probe_many(ks, offsets)``: (M,) bool, the floor at chunk robot ``ks[j]``'s position plus
+``offsets[j]`` (units) is target (swarmsim.controller.DecideBatch.probe_many)."""
+
+
+class MapRows:
+    """The local maps of a run's robots (row i: robot i), each as ``LocalMap(radius, cell)``.
+
+    Args:
+        robots: how many.
+        radius: points within this distance of a robot are sensed, units.
+        cell: lattice spacing, units.
+    """
+
+    def __init__(self, robots: int, radius: float, cell: float):
+        self.radius = float(radius)
+        self.cell = float(cell)
+        self.reach = math.ceil(self.radius / self.cell) + 1  # as LocalMap's stencil
+        self.size = 2 * (self.reach + LocalMap.MARGIN) + 1
+        self.odo = np.zeros((robots, 2))
+        self.origin = np.full((robots, 2), -(self.reach + LocalMap.MARGIN), dtype=np.int64)
+        self.grid = np.full((robots, self.size, self.size), -1, dtype=np.int8)
+
+    @property
+    def radius2(self) -> float:
+        """The squared sensing radius, units^2 (as LocalMap computes it)."""
+        return self.radius * self.radius
+
+    def sense(self, rows: np.ndarray, moved: np.ndarray, probe_many: ProbeMany) -> None:
+        """Step 1 of a chunk's tick for the robots at ``rows`` (C-contiguous int64; chunk
+        robot k is robot ``rows[k]``): add ``moved[k]`` (R, 2), units, to each one's
+        odometry, move its window if it must, and probe every lattice point within the
+        radius not yet known (one ``probe_many`` call for the chunk); in place."""
+        ks, offsets, cells = advance(rows, moved, self.odo, self.origin, self.grid, self.reach,
+                                     LocalMap.MARGIN, self.cell, self.radius2)
+        if len(ks):
+            store(rows, ks, cells, np.asarray(probe_many(ks, offsets), dtype=np.bool_),
+                  self.grid)
+
+
+@njit(cache=True)
+def advance(rows, moved, odo, origin, grid, reach, margin, cell,
+            radius2):  # pragma: no cover - compiled
+    """Add each chunk robot's displacement ``moved[k]`` to ``odo[rows[k]]``, move its window
+    so that the stencil of lattice points round it fits (``reach`` cells each way; a moved
+    window keeps ``margin`` cells beyond it and forgets what falls out), and list the lattice
+    points within the sensing radius (``radius2``, units^2) it does not know yet.
+
+    Returns ks (M,) the chunk robots asking, offsets (M, 2) each point from its robot, units,
+    and cells (M, 2) each point's window row and column: all of robot k's before robot
+    k + 1's, each robot's in LocalMap's stencil order.
+    """
+    size = grid.shape[1]
+    most = rows.shape[0] * (2 * reach + 1) * (2 * reach + 1)
+    ks = np.empty(most, dtype=np.int64)
+    offsets = np.empty((most, 2))
+    cells = np.empty((most, 2), dtype=np.int64)
+    m = 0
+    for k in range(rows.shape[0]):
+        i = rows[k]
+        odo[i, 0] = odo[i, 0] + moved[k, 0]
+        odo[i, 1] = odo[i, 1] + moved[k, 1]
+        b0 = np.int64(math.floor(odo[i, 0] / cell))
+        b1 = np.int64(math.floor(odo[i, 1] / cell))
+        _recentre(grid[i], origin[i], b0, b1, reach, margin, size)
+        o0, o1 = origin[i, 0], origin[i, 1]
+        for a in range(-reach, reach + 1):
+            dx = (b0 + a) * cell - odo[i, 0]
+            for b in range(-reach, reach + 1):
+                dy = (b1 + b) * cell - odo[i, 1]
+                if dx * dx + dy * dy <= radius2 and grid[i, b0 + a - o0, b1 + b - o1] < 0:
+                    ks[m] = k
+                    offsets[m, 0], offsets[m, 1] = dx, dy
+                    cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
+                    m += 1
+    return ks[:m], offsets[:m], cells[:m]
+
+
+@njit(cache=True)
+def _recentre(grid, origin, b0, b1, reach, margin, size):  # pragma: no cover - compiled
+    """Move one robot's window (``grid``, ``origin``, in place) so the stencil round lattice
+    cell (b0, b1) fits, as LocalMap._recentre: nothing if it fits already."""
+    o0, o1 = origin[0], origin[1]
+    if b0 - reach >= o0 and b1 - reach >= o1 and b0 + reach < o0 + size and b1 + reach < o1 + size:
+        return
+    n0, n1 = b0 - (reach + margin), b1 - (reach + margin)
+    s0, s1 = n0 - o0, n1 - o1  # the shift
+    old = grid.copy()
+    grid[:, :] = -1
+    lo0, lo1 = max(s0, 0), max(s1, 0)
+    hi0, hi1 = min(s0 + size, size), min(s1 + size, size)
+    if hi0 > lo0 and hi1 > lo1:
+        grid[lo0 - s0:hi0 - s0, lo1 - s1:hi1 - s1] = old[lo0:hi0, lo1:hi1]
+    origin[0], origin[1] = n0, n1
+
+
+@njit(cache=True)
+def store(rows, ks, cells, answers, grid):  # pragma: no cover - compiled
+    """Write the probes' ``answers`` (M,) bool into the windows: answer j at window
+    ``cells[j]`` of robot ``rows[ks[j]]``'s map."""
+    for j in range(ks.shape[0]):
+        grid[rows[ks[j]], cells[j, 0], cells[j, 1]] = 1 if answers[j] else 0
+
+
+@njit(cache=True)
+def lattice_values(odo, origin, grid, cell, radius2, points, scale,
+                   values):  # pragma: no cover - compiled
+    """What one robot's map knows of the floor at ``points * scale`` (offsets from the robot,
+    units): each one's nearest lattice point's value into ``values`` (P,) int8, 1 target or 0
+    not (0 outside the window, and -1, not yet probed, beyond the radius: as LocalMap.lookup
+    reads them). ``odo`` (2,), ``origin`` (2,), ``grid`` (size, size): the robot's rows;
+    ``points`` (P, 2); ``radius2``: the squared sensing radius, units^2.
+
+    Returns -1, or the first j whose lattice point lies within the radius but was never
+    probed (LocalMap.lookup would probe it; the values from j on are not written).
+    """
+    odo0, odo1, o0, o1 = odo[0], odo[1], origin[0], origin[1]
+    size = grid.shape[0]
+    for j in range(points.shape[0]):
+        ix = np.int64(np.floor((odo0 + points[j, 0] * scale) / cell + 0.5))
+        iy = np.int64(np.floor((odo1 + points[j, 1] * scale) / cell + 0.5))
+        row, col = ix - o0, iy - o1
+        value = grid[row, col] if 0 <= row < size and 0 <= col < size else 0
+        if value < 0:
+            px, py = ix * cell - odo0, iy * cell - odo1
+            if px * px + py * py <= radius2:
+                return j
+            value = 0
+        values[j] = value
+    return -1
+
+
+def warm_up() -> None:
+    """Compile (first time on a machine) or load (from the cache) the kernels now, with the
+    types :class:`MapRows` passes."""
+    maps = MapRows(1, 1.0, 1.0)
+    rows = np.zeros(1, dtype=np.int64)
+    maps.sense(rows, np.zeros((1, 2)), lambda ks, offsets: np.ones(len(ks), dtype=np.bool_))
+    lattice_values(maps.odo[0], maps.origin[0], maps.grid[0], maps.cell, maps.radius2,
+                   np.zeros((1, 2)), 1.0, np.zeros(1, dtype=np.int8))
