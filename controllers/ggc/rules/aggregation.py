@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ..schema import FAR
@@ -51,22 +52,27 @@ def update_fields(view, me, mine, sense, P):  # pragma: no cover - compiled
         heard |= view.id[r] != NO
     if not heard:
         return
+    # per group: the newest epoch heard, and the shortest path through a neighbour that
+    # broadcast it; neighbour by neighbour (each one's entries lie side by side in its row)
+    newest = np.full(P.groups, -1, dtype=np.int64)
+    best = np.full(P.groups, FAR)
+    for r in range(len(view.dist)):
+        if view.id[r] == NO:
+            continue
+        for g in range(P.groups):
+            epoch = view.lepoch[r, g]
+            if epoch > newest[g]:
+                newest[g], best[g] = epoch, FAR
+            if epoch == newest[g]:
+                best[g] = min(best[g], float(view.ldist[r, g]) + view.dist[r])
     for g in range(P.groups):
-        newest = -1
-        for r in range(len(view.dist)):
-            if view.id[r] != NO and view.lepoch[r, g] > newest:
-                newest = view.lepoch[r, g]
-        best = FAR
-        for r in range(len(view.dist)):
-            if view.id[r] != NO and view.lepoch[r, g] == newest:
-                best = min(best, float(view.ldist[r, g]) + view.dist[r])
-        newer = newest > mine.lepoch[g]
-        fresh = best if newer else min(mine.ldist[g], best)
+        newer = newest[g] > mine.lepoch[g]
+        fresh = best[g] if newer else min(mine.ldist[g], best[g])
         if source and g == own_group:
             fresh, newer = 0.0, False
         mine.ldist[g] = min(fresh, FAR)
         if newer:
-            mine.lepoch[g] = newest
+            mine.lepoch[g] = newest[g]
 
 
 @njit(cache=True)
