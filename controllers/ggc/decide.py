@@ -2,9 +2,10 @@
 
 :func:`decide_chunk` gives robot j of the chunk its own view (rows ``starts[j]:starts[j+1]``
 of the chunk's neighbour columns), its own sensors, its own probe slots, its own state row
-and its own rows of the per-group arrays, and writes its action. A robot whose floor probe asked a question not answered yet is
-marked pending: the caller (swarm.py) answers the questions and decides it again from its
-row as it was (rules are deterministic, so the second pass asks the same questions first).
+and its own rows of the per-group arrays, and writes its action. A robot whose floor probe
+asked a question not answered yet is marked pending: the caller (swarm.py) answers the
+questions and decides it again from its rows as they were (rules are deterministic, so the
+second pass asks the same questions first).
 """
 
 from __future__ import annotations
