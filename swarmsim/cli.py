@@ -24,6 +24,7 @@ from swarmsim.limits import (
     MAX_COORDINATE,
     MAX_FPS,
     MAX_FRAME_SIDE,
+    MAX_GROUPS,
     MAX_REPS,
     MAX_ROBOTS,
     MAX_TICKS,
@@ -277,7 +278,8 @@ def _add_make_world_parser(sub: argparse._SubParsersAction) -> None:
                    help="trace the image's light shapes instead of its dark ones")
     p.add_argument("--robots", type=int, help="robot count (default: the lattice capacity at "
                    f"--d-cover / 0.7, as the shipped worlds; at most {MAX_ROBOTS:,})")
-    p.add_argument("--groups", type=int, help="groups (default: one per 200 robots, 1..10)")
+    p.add_argument("--groups", type=int, help="groups (default: one per 200 robots, 1..10; at "
+                   f"most {MAX_GROUPS}, as a run takes)")
     p.add_argument("--d-cover", type=float, default=6.0, dest="d_cover",
                    help="d_cover the robot count is sized for (default 6)")
     p.add_argument("--name", help="the world's name (default: the text, or the image's name)")

@@ -41,7 +41,7 @@ import numpy as np
 
 from swarmsim.actionvalues import BadAction, action_columns, action_problem, show
 from swarmsim.kernels.kernelcache import register_tree as stamp_kernels_by_code
-from swarmsim.limits import require_non_negative, require_positive
+from swarmsim.limits import MAX_GROUPS, require_non_negative, require_positive
 from swarmsim.registry import available_controllers, get_controller
 
 BASE_MESSAGE_FIELDS: list[tuple[str, str]] = [
@@ -463,7 +463,8 @@ class ControllerClass(Protocol):
     - ``LAYOUTS`` (every layout of :data:`swarmsim.world.layouts.LAYOUTS`: "random", "formation"):
       the start layouts it can start from, if not all; ``default_start`` is one of them.
     - ``default_start`` ("random"), ``requires_beacon`` (False), ``max_groups`` (None: it
-      forms no groups of its own),
+      forms no groups of its own; at most :data:`MAX_GROUPS`, every run's bound, which GGC
+      declares),
       ``probe_params`` (()), ``min_probe_range`` (0.0), ``warm_up()`` (compile kernels;
       a package of numba kernels calls ``stamp_kernels_by_code(its_folder)`` before it
       defines them, so that numba's cache survives edits of docstrings and comments).
@@ -495,7 +496,7 @@ class ControllerClass(Protocol):
     def sensing_range(cls, params: Any) -> float: ...
 
 
-__all__ = ["BASE_MESSAGE_FIELDS", "NO_SENDER", "Action", "ChunkActions", "Controller",
+__all__ = ["BASE_MESSAGE_FIELDS", "MAX_GROUPS", "NO_SENDER", "Action", "ChunkActions", "Controller",
            "ControllerClass", "DecideBatch", "FailingController", "FailingSwarm",
            "NeighbourBatch", "Perception", "RobotSetup", "Swarm", "available_controllers",
            "get_controller", "make_action", "make_perception", "message_dtype",

@@ -17,6 +17,15 @@ from swarmsim.errors import ConfigError
 
 MAX_ROBOTS = 50_000
 """Robots in one run: 5x the largest swarm measured (10,000 robots, docs/performance.md)."""
+MAX_GROUPS = 256
+"""Groups in one run (``groups``: run, a world's defaults, make-world's --groups): a group
+per 200 robots (the shipped K's 603 in 3, make-world's default) at MAX_ROBOTS is 250. Groups
+cost nothing per robot in formation starts; a scattered GGC start keeps 16 bytes per group in
+each robot's state and broadcasts 8, and its gathering robots read every group's entries of
+each neighbour every tick: memory and the first ticks' time grow with robots x groups
+(50,000 x 256: 307 MB of per-group values; measured: docs/input-checks.md)."""
+GROUPS_SIZE = "groups in one run"
+"""What :data:`MAX_GROUPS` bounds, as its refusals say it."""
 MAX_TICKS = 10_000_000
 """Ticks in one run: 100x the default limit."""
 MAX_RECORD_ROWS = 1_000_000

@@ -21,5 +21,7 @@ def outcome(sim: Simulation) -> tuple:
     swarm = sim.swarm
     state = (swarm.state.tobytes() if hasattr(swarm, "state")
              else pickle.dumps([vars(robot) for robot in swarm.robots]))
+    for values in getattr(swarm, "per_group", ()):  # GGC's per-group arrays
+        state += values.tobytes()
     return (sim.tick, untimed(result.summary), result.timeseries, result.robots,
             sim.positions.tobytes(), sim.messages.tobytes(), sim.asleep.tobytes(), state)

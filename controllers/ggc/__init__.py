@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from controllers.common.gradient import COLOURINGS
-from swarmsim.controller import RobotSetup, stamp_kernels_by_code
+from swarmsim.controller import MAX_GROUPS, RobotSetup, stamp_kernels_by_code
 
 # the driver (decide.py) is compiled with rules from every file here: its kernels are
 # stamped by the code of the whole package, before any of them is decorated
@@ -45,7 +45,7 @@ stamp_kernels_by_code(Path(__file__).parent, whole=True)
 
 from .params import GGCParams
 from .schema import SILENT
-from .state import MAX_GROUPS, message_fields
+from .state import message_fields
 from .statuses import SETTLED, STATUSES
 from .swarm import FAILURE_MODES, GGCSwarm, same_run_ruleset
 
@@ -63,7 +63,7 @@ class GGC:
     Params = GGCParams
     STATUSES = STATUSES
     SETTLED_STATUSES = SETTLED
-    MESSAGE_FIELDS = message_fields(MAX_GROUPS, scattered=True)
+    MESSAGE_FIELDS = message_fields(1, scattered=True)  # a run's: message_fields_for
     SILENT = SILENT
     COLOURINGS = COLOURINGS
     LEADER_FIELD = "leader"
@@ -73,6 +73,7 @@ class GGC:
     FAILURE_MODES = FAILURE_MODES
     default_start = "formation"
     max_groups = MAX_GROUPS
+    """Every run's bound (swarmsim/limits.py): GGC's per-group values are sized by the run."""
     requires_beacon = True
     probe_params = ("probe_distance", "boundary_probe")
     """Parameters that are floor-probe lengths (checked against the probe range)."""

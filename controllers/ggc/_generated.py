@@ -10,6 +10,7 @@ from numba import njit
 from .borrow import borrowed
 from .heard import Heard
 from .rules.common import View
+from .schema import PerGroup
 
 
 @njit(inline="always")
@@ -102,9 +103,34 @@ def point_view(view, heard, a, b):  # pragma: no cover - compiled
 
 
 @njit(inline="always")
-def copy_broadcast(me, msg):  # pragma: no cover - compiled
-    """Copy the broadcast fields of state row ``me`` into broadcast ``msg`` (cast to
-    the broadcast's types; moving: not here)."""
+def borrow_per_group(values):  # pragma: no cover - compiled
+    """``values`` (a PerGroup of the driver's arguments) with borrowed arrays."""
+    return PerGroup(
+        borrowed(values.ldist),
+        borrowed(values.lepoch),
+    )
+
+
+@njit(inline="always")
+def group_rows(values, i):  # pragma: no cover - compiled
+    """Robot ``i``'s rows of the PerGroup arrays ``values`` (views)."""
+    return PerGroup(
+        values.ldist[i],
+        values.lepoch[i],
+    )
+
+
+@njit(inline="always")
+def copy_group_rows(source, a, target, b):  # pragma: no cover - compiled
+    """Copy row ``a`` of the PerGroup arrays ``source`` into row ``b`` of ``target``."""
+    target.ldist[b, :] = source.ldist[a, :]
+    target.lepoch[b, :] = source.lepoch[a, :]
+
+
+@njit(inline="always")
+def copy_broadcast(me, mine, msg):  # pragma: no cover - compiled
+    """Copy the broadcast fields of state row ``me`` and per-group rows ``mine`` (a
+    PerGroup) into broadcast ``msg`` (cast to the broadcast's types; moving: not here)."""
     msg.id = me.id
     msg.group = me.group
     msg.leader = me.leader
@@ -121,9 +147,9 @@ def copy_broadcast(me, msg):  # pragma: no cover - compiled
     msg.handover = me.handover
     msg.quiet = me.quiet
     for g in range(msg.ldist.shape[0]):
-        msg.ldist[g] = me.ldist[g]
+        msg.ldist[g] = mine.ldist[g]
     for g in range(msg.lepoch.shape[0]):
-        msg.lepoch[g] = me.lepoch[g]
+        msg.lepoch[g] = mine.lepoch[g]
     msg.hole = me.hole
     msg.hole_x = me.hole_x
     msg.hole_y = me.hole_y

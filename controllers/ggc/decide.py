@@ -1,10 +1,11 @@
 """The compiled driver: one pass over a chunk's robots, each decided by its status's rule.
 
 :func:`decide_chunk` gives robot j of the chunk its own view (rows ``starts[j]:starts[j+1]``
-of the chunk's neighbour columns), its own sensors, its own probe slots and its own state
-row, and writes its action. A robot whose floor probe asked a question not answered yet is
-marked pending: the caller (swarm.py) answers the questions and decides it again from its
-row as it was (rules are deterministic, so the second pass asks the same questions first).
+of the chunk's neighbour columns), its own sensors, its own probe slots, its own state row
+and its own rows of the per-group arrays, and writes its action. A robot whose floor probe
+asked a question not answered yet is marked pending: the caller (swarm.py) answers the
+questions and decides it again from its rows as they were (rules are deterministic, so the
+second pass asks the same questions first).
 """
 
 from __future__ import annotations
@@ -18,7 +19,14 @@ import numba
 from numba import njit
 from numba.extending import overload
 
-from ._generated import borrow_heard, empty_view, point_view
+from ._generated import (
+    borrow_heard,
+    borrow_per_group,
+    copy_group_rows,
+    empty_view,
+    group_rows,
+    point_view,
+)
 from .borrow import borrowed
 from .params import GGCParams
 from .rules.aggregation import gather, select_leaders
@@ -74,15 +82,16 @@ aggregation rules (rules/aggregation.py; their cost: docs/reports/cold-build.md)
 driver only for runs that start scattered (a formation's robots never reach them)."""
 
 
-def decide_robot(view, me, sense, pb, P):  # pragma: no cover - compiled
+def decide_robot(view, me, mine, sense, pb, P):  # pragma: no cover - compiled
     """One robot's tick (its odometry already advanced): its status's rule, the scattered
-    start's leader selection and aggregation first. Compiled only, chosen by the type of
-    ``P`` when numba compiles the driver (:func:`_decide_robot`)."""
+    start's leader selection and aggregation first (``mine``: its per-group rows, a
+    schema.PerGroup). Compiled only, chosen by the type of ``P`` when numba compiles the
+    driver (:func:`_decide_robot`)."""
     raise NotImplementedError("compiled only (decide_chunk)")
 
 
 @overload(decide_robot)
-def _decide_robot(view, me, sense, pb, P):
+def _decide_robot(view, me, mine, sense, pb, P):
     """A formation start's robots are decided by their status's rule; a scattered start's
     (``P`` a ScatteredRuleParams) select leaders first and gather while aggregating. The
     implementation is the rule function's own Python code: numba compiles it once, inside
@@ -93,20 +102,21 @@ def _decide_robot(view, me, sense, pb, P):
 
 
 @njit(cache=True)
-def _scattered_rules(view, me, sense, pb, P):  # pragma: no cover - compiled
+def _scattered_rules(view, me, mine, sense, pb, P):  # pragma: no cover - compiled
     """A robot of the scattered start: leader selection first, then the aggregation rules
     (Approach, Pend, Join, Formed), then its status's rule."""
     if sense.tick < P.selection_ticks:
-        return select_leaders(view, me, sense, P)
+        return select_leaders(view, me, mine, sense, P)
     s = me.status
     if s == APPROACH or s == PEND or s == JOIN or s == FORMED:
-        return gather(view, me, sense, pb, P)
-    return status_rule(view, me, sense, pb, P)
+        return gather(view, me, mine, sense, pb, P)
+    return status_rule(view, me, mine, sense, pb, P)
 
 
 @njit(cache=True)
-def status_rule(view, me, sense, pb, P):  # pragma: no cover - compiled
-    """The rule of a robot's status, but the aggregation statuses' (see _scattered_rules)."""
+def status_rule(view, me, mine, sense, pb, P):  # pragma: no cover - compiled
+    """The rule of a robot's status, but the aggregation statuses' (see _scattered_rules;
+    they alone read the per-group rows ``mine``)."""
     s = me.status
     if s == COVERAGE:
         return coverage(view, me, sense, pb, P)
@@ -137,10 +147,12 @@ def listen_range(status, P):  # pragma: no cover - compiled
     return P.d_safe  # Arrive, Surplus
 
 
-Chunk = namedtuple("Chunk", ["todo", "rows", "state", "saved", "again"])
+Chunk = namedtuple("Chunk", ["todo", "rows", "state", "saved", "again", "per_group",
+                             "saved_groups"])
 """Which robots a pass decides: indices j into the chunk (``todo``); robot j's state row is
 ``state[rows[j]]``, kept in ``saved[j]`` before its decision (put back first when
-``again``)."""
+``again``); its per-group rows are row ``rows[j]`` of the arrays ``per_group`` (a
+schema.PerGroup), kept in row j of ``saved_groups``'s in a scattered start."""
 Sensors = namedtuple("Sensors", ["tick", "on_target", "moved", "beacons", "has_beacon"])
 """The chunk's robots' own sensors, row j robot j's: the tick, floor sensor (n,),
 displacement over the last tick (n, 2), unit bearing to the beacon (n, 2), if the world has
@@ -164,6 +176,8 @@ def decide_chunk(chunk, heard, sensors, probes, P, actions):  # pragma: no cover
     req, ans = borrowed(probes.req), borrowed(probes.ans)
     calls, pending = borrowed(probes.calls), borrowed(probes.pending)
     state, saved, rows, again = chunk.state, chunk.saved, chunk.rows, chunk.again
+    per_group = borrow_per_group(chunk.per_group)
+    saved_groups = borrow_per_group(chunk.saved_groups)
     tick, on_target, moved = sensors.tick, sensors.on_target, sensors.moved
     has_beacon, beacons = sensors.has_beacon, sensors.beacons
     velocity, sleep, listen = actions.velocity, actions.sleep, actions.listen
@@ -175,8 +189,12 @@ def decide_chunk(chunk, heard, sensors, probes, P, actions):  # pragma: no cover
         i = rows[j]
         if again:
             state[i] = saved[j]
+            if P.scattered:
+                copy_group_rows(saved_groups, j, per_group, i)
         else:
             saved[j] = state[i]
+            if P.scattered:
+                copy_group_rows(per_group, i, saved_groups, j)
         # the view is one struct, pointed at robot j's rows (each rule call passes a pointer)
         point_view(view, heard, starts[j], starts[j + 1])
         sense = Sense(tick=tick, on_target=on_target[j], moved_x=moved[j, 0],
@@ -188,7 +206,8 @@ def decide_chunk(chunk, heard, sensors, probes, P, actions):  # pragma: no cover
         me = state[i]
         me.odo_x += sense.moved_x
         me.odo_y += sense.moved_y
-        vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, sense, pb, P)
+        mine = group_rows(per_group, i)
+        vx, vy, asleep, wake, on_motion, until = decide_robot(view, me, mine, sense, pb, P)
         velocity[j, 0], velocity[j, 1] = vx, vy
         sleep[j], wake_range[j], wake_on_motion[j], wake_tick[j] = asleep, wake, on_motion, until
         listen[j] = listen_range(me.status, P)

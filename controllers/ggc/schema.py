@@ -1,8 +1,9 @@
 """GGC's data, declared once: one row per datum of a robot's state and of its broadcast.
 
-A :class:`Datum` names one value everywhere: the field of a robot's state row (``me.NAME``),
-of its broadcast (when it is broadcast) and of a rule's view of its neighbours
-(``view.NAME[r]``). From :data:`DATA` come the state's dtype (state.py), the broadcast's
+A :class:`Datum` names one value everywhere: the field of a robot's state row (``me.NAME``;
+a per-group datum: of its per-group rows, ``mine.NAME[g]``), of its broadcast (when it is
+broadcast) and of a rule's view of its neighbours (``view.NAME[r]``). From :data:`DATA` come
+the state's dtype (state.py), the per-group arrays (:data:`PER_GROUP`), the broadcast's
 fields (:func:`message_fields`, :data:`BROADCAST_NAMES`), the view's fields
 (:data:`VIEW_FIELDS`, rules/common.py) and the compiled code that copies them by name
 (_generated.py: the broadcast fill, the driver's view of a robot's neighbours). numba sets
@@ -19,14 +20,13 @@ Adding a broadcast field is one row here (``broadcast`` set) plus its use in a r
 from __future__ import annotations
 
 import sys
+from collections import namedtuple
 from dataclasses import dataclass
 from pathlib import Path
 
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import BASE_MESSAGE_FIELDS, NO_SENDER
 
-MAX_GROUPS = 16
-"""Largest number of groups a run may have (the per-group fields' size)."""
 NO_WAY_SLOTS = 8
 """How many arrived robots a mover remembers having found no way in beside."""
 BAN_SLOTS = 4
@@ -51,8 +51,10 @@ class Datum:
         broadcast: numpy dtype of the broadcast field (the state's value cast to it), None
             when the robot keeps it to itself, :data:`BASE` for the engine's base fields.
         shape: entries of an array field (0: a scalar).
-        per_group: one entry per group: :data:`MAX_GROUPS` in the state; in a broadcast, one
-            per group of a run that starts scattered, else none (formations never read them).
+        per_group: one entry per group of a run that starts scattered, else none (formations
+            never read them): not in the state row but in a (robots, groups) array beside it
+            (:data:`PerGroup`), so that neither a row's size nor its numba type depends on
+            the run's groups (one compiled driver for any count); in a broadcast, as many.
         initial: a new row's value (state.new_state sets the values a robot's setup decides).
         silent: what a neighbour that is not heard reads as, if not zero.
     """
@@ -67,9 +69,10 @@ class Datum:
     silent: int | None = None
 
     def state_field(self) -> tuple:
-        """The field in the state's dtype."""
-        size = MAX_GROUPS if self.per_group else self.shape
-        return (self.name, self.state, (size,)) if size else (self.name, self.state)
+        """The field in the state's dtype (not for a per-group datum: :data:`PerGroup`)."""
+        if self.per_group:
+            raise ValueError(f"{self.name} is per group: not a field of the state row")
+        return (self.name, self.state, (self.shape,)) if self.shape else (self.name, self.state)
 
     def broadcast_field(self, groups: int, scattered: bool) -> tuple:
         """The field in the broadcast dtype of a run with ``groups`` groups."""
@@ -172,8 +175,13 @@ DATA: tuple[Datum, ...] = (
 """Every datum of a GGC robot, in the state's order (broadcast fields in the same order)."""
 del D
 
-STATE_FIELDS: list[tuple] = [datum.state_field() for datum in DATA]
-"""The state's dtype spec (state.STATE_DTYPE)."""
+STATE_FIELDS: list[tuple] = [datum.state_field() for datum in DATA if not datum.per_group]
+"""The state's dtype spec (state.STATE_DTYPE): every datum but the per-group ones."""
+PER_GROUP: tuple[Datum, ...] = tuple(d for d in DATA if d.per_group)
+"""The per-group data, in DATA's order (one (robots, groups) array each, state.py)."""
+PerGroup = namedtuple("PerGroup", [d.name for d in PER_GROUP])
+"""Per-group values by name (:data:`PER_GROUP`): the run's (robots, groups) arrays, or one
+robot's rows of them (``mine`` in the rules: ``mine.ldist[g]``)."""
 BROADCAST: tuple[Datum, ...] = tuple(d for d in DATA if d.broadcast not in (None, BASE))
 """GGC's own broadcast fields (after the engine's base fields)."""
 BASE_NAMES = tuple(name for name, _ in BASE_MESSAGE_FIELDS)
@@ -224,6 +232,7 @@ def generated_source() -> str:
         "from .borrow import borrowed",
         "from .heard import Heard",
         "from .rules.common import View",
+        "from .schema import PerGroup",
         "",
         "",
         '@njit(inline="always")',
@@ -249,14 +258,37 @@ def generated_source() -> str:
         "",
         "",
         '@njit(inline="always")',
-        "def copy_broadcast(me, msg):  # pragma: no cover - compiled",
-        '    """Copy the broadcast fields of state row ``me`` into broadcast ``msg`` (cast to',
-        "    the broadcast's types; " + ", ".join(_missing_base()) + ': not here)."""',
+        "def borrow_per_group(values):  # pragma: no cover - compiled",
+        '    """``values`` (a PerGroup of the driver\'s arguments) with borrowed arrays."""',
+        "    return PerGroup(",
+        *(f"        borrowed(values.{d.name})," for d in PER_GROUP),
+        "    )",
+        "",
+        "",
+        '@njit(inline="always")',
+        "def group_rows(values, i):  # pragma: no cover - compiled",
+        '    """Robot ``i``\'s rows of the PerGroup arrays ``values`` (views)."""',
+        "    return PerGroup(",
+        *(f"        values.{d.name}[i]," for d in PER_GROUP),
+        "    )",
+        "",
+        "",
+        '@njit(inline="always")',
+        "def copy_group_rows(source, a, target, b):  # pragma: no cover - compiled",
+        '    """Copy row ``a`` of the PerGroup arrays ``source`` into row ``b`` of ``target``."""',
+        *(f"    target.{d.name}[b, :] = source.{d.name}[a, :]" for d in PER_GROUP),
+        "",
+        "",
+        '@njit(inline="always")',
+        "def copy_broadcast(me, mine, msg):  # pragma: no cover - compiled",
+        '    """Copy the broadcast fields of state row ``me`` and per-group rows ``mine`` (a',
+        "    PerGroup) into broadcast ``msg`` (cast to the broadcast's types; "
+        + ", ".join(_missing_base()) + ': not here)."""',
     ]
     for d in copied:
         if d.per_group:
             lines += [f"    for g in range(msg.{d.name}.shape[0]):",
-                      f"        msg.{d.name}[g] = me.{d.name}[g]"]
+                      f"        msg.{d.name}[g] = mine.{d.name}[g]"]
         else:
             lines.append(f"    msg.{d.name} = me.{d.name}")
     return "\n".join(lines) + "\n"

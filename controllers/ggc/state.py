@@ -1,7 +1,9 @@
-"""All robots' GGC state: one structured array, one row per robot (its own memory only).
+"""All robots' GGC state: one structured array, one row per robot (its own memory only), and
+beside it the per-group values (schema.PER_GROUP), one (robots, groups) array each.
 
-The rules (rules/) read and write one row at a time, as a numba record (``me``); the
-controller (swarm.py) owns the array. A row's broadcast is a function of the row
+The rules (rules/) read and write one row at a time, as a numba record (``me``), and the
+robot's rows of the per-group arrays (``mine``, a schema.PerGroup); the controller
+(swarm.py) owns the arrays. A robot's broadcast is a function of its rows
 (:func:`broadcast_rows`).
 """
 
@@ -15,15 +17,15 @@ from numba import njit
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import RobotSetup
 
-from ._generated import copy_broadcast
-from .schema import BROADCAST_NAMES, DATA, MAX_GROUPS, STATE_FIELDS, message_fields
+from ._generated import copy_broadcast, group_rows
+from .schema import BROADCAST_NAMES, DATA, PER_GROUP, STATE_FIELDS, PerGroup, message_fields
 from .statuses import APPROACH, FORMED, INITIAL, MOVING_STATUSES
 
 STATE_DTYPE = np.dtype(STATE_FIELDS)
 """One robot's state (schema.DATA: each field's meaning and units)."""
 
-__all__ = ["BROADCAST_NAMES", "MAX_GROUPS", "STATE_DTYPE", "broadcast_rows", "message_fields",
-           "new_state"]
+__all__ = ["BROADCAST_NAMES", "STATE_DTYPE", "PerGroup", "broadcast_rows", "message_fields",
+           "new_per_group", "new_state"]
 
 
 def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
@@ -33,7 +35,7 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
     n = len(setups)
     s = np.zeros(n, dtype=STATE_DTYPE)
     for datum in DATA:
-        if datum.initial:
+        if datum.initial and not datum.per_group:
             s[datum.name] = datum.initial
     s["id"] = [u.robot_id for u in setups]
     s["group"] = [u.group for u in setups]
@@ -46,30 +48,48 @@ def new_state(setups: Sequence[RobotSetup], orbit: int, h_max: int,
     s["gradient_low"] = s["gradient"]
     s["sense"] = float(orbit)
     s["h"] = np.where(leader, h_max, 0)
-    for i in np.flatnonzero(leader):
-        s["ldist"][i, s["group"][i] - 1] = 0.0
     s["rng"] = [int(rng.integers(1, 2**63)) for rng in rngs]
     return s
 
 
-def broadcast_rows(state: np.ndarray, rows: np.ndarray, dtype: np.dtype) -> np.ndarray:
+def new_per_group(setups: Sequence[RobotSetup]) -> PerGroup:
+    """The run's robots' first per-group rows (schema.PER_GROUP, each datum's ``initial``
+    value; a leader is at distance 0 from its own group's leader): (robots, groups) arrays
+    in a run that starts scattered, (robots, 0) in a formation start (whose rules never read
+    them). Their size follows the run's groups; their numba type does not."""
+    n = len(setups)
+    groups = setups[0].groups if setups and setups[0].scattered else 0
+    values = PerGroup(*(np.full((n, groups), d.initial, dtype=d.state) for d in PER_GROUP))
+    if groups:
+        for i, u in enumerate(setups):
+            if u.leader:
+                values.ldist[i, u.group - 1] = 0.0
+    return values
+
+
+def broadcast_rows(state: np.ndarray, per_group: PerGroup, rows: np.ndarray,
+                   dtype: np.dtype) -> np.ndarray:
     """The broadcasts (in the run's message ``dtype``: :data:`BROADCAST_NAMES`, with the
-    ldist and lepoch entries :func:`message_fields` gives) of the robots at ``rows``, in one
-    compiled pass (the values of numpy's field-by-field gather, to the bit: the same casts
-    to the message's types)."""
+    ldist and lepoch entries :func:`message_fields` gives, from ``per_group``'s arrays) of
+    the robots at ``rows``, in one compiled pass (the values of numpy's field-by-field
+    gather, to the bit: the same casts to the message's types)."""
     if dtype.names != BROADCAST_NAMES:
         raise ValueError(f"GGC broadcasts have the fields {BROADCAST_NAMES}, not {dtype.names}")
+    groups = dtype[PER_GROUP[0].name].shape[0]
+    if any(a.shape[1] < groups for a in per_group):
+        raise ValueError(f"the message dtype holds {groups} groups, the per-group arrays "
+                         f"{per_group[0].shape[1]}")
     out = np.empty(len(rows), dtype=dtype)
-    _fill_broadcasts(state, np.ascontiguousarray(rows, dtype=np.int64), out)
+    _fill_broadcasts(state, per_group, np.ascontiguousarray(rows, dtype=np.int64), out)
     return out
 
 
 @njit(cache=True)
-def _fill_broadcasts(state, rows, out):  # pragma: no cover - compiled
+def _fill_broadcasts(state, per_group, rows, out):  # pragma: no cover - compiled
     for k in range(rows.shape[0]):
-        me, msg = state[rows[k]], out[k]
+        me, mine, msg = state[rows[k]], group_rows(per_group, rows[k]), out[k]
         moving = False
         for code in MOVING_STATUSES:
             moving = moving or me.status == code
         msg.moving = moving
-        copy_broadcast(me, msg)
+        copy_broadcast(me, mine, msg)

@@ -1,4 +1,5 @@
-"""A run's GGC robots: their state rows (state.py) and the chunk driver's Python side.
+"""A run's GGC robots: their state rows and per-group arrays (state.py) and the chunk
+driver's Python side.
 
 :meth:`GGCSwarm.decide` gathers a chunk's neighbour columns and runs the compiled driver
 (decide.py) on the chunk's state rows, in place; it answers the floor-probe questions the
@@ -43,8 +44,8 @@ from .params import GGCParams
 from .rules.common import MAX_PROBES
 from .rules.gradient import lose_gradient
 from .rules.rulesets import ANY_GROUPS, BETWEEN_GROUPS, FLAG_SCOPE, HOLES, RULESETS, SURPLUS
-from .schema import BROADCAST_NAMES
-from .state import broadcast_rows, message_fields, new_state
+from .schema import BROADCAST_NAMES, PerGroup
+from .state import broadcast_rows, message_fields, new_per_group, new_state
 from .statuses import FORMED, STATUSES
 
 FAILURE_MODES = {
@@ -145,8 +146,9 @@ def same_run_ruleset(params: GGCParams, groups: int) -> str:
 
 
 class GGCSwarm:
-    """The run's GGC robots: ``state`` (one row per robot, the robot's index) and the rules'
-    parameters."""
+    """The run's GGC robots: ``state`` (one row per robot, the robot's index), beside it
+    ``per_group`` (a schema.PerGroup of (robots, groups) arrays, row i robot i's; no columns
+    unless the robots start scattered) and the rules' parameters."""
 
     def __init__(self, setups: Sequence[RobotSetup], params: GGCParams,
                  rngs: Sequence[np.random.Generator]):
@@ -156,17 +158,19 @@ class GGCSwarm:
         body = setups[0] if setups else RobotSetup(0)
         self.rules = rule_params(params, groups, scattered, body.turn_rate, body.reverse)
         self.state = new_state(setups, params.orbit, params.h_max, rngs)
+        self.per_group = new_per_group(setups)
         # scattered start only: per robot, the first tick it had a group / was Formed (-1 =
         # not yet), for the summary's grouping and aggregation figures (GatherTicks)
         self.gather = GatherTicks.new(len(self.state)) if scattered else None
         # the driver's saved rows, reused by every chunk (a chunk has at most one row per
         # robot; the driver writes a row there before it reads it back)
         self._saved = np.empty(len(self.state), dtype=self.state.dtype)
+        self._saved_groups = _scratch(self.per_group)
         self._driver_types: tuple | None = None  # argument_types of _driver_fn's chunks
         self._driver_fn: Callable[..., None] = decide_chunk
         # the broadcasts' kernel is typed by the run's message dtype (message_fields):
         # compiled or loaded now, before the run's clock starts
-        broadcast_rows(self.state, np.zeros(0, dtype=np.int64),
+        broadcast_rows(self.state, self.per_group, np.zeros(0, dtype=np.int64),
                        message_dtype(message_fields(groups, scattered)))
         open_probes(np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.int64),
                     np.zeros((0, MAX_PROBES), dtype=np.int8), np.zeros((0, MAX_PROBES, 2)))
@@ -198,7 +202,8 @@ class GGCSwarm:
         has_beacon = batch.beacons is not None
         return ChunkArgs(
             chunk=Chunk(todo=np.arange(n), rows=robots, state=self.state,
-                        saved=self._saved[:n], again=False),
+                        saved=self._saved[:n], again=False, per_group=self.per_group,
+                        saved_groups=self._saved_groups),
             heard=heard,
             sensors=Sensors(
                 tick=int(batch.tick), on_target=np.ascontiguousarray(batch.on_target, dtype=bool),
@@ -230,7 +235,8 @@ class GGCSwarm:
                 self._answer(batch, chunk.todo, probes)
         if self.gather is not None:
             self.gather.mark(self.state, robots, int(batch.tick))
-        broadcast = broadcast_rows(self.state, robots, batch.neighbours.messages.dtype)
+        broadcast = broadcast_rows(self.state, self.per_group, robots,
+                                   batch.neighbours.messages.dtype)
         return ChunkActions.columns(
             velocities=actions.velocity, listen=actions.listen, broadcast=broadcast,
             sleep=actions.sleep, wake_range=actions.wake_range,
@@ -251,12 +257,13 @@ class GGCSwarm:
         without the driver's saved rows (scratch: a chunk writes each row before it reads
         it back, within one :meth:`decide`), which are made again."""
         state = {**self.__dict__, "_driver_types": None, "_driver_fn": decide_chunk}
-        del state["_saved"]
+        del state["_saved"], state["_saved_groups"]
         return state
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
         self._saved = np.empty(len(self.state), dtype=self.state.dtype)
+        self._saved_groups = _scratch(self.per_group)
 
     @staticmethod
     def _answer(batch: DecideBatch, todo: np.ndarray, probes: Probes) -> None:
@@ -333,6 +340,11 @@ class GatherTicks:
                 else None,
                 "formed_robots": len(was),
                 "formed_tick": int(was.max()) if len(was) else None}
+
+
+def _scratch(per_group: PerGroup) -> PerGroup:
+    """Uninitialised arrays of ``per_group``'s shapes and types (the driver's saved rows)."""
+    return PerGroup(*(np.empty_like(a) for a in per_group))
 
 
 def argument_types(a: ChunkArgs, batch: DecideBatch) -> tuple:

@@ -22,7 +22,15 @@ from typing import Any
 
 from swarmsim import limits
 from swarmsim.errors import ConfigError, unknown_name
-from swarmsim.limits import MAX_GRID_SIZE, MAX_RECORD_ROWS, MAX_ROBOTS, MAX_TICKS, at_most
+from swarmsim.limits import (
+    GROUPS_SIZE,
+    MAX_GRID_SIZE,
+    MAX_GROUPS,
+    MAX_RECORD_ROWS,
+    MAX_ROBOTS,
+    MAX_TICKS,
+    at_most,
+)
 from swarmsim.physics.physics import PhysicsConfig
 from swarmsim.robots.imperfections import NoiseLevels
 
@@ -108,7 +116,7 @@ class SimConfig:
 
     robots: int = field(default=100, metadata=at_most(MAX_ROBOTS,
                                                            "robots in one run"))
-    groups: int = field(default=1, metadata=at_most(MAX_ROBOTS))
+    groups: int = field(default=1, metadata=at_most(MAX_GROUPS, GROUPS_SIZE))
     seed: int = 0
     max_ticks: int = field(default=100_000, metadata=at_most(MAX_TICKS, "ticks in one run"))
     start: str = ""

@@ -26,7 +26,7 @@ from shapely.geometry.base import BaseGeometry
 from shapely.ops import polylabel
 
 from swarmsim.errors import ConfigError
-from swarmsim.limits import MAX_COORDINATE, MAX_ROBOTS, check_count
+from swarmsim.limits import GROUPS_SIZE, MAX_COORDINATE, MAX_GROUPS, MAX_ROBOTS, check_count
 from swarmsim.world.world import World, world_from_dict
 from swarmsim.world.worldinfo import describe_world, fine_grid_size, hex_capacity, layout_rng
 
@@ -72,9 +72,10 @@ class WorldSpec:
         if not (math.isfinite(self.d_cover) and self.d_cover > 0):
             raise ConfigError(f"must be positive and finite, got {self.d_cover!r}",
                               key="--d-cover")
-        for key, value in (("--robots", self.robots), ("--groups", self.groups)):
-            if value is not None:
-                check_count(key, value, MAX_ROBOTS, "robots in one run")
+        if self.robots is not None:
+            check_count("--robots", self.robots, MAX_ROBOTS, "robots in one run")
+        if self.groups is not None:
+            check_count("--groups", self.groups, MAX_GROUPS, GROUPS_SIZE)
         if self.robots and self.groups and self.groups > self.robots:
             raise ConfigError(f"{self.groups} groups need at least as many robots (robots = "
                               f"{self.robots})", key="--groups")

@@ -41,7 +41,15 @@ from shapely.geometry import Polygon
 from shapely.validation import explain_validity
 
 from swarmsim.errors import ConfigError, unknown_name
-from swarmsim.limits import MAX_COORDINATE, MAX_GRID_SIZE, MAX_ROBOTS, MAX_TICKS, check_at_most
+from swarmsim.limits import (
+    GROUPS_SIZE,
+    MAX_COORDINATE,
+    MAX_GRID_SIZE,
+    MAX_GROUPS,
+    MAX_ROBOTS,
+    MAX_TICKS,
+    check_at_most,
+)
 from swarmsim.robots.drives import DRIVE_NAMES
 from swarmsim.tomlfile import read_toml
 
@@ -52,7 +60,7 @@ TOP_LEVEL_KEYS = {"name", "description", "target", "spawn", "obstacles", "beacon
 DEFAULT_KEYS = {"robots": int, "groups": int, "d_cover": float, "controller": str,
                 "max_ticks": int, "start": str, "drive": str, "grid_size": int}
 DEFAULT_BOUNDS = {"robots": (MAX_ROBOTS, "robots in one run"),
-                  "groups": (MAX_ROBOTS, "robots in one run"),
+                  "groups": (MAX_GROUPS, GROUPS_SIZE),
                   "max_ticks": (MAX_TICKS, "ticks in one run"),
                   "grid_size": (MAX_GRID_SIZE, "a coverage raster of grid_size^2 cells")}
 REPO_WORLDS_DIR = Path(__file__).resolve().parents[2] / "worlds"

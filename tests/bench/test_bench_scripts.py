@@ -1,5 +1,6 @@
 """The benches the issues' figures come from still run: bench_floor.py (a run's tick against
-pymunk's bare step) and bench_tick.py (the phases of a tick), on a tiny world."""
+pymunk's bare step), bench_tick.py (the phases of a tick) and bench_groups.py (a run's cost by
+groups), on a tiny world."""
 
 from __future__ import annotations
 
@@ -35,3 +36,13 @@ def test_bench_tick_measures_every_phase():
     r = tick.measure(40, "ggc", warmup=2, ticks=3, repeats=1)
     assert {"sense", "decide", "physics", "metrics", "tick", "bare_step"} <= set(r)
     assert r["tick"] > 0 and r["bare_step"] > 0 and r["awake"] > 0
+
+
+def test_bench_groups_prints_a_row_per_start_and_group_count():
+    groups = load("bench_groups")
+    row = groups.one("tiny", 3, "random", ticks=2).split()
+    assert row[:2] == ["random", "3"] and len(row) == 8
+    build, ms, _state_mb, _groups_mb, message_bytes, peak = map(float, row[2:])
+    assert build >= 0 and ms >= 0 and peak > 0  # times print rounded: a tiny run may be 0
+    assert message_bytes == 44 + 3 * 8  # the scattered start's per-group values, 8 bytes each
+    assert groups.one("tiny", 3, "formation", ticks=2).split()[6] == "44"

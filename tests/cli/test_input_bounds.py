@@ -17,6 +17,7 @@ from swarmsim.limits import (
     MAX_COORDINATE,
     MAX_FRAME_SIDE,
     MAX_GRID_SIZE,
+    MAX_GROUPS,
     MAX_ROBOTS,
     MAX_TICKS,
     field_bounds,
@@ -122,6 +123,39 @@ def test_the_bounds_admit_the_shipped_runs():
                      grid_size=MAX_GRID_SIZE).robots == MAX_ROBOTS
     Simulation.check("K")
     Simulation.check("K-large")
+
+
+def test_make_world_a_world_file_and_run_refuse_groups_past_one_bound(tmp_path, capsys,
+                                                                    nothing_built):
+    """make-world's --groups, a world file's groups and run's --groups: one bound
+    (MAX_GROUPS), refused in the same words naming the key and the value."""
+    over = MAX_GROUPS + 1
+    said = f"must be at most {MAX_GROUPS:,} (groups in one run), got {over}"
+    world = tmp_path / "many.toml"
+    world.write_text('name = "many"\n[target]\noutline = [[0, 0], [9, 0], [9, 9], [0, 9]]\n'
+                     '[[spawn]]\noutline = [[0, -30], [9, -30], [9, -20], [0, -20]]\n'
+                     f'[defaults]\nrobots = {over}\ngroups = {over}\n')
+    for argv, key in [
+        (["make-world", "--text", "K", "--groups", str(over), "--out", str(tmp_path / "w.toml")],
+         "--groups"),
+        (["run", "K", "--robots", str(over), "--groups", str(over)], "groups"),
+        (["run", str(world)], "defaults.groups"),
+    ]:
+        assert main(argv) == 2
+        err = one_error_line(capsys)
+        assert f"key '{key}': {said}" in err, err
+
+
+def test_a_world_make_world_writes_with_twenty_groups_is_one_run_takes(tmp_path, capsys):
+    """More groups than the 16 GGC once took: make-world writes the world, and a run of it
+    (formations, or the scattered start) passes every check a run makes before its start."""
+    path = tmp_path / "k20.toml"
+    assert main(["make-world", "--text", "K", "--robots", "400", "--groups", "20",
+                 "--out", str(path)]) == 0
+    assert "400 robots, 20 group(s)" in capsys.readouterr().out
+    for start in ("formation", "random"):
+        config, _ = Simulation.check(str(path), settings={"start": start})
+        assert (config.robots, config.groups) == (400, 20)
 
 
 def test_make_world_takes_the_largest_size_it_suggests(tmp_path, capsys):

@@ -19,6 +19,7 @@ from swarmsim import Simulation
 from swarmsim.engine import checkpoint
 from swarmsim.engine.hooks import Hook
 from swarmsim.errors import ConfigError
+from swarmsim.world.world import world_from_dict
 from tests.run_outcome import outcome as _outcome
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -65,6 +66,27 @@ def test_a_run_without_physics_sleep_restores_too(tmp_path):
         sim.advance()
     sim.save(path)
     assert _outcome(Simulation.restore(path)) == _outcome(sim)
+
+
+def test_a_scattered_start_of_twenty_groups_restores_mid_gathering(tmp_path):
+    """GGC's per-group arrays (one column per group, beside the state rows) are saved and
+    restored: a scattered start of 20 groups saved while its robots gather."""
+    world = world_from_dict({
+        "name": "band", "target": {"outline": [[0, 0], [60, 0], [60, 20], [0, 20]]},
+        "spawn": [{"outline": [[-20, -30], [80, -30], [80, -12], [-20, -12]]}],
+        "beacon": {"position": [30, 10]}})
+    sim = Simulation(world, controller="ggc", robots=200, groups=20, seed=1, max_ticks=450,
+                     settings={"start": "random"})
+    for _ in range(300):
+        sim.advance()
+    path = tmp_path / "run.ckpt"
+    sim.save(path)
+    rest = Simulation.restore(path)
+    saved = [a.copy() for a in sim.swarm.per_group]
+    assert rest.swarm.per_group.ldist.shape == (200, 20)
+    assert all(np.array_equal(a, b) for a, b in zip(rest.swarm.per_group, saved, strict=True))
+    assert _outcome(rest) == _outcome(sim)
+    assert not np.array_equal(rest.swarm.per_group.lepoch, saved[1])  # they went on changing
 
 
 _RESTORE_ELSEWHERE = """

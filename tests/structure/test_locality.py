@@ -214,6 +214,7 @@ def test_message_fields_are_optional():
 
 RULE_PARAMETERS = {
     "view", "me", "sense", "pb", "P",  # my neighbours, my state row, my sensors, my probe
+    "mine",  # my per-group values (my rows of them, beside my state row)
     "nearest", "a", "b", "r", "reach", "status", "whole", "sender", "waiting", "max_gap",
     "side", "grad", "stuck_now",  # rows, numbers, codes, flags
     "ox", "oy", "d", "x", "y", "vx", "vy", "length", "before", "after", "angles", "count",

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ..schema import FAR
@@ -38,47 +39,52 @@ def gathering(status):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def update_fields(view, me, sense, P):  # pragma: no cover - compiled
+def update_fields(view, me, mine, sense, P):  # pragma: no cover - compiled
     """One Bellman-Ford step of every leader's distance field (newest epoch wins)."""
     source = me.leader and me.handover == NO  # handing over: no longer a source
-    mine = me.group - 1
+    own_group = me.group - 1
     if source:
         if sense.tick % P.T_settle == 0:
-            me.lepoch[mine] += 1  # refresh: the field follows the leader's moves
-        me.ldist[mine] = 0.0
+            mine.lepoch[own_group] += 1  # refresh: the field follows the leader's moves
+        mine.ldist[own_group] = 0.0
     heard = False
     for r in range(len(view.dist)):
         heard |= view.id[r] != NO
     if not heard:
         return
+    # per group: the newest epoch heard, and the shortest path through a neighbour that
+    # broadcast it; neighbour by neighbour (each one's entries lie side by side in its row)
+    newest = np.full(P.groups, -1, dtype=np.int64)
+    best = np.full(P.groups, FAR)
+    for r in range(len(view.dist)):
+        if view.id[r] == NO:
+            continue
+        for g in range(P.groups):
+            epoch = view.lepoch[r, g]
+            if epoch > newest[g]:
+                newest[g], best[g] = epoch, FAR
+            if epoch == newest[g]:
+                best[g] = min(best[g], float(view.ldist[r, g]) + view.dist[r])
     for g in range(P.groups):
-        newest = -1
-        for r in range(len(view.dist)):
-            if view.id[r] != NO and view.lepoch[r, g] > newest:
-                newest = view.lepoch[r, g]
-        best = FAR
-        for r in range(len(view.dist)):
-            if view.id[r] != NO and view.lepoch[r, g] == newest:
-                best = min(best, float(view.ldist[r, g]) + view.dist[r])
-        newer = newest > me.lepoch[g]
-        fresh = best if newer else min(me.ldist[g], best)
-        if source and g == mine:
+        newer = newest[g] > mine.lepoch[g]
+        fresh = best[g] if newer else min(mine.ldist[g], best[g])
+        if source and g == own_group:
             fresh, newer = 0.0, False
-        me.ldist[g] = min(fresh, FAR)
+        mine.ldist[g] = min(fresh, FAR)
         if newer:
-            me.lepoch[g] = newest
+            mine.lepoch[g] = newest[g]
 
 
 @njit(cache=True)
-def take_over(view, me):  # pragma: no cover - compiled
+def take_over(view, me, mine):  # pragma: no cover - compiled
     """A leader handed over to me: I lead its group (and seed its formation)."""
     for r in range(len(view.dist)):
         if view.handover[r] == me.id and view.id[r] != NO:
             me.leader, me.group, me.h = True, view.group[r], view.h[r]
             set_status(me, FORMED)
             k = me.group - 1
-            me.lepoch[k] = view.lepoch[r, k] + 1
-            me.ldist[k] = 0.0
+            mine.lepoch[k] = view.lepoch[r, k] + 1
+            mine.ldist[k] = 0.0
             return
 
 
@@ -97,15 +103,15 @@ def settle_handover(view, me, sense):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def hand_over(view, me, sense, P):  # pragma: no cover - compiled
+def hand_over(view, me, mine, sense, P):  # pragma: no cover - compiled
     """Equation 2: hand over to the neighbour farther from the other leaders, if any."""
     mine_group = me.group - 1
-    mine = 0.0
+    spread = 0.0
     for g in range(P.groups):
         if g != mine_group:
-            mine += me.ldist[g]
+            spread += mine.ldist[g]
     me.h -= 1
-    if P.groups == 1 or mine >= FAR:
+    if P.groups == 1 or spread >= FAR:
         return
     best, best_score = -1, -1.0
     for r in range(len(view.dist)):
@@ -118,21 +124,21 @@ def hand_over(view, me, sense, P):  # pragma: no cover - compiled
                 score += float(view.ldist[r, g])
         if score > best_score:
             best, best_score = r, score
-    if best >= 0 and mine < best_score < FAR:
+    if best >= 0 and spread < best_score < FAR:
         me.handover = view.id[best]
         me.handover_tick = sense.tick
 
 
 @njit(cache=True)
-def select_leaders(view, me, sense, P):  # pragma: no cover - compiled
+def select_leaders(view, me, mine, sense, P):  # pragma: no cover - compiled
     """Algorithm 3, one tick."""
-    update_fields(view, me, sense, P)
+    update_fields(view, me, mine, sense, P)
     if not me.leader:
-        take_over(view, me)
+        take_over(view, me, mine)
     elif me.handover != NO:
         settle_handover(view, me, sense)
     elif me.h > 0 and sense.tick % P.T_settle == P.T_settle - 1:
-        hand_over(view, me, sense, P)
+        hand_over(view, me, mine, sense, P)
     return still()
 
 
@@ -142,20 +148,20 @@ def own(view, me, r, status):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def must_pend(view, me, vx, vy, P):  # pragma: no cover - compiled
+def must_pend(view, me, mine, vx, vy, P):  # pragma: no cover - compiled
     """A gathering robot of my group nearer the leader (by the field: a strict order) close
     ahead of my way (vx, vy)."""
     k = me.group - 1
     for r in range(within(view.dist, 1.2 * P.d_min)):
         if (view.group[r] == me.group and gathering(view.status[r])
-                and view.ldist[r, k] < me.ldist[k]
+                and view.ldist[r, k] < mine.ldist[k]
                 and view.off[r, 0] * vx + view.off[r, 1] * vy > 0.5 * P.v * view.dist[r]):
             return True
     return False
 
 
 @njit(cache=True)
-def toward_leader(view, me, P):  # pragma: no cover - compiled
+def toward_leader(view, me, mine, P):  # pragma: no cover - compiled
     """Down my group's field: straight at the leader when heard, else toward the neighbour
     with the shortest path to it. (ok, vx, vy)."""
     k = me.group - 1
@@ -176,7 +182,7 @@ def toward_leader(view, me, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def join(view, me, nearest, P):  # pragma: no cover - compiled
+def join(view, me, mine, nearest, P):  # pragma: no cover - compiled
     """Circle the formation at d_min until two formed robots are at d_min: Formed."""
     formed = close = 0
     for r in range(len(view.dist)):
@@ -192,22 +198,22 @@ def join(view, me, nearest, P):  # pragma: no cover - compiled
     rx, ry = view.off[nearest, 0] / d, view.off[nearest, 1] / d
     error = clip1((view.dist[nearest] - P.d_min) * 4.0)
     vx, vy = scaled(ry * me.sense + error * rx, -rx * me.sense + error * ry, P.v)
-    if must_pend(view, me, vx, vy, P):
+    if must_pend(view, me, mine, vx, vy, P):
         return still()
     return move(vx, vy)
 
 
 @njit(cache=True)
-def approach(view, me, sense, P):  # pragma: no cover - compiled
+def approach(view, me, mine, sense, P):  # pragma: no cover - compiled
     formed = -1
     for r in range(len(view.dist)):
         if own(view, me, r, FORMED) or own(view, me, r, INITIAL):
             formed = r
             break
     if formed >= 0 and view.dist[formed] <= 1.5 * P.d_min:
-        return join(view, me, formed, P)
-    ok, vx, vy = toward_leader(view, me, P)
-    if not ok or must_pend(view, me, vx, vy, P):
+        return join(view, me, mine, formed, P)
+    ok, vx, vy = toward_leader(view, me, mine, P)
+    if not ok or must_pend(view, me, mine, vx, vy, P):
         set_status(me, PEND)
         if not ok:  # no way down the field yet: any neighbour's broadcast may give one
             return rest(math.nan, True, P.gather_deadline)
@@ -244,9 +250,9 @@ def formed(view, me, sense, pb, P):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def gather(view, me, sense, pb, P):  # pragma: no cover - compiled
+def gather(view, me, mine, sense, pb, P):  # pragma: no cover - compiled
     """Approach / Pend / Join / Formed, then departure (see the module docstring)."""
-    update_fields(view, me, sense, P)
+    update_fields(view, me, mine, sense, P)
     if sense.tick >= P.gather_deadline and gathering(me.status):
         set_status(me, DETECTION)  # not formed in time: cover on my own
         return detection(view, me, sense, pb, P)
@@ -258,4 +264,4 @@ def gather(view, me, sense, pb, P):  # pragma: no cover - compiled
         return still()
     if me.status == FORMED:
         return formed(view, me, sense, pb, P)
-    return approach(view, me, sense, P)
+    return approach(view, me, mine, sense, P)

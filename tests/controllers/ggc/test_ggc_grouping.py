@@ -6,7 +6,7 @@ from collections import Counter
 import numpy as np
 import pytest
 
-from controllers.ggc import GGCParams
+from controllers.ggc import GGC, GGCParams
 from controllers.ggc.statuses import (
     APPROACH,
     ARRIVE,
@@ -165,19 +165,59 @@ def test_two_groups_meeting_head_on_resolve_without_deadlock():
 
 
 def test_too_many_groups_is_a_clear_error():
+    """One past swarmsim.limits.MAX_GROUPS is refused naming the key, the bound and the
+    value; the bound itself is a run GGC takes."""
     from swarmsim import ConfigError
+    from swarmsim.limits import MAX_GROUPS
 
-    with pytest.raises(ConfigError, match="groups.*20.*at most 16"):
-        Simulation(small_world(), controller="ggc", robots=60, groups=20, seed=0)
+    one_more = MAX_GROUPS + 1
+    with pytest.raises(ConfigError, match=rf"key 'groups': must be at most {MAX_GROUPS:,} "
+                                          rf"\(groups in one run\), got {one_more}$"):
+        Simulation.check(small_world(), controller="ggc", robots=one_more, groups=one_more)
+    config, _ = Simulation.check(small_world(), controller="ggc", robots=MAX_GROUPS,
+                                 groups=MAX_GROUPS, settings={"start": "random"})
+    assert config.groups == MAX_GROUPS == GGC.max_groups
+
+
+def test_twenty_groups_from_a_scattered_start_select_leaders_gather_and_leave():
+    """More groups than the 16 a run once had: 20 leaders, every robot grouped and heard of
+    every leader (per-group values sized by the run), formations formed, then departing."""
+    sim = scattered(wide_band(), robots=200, groups=20, seed=0)
+    assert sim.swarm.per_group.ldist.shape == (200, 20) and sim.messages["ldist"].shape[1] == 20
+    for _ in range(800):
+        sim.step()
+    state = ggc_state(sim)
+    assert sorted(state["group"][state["leader"]].tolist()) == list(range(1, 21))
+    assert (state["group"] > 0).all()
+    assert (sim.swarm.per_group.ldist < 1e9).all()  # every robot knows a way to each leader
+    formed = (state["visited"] >> FORMED & 1).astype(bool)
+    assert set(state["group"][formed].tolist()) == set(range(1, 21))
+    assert formed.sum() >= 0.9 * len(state)
+    left = np.isin(state["status"], [INITIAL, DETECTION, COVERAGE, ARRIVE])
+    assert left.sum() >= 0.9 * len(state)  # the formations set off for the target
+
+
+def test_twenty_formations_travel_to_the_target():
+    """20 groups from the formation start: every formation moves off, robots arrive."""
+    sim = Simulation(wide_band(), controller="ggc", robots=200, groups=20, seed=0,
+                     max_ticks=5000)
+    group = ggc_state(sim)["group"].copy()
+    start = sim.positions.copy()
+    for _ in range(400):
+        sim.step()
+    moved = np.hypot(*(sim.positions - start).T)
+    assert min(np.median(moved[group == g]) for g in range(1, 21)) > 5.0
+    assert (ggc_state(sim)["status"] == ARRIVE).sum() >= 10 and sim.on_target.sum() >= 10
 
 
 @pytest.mark.parametrize("groups", [1, 3])
 def test_broadcasts_carry_one_leader_distance_per_group(groups):
-    """A run's message rows hold the scattered start's per-group fields for its own groups
-    only (not for the 16 a run may have), and leaders' distance fields still spread."""
+    """A run's message rows and per-group arrays hold the scattered start's per-group fields
+    for its own groups only, and leaders' distance fields still spread."""
     sim = scattered(wide_band(), robots=60, groups=groups, seed=0)
     assert sim.messages["ldist"].shape == (60, groups)
     assert sim.messages["lepoch"].shape == (60, groups)
+    assert [a.shape for a in sim.swarm.per_group] == [(60, groups)] * 2
     for _ in range(30):
         sim.step()
     heard_of_last_leader = sim.messages["ldist"][:, groups - 1] < 1e9
@@ -189,6 +229,7 @@ def test_formations_broadcast_no_leader_distances():
     (every row a robot hears is copied each tick)."""
     sim = Simulation(small_world(), controller="ggc", robots=60, groups=3, seed=0)
     assert sim.messages["ldist"].shape == (60, 0) and sim.messages["lepoch"].shape == (60, 0)
+    assert [a.shape for a in sim.swarm.per_group] == [(60, 0)] * 2  # nor do their robots
     assert sim.dtype.itemsize <= 48
 
 

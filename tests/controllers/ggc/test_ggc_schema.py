@@ -20,12 +20,14 @@ from controllers.ggc.schema import (
     BROADCAST_NAMES,
     DATA,
     GENERATED,
+    PER_GROUP,
     REGENERATE,
     VIEW_FIELDS,
+    PerGroup,
     generated_source,
     message_fields,
 )
-from controllers.ggc.state import STATE_DTYPE, new_state
+from controllers.ggc.state import STATE_DTYPE, new_per_group, new_state
 from controllers.ggc.swarm import rule_params
 from swarmsim.controller import RobotSetup, message_dtype
 from tests.ggc_bot import view
@@ -48,7 +50,9 @@ def _assignments(function: str) -> list[tuple[str, str]]:
 def test_state_broadcast_and_view_call_each_datum_by_one_name():
     names = [d.name for d in DATA]
     assert len(set(names)) == len(names)
-    assert STATE_DTYPE.names == tuple(names)
+    assert STATE_DTYPE.names + PerGroup._fields == tuple(
+        [d.name for d in DATA if not d.per_group] + [d.name for d in PER_GROUP])
+    assert PerGroup._fields == ("ldist", "lepoch")  # the rules' mine.NAME
     broadcast = message_dtype(message_fields(3, scattered=True))
     assert broadcast.names == BROADCAST_NAMES
     own = [d.name for d in DATA if d.broadcast not in (None, BASE)]
@@ -63,7 +67,8 @@ def test_state_broadcast_and_view_call_each_datum_by_one_name():
     copied = {target.split(".")[1].split("[")[0]: value for target, value in
               _assignments("copy_broadcast")}
     assert set(copied) == set(BROADCAST_NAMES) - {"moving"}
-    assert all(value.startswith(f"me.{name}") for name, value in copied.items())
+    assert all(value.startswith(f"{'mine' if name in PerGroup._fields else 'me'}.{name}")
+               for name, value in copied.items())
     assert GGC.SILENT == {"gradient": np.iinfo(np.int32).max}  # a colouring's name too
 
 
@@ -82,14 +87,18 @@ def test_per_group_fields_have_one_entry_per_group_only_in_a_scattered_start():
 
 
 def test_a_new_row_holds_each_datums_initial_value():
-    setups = [RobotSetup(robot_id=i, leader=False, group=1, groups=2) for i in range(3)]
+    setups = [RobotSetup(robot_id=i, leader=False, group=1, groups=2, scattered=True)
+              for i in range(3)]
     state = new_state(setups, orbit=1, h_max=5, rngs=[np.random.default_rng(i) for i in range(3)])
+    per_group = new_per_group(setups)
     by_setup = {"id", "group", "leader", "status", "visited", "gradient", "gradient_low", "sense",
                 "h", "rng"}
     for d in DATA:
         if d.name in by_setup:
             continue
-        values = state[d.name].ravel().tolist()
+        column = getattr(per_group, d.name) if d.per_group else state[d.name]
+        assert len(column) == 3 and (not d.per_group or column.shape == (3, 2)), d.name
+        values = column.ravel().tolist()
         if isinstance(d.initial, float) and math.isnan(d.initial):
             assert all(math.isnan(v) for v in values), d.name
         else:
