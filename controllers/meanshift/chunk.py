@@ -1,0 +1,265 @@
+"""Mean-shift's chunk kernels (numba): a chunk's robots decided in two passes over their state
+rows (:class:`~controllers.meanshift.swarm.MeanShiftSwarm`), with the floor probes of all
+of them asked in one query between the passes.
+
+1. :func:`prepare_chunk`: each robot adds its odometry, moves the window of its local map
+   when its lattice cell leaves it, and lists the lattice points within its sensing radius
+   that it has not probed yet.
+2. :func:`decide_chunk`: with those answers in the maps, each robot's entering, exploring
+   and interaction commands, the low-pass filter and its rest, as
+   :meth:`MeanShiftRobot.step <controllers.meanshift.controller.MeanShiftRobot.step>` does.
+
+The same numbers as the per-robot controller, to the bit: the same operations in the same
+order (numpy's elementwise arithmetic, the kernels of kernel.py, Python's ``math.hypot`` as
+controllers.common.pyhypot gives it). Only the test for occupied target points differs in
+how it is searched: each neighbour marks the lattice points near it, instead of every point
+asking every neighbour; the same points pass the same test.
+
+A robot's map (controllers.common.localmap.LocalMap, in arrays): ``grid[i]`` (size, size)
+int8 (1 target, 0 not, -1 not yet probed), the lattice index of its first row and column
+``origin[i]``, its odometry ``odo[i]`` (units). Its sensed points are the stencil of lattice
+cells ``-reach..reach`` round its lattice cell, row by row, within its radius.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import njit
+
+from controllers.common.pyhypot import py_hypot as hypot
+
+from .kernel import _add_kernel_mean, interact
+
+SEEKING, EXPLORING, RESTING = 0, 1, 2
+
+Gains = namedtuple("Gains", ["d_cover", "r_sense", "r_occupied", "v", "kappa_enter",
+                             "kappa_fill", "kappa_expl", "kappa_avoid", "kappa_cons",
+                             "inertia", "deadband"])
+"""MeanShiftParams' numbers as the kernels read them (floats, the same names)."""
+
+Lattice = namedtuple("Lattice", ["cell", "reach", "margin", "radius2"])
+"""A local map's lattice: spacing (units), stencil reach and window margin (cells), the
+squared sensing radius (units^2)."""
+
+
+@njit(cache=True)
+def _recentre(grid, origin, cx, cy, reach, margin, scratch):  # pragma: no cover - compiled
+    """Move a robot's window (``grid`` (size, size), ``origin`` (2,)) so the stencil round
+    lattice cell (cx, cy) fits in it; what it knew inside both windows is kept, the rest is
+    -1 (LocalMap._recentre)."""
+    size = grid.shape[0]
+    o0, o1 = origin[0], origin[1]
+    if cx - reach >= o0 and cy - reach >= o1 and cx + reach < o0 + size and cy + reach < o1 + size:
+        return
+    n0, n1 = cx - (reach + margin), cy - (reach + margin)
+    s0, s1 = n0 - o0, n1 - o1
+    scratch[:, :] = -1
+    lo0, hi0 = max(s0, 0), min(s0 + size, size)
+    lo1, hi1 = max(s1, 0), min(s1 + size, size)
+    if hi0 > lo0 and hi1 > lo1:
+        for r in range(lo0, hi0):
+            for c in range(lo1, hi1):
+                scratch[r - s0, c - s1] = grid[r, c]
+    grid[:, :] = scratch
+    origin[0], origin[1] = n0, n1
+
+
+@njit(cache=True)
+def prepare_chunk(rows, moved, odo, grid, origin, lattice):  # pragma: no cover - compiled
+    """Odometry, windows and the probe questions of the chunk's robots (robot k is state row
+    ``rows[k]``; ``moved`` (R, 2) its displacement over the last tick, units).
+
+    Returns the questions: the chunk's robot asking (M,), the offset of the point from it
+    (M, 2), units, and where its answer goes (M, 3): state row, window row and column.
+    """
+    cell, reach, margin, radius2 = lattice
+    side = 2 * reach + 1
+    most = len(rows) * side * side
+    ks = np.empty(most, dtype=np.intp)
+    offsets = np.empty((most, 2))
+    where = np.empty((most, 3), dtype=np.int64)
+    scratch = np.empty((grid.shape[1], grid.shape[2]), dtype=np.int8)
+    m = 0
+    for k in range(len(rows)):
+        i = rows[k]
+        odo[i, 0] = odo[i, 0] + moved[k, 0]
+        odo[i, 1] = odo[i, 1] + moved[k, 1]
+        cx = np.int64(math.floor(odo[i, 0] / cell))
+        cy = np.int64(math.floor(odo[i, 1] / cell))
+        _recentre(grid[i], origin[i], cx, cy, reach, margin, scratch)
+        for a in range(side):
+            ix = cx + a - reach
+            dx = ix * cell - odo[i, 0]
+            for b in range(side):
+                iy = cy + b - reach
+                dy = iy * cell - odo[i, 1]
+                if dx * dx + dy * dy <= radius2:
+                    r, c = ix - origin[i, 0], iy - origin[i, 1]
+                    if grid[i, r, c] < 0:
+                        ks[m] = k
+                        offsets[m, 0], offsets[m, 1] = dx, dy
+                        where[m, 0], where[m, 1], where[m, 2] = i, r, c
+                        m += 1
+    return ks[:m], offsets[:m], where[:m]
+
+
+@njit(cache=True)
+def put_answers(grid, where, answers):  # pragma: no cover - compiled
+    """Write the probes' ``answers`` (M,) bool into the maps at ``where`` (M, 3)."""
+    for m in range(len(answers)):
+        grid[where[m, 0], where[m, 1], where[m, 2]] = 1 if answers[m] else 0
+
+
+@njit(cache=True)
+def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qpos):  # pragma: no cover - compiled
+    """The robot's sensed target points: their offsets into ``q`` (rows 0..k-1, stencil
+    order), each stencil cell's row in ``q`` into ``qpos`` (-1: not a sensed target point).
+    Returns k and the robot's lattice cell."""
+    cell, reach, _, radius2 = lattice
+    side = 2 * reach + 1
+    cx = np.int64(math.floor(odo_i[0] / cell))
+    cy = np.int64(math.floor(odo_i[1] / cell))
+    k = 0
+    for a in range(side):
+        ix = cx + a - reach
+        dx = ix * cell - odo_i[0]
+        for b in range(side):
+            iy = cy + b - reach
+            dy = iy * cell - odo_i[1]
+            qpos[a * side + b] = -1
+            if dx * dx + dy * dy <= radius2 and grid_i[ix - origin_i[0], iy - origin_i[1]] == 1:
+                q[k, 0], q[k, 1] = dx, dy
+                qpos[a * side + b] = k
+                k += 1
+    return k, cx, cy
+
+
+@njit(cache=True)
+def _entering(on_target, q, k, has_beacon, beacon, kappa_enter):  # pragma: no cover - compiled
+    """MeanShiftRobot.entering: toward the nearest sensed target point, else the beacon."""
+    if on_target:
+        return 0.0, 0.0
+    if k > 0:
+        best = 0
+        best_d = q[0, 0] * q[0, 0] + q[0, 1] * q[0, 1]
+        for j in range(1, k):
+            d = q[j, 0] * q[j, 0] + q[j, 1] * q[j, 1]
+            if d < best_d:
+                best, best_d = j, d
+        gx, gy = q[best, 0], q[best, 1]
+        n = hypot(gx, gy)
+        if n > 1e-9:
+            return kappa_enter * gx / n, kappa_enter * gy / n
+    if has_beacon:
+        return kappa_enter * beacon[0], kappa_enter * beacon[1]
+    return 0.0, 0.0
+
+
+@njit(cache=True)
+def _exploring(q, k, qpos, cx, cy, odo_i, offsets, distances, G, lattice, w, wf, qf, taken
+               ):  # pragma: no cover - compiled
+    """kernel.explore's command for the robot's sensed target points ``q[:k]``, its
+    neighbours at ``offsets``, ``distances``: a point is occupied when some neighbour within
+    r_sense + r_occupied lies within r_occupied of it (the same test), found by searching
+    only the lattice cells round each neighbour."""
+    out = np.zeros(2)
+    if k == 0:
+        return out
+    r_sense, r_occupied = G.r_sense, G.r_occupied
+    for i in range(k):
+        d = np.sqrt(q[i, 0] * q[i, 0] + q[i, 1] * q[i, 1])
+        w[i] = 0.5 * (1.0 + np.cos(np.pi * min(d / r_sense, 1.0)))
+    _add_kernel_mean(out, w, q, k, G.kappa_fill)
+    near = r_sense + r_occupied
+    limit = r_occupied ** 2
+    cell, reach, _, _ = lattice
+    side = 2 * reach + 1
+    taken[:k] = False
+    any_near = False
+    for j in range(distances.shape[0]):
+        if not distances[j] <= near:
+            continue
+        any_near = True
+        nx, ny = offsets[j, 0], offsets[j, 1]
+        a_lo = max(np.int64(math.floor((odo_i[0] + nx - r_occupied) / cell)) - 1 - cx + reach, 0)
+        a_hi = min(np.int64(math.floor((odo_i[0] + nx + r_occupied) / cell)) + 1 - cx + reach,
+                   side - 1)
+        b_lo = max(np.int64(math.floor((odo_i[1] + ny - r_occupied) / cell)) - 1 - cy + reach, 0)
+        b_hi = min(np.int64(math.floor((odo_i[1] + ny + r_occupied) / cell)) + 1 - cy + reach,
+                   side - 1)
+        for a in range(a_lo, a_hi + 1):
+            for b in range(b_lo, b_hi + 1):
+                p = qpos[a * side + b]
+                if p < 0 or taken[p]:
+                    continue
+                dx = q[p, 0] - nx
+                dy = q[p, 1] - ny
+                d2 = dx * dx
+                d2 += dy * dy
+                if d2 <= limit:
+                    taken[p] = True
+    if not any_near:
+        _add_kernel_mean(out, w, q, k, G.kappa_expl)
+        return out
+    free = 0
+    for i in range(k):
+        if not taken[i]:
+            wf[free] = w[i]
+            qf[free, 0], qf[free, 1] = q[i, 0], q[i, 1]
+            free += 1
+    _add_kernel_mean(out, wf, qf, free, G.kappa_expl)
+    return out
+
+
+@njit(cache=True)
+def decide_chunk(rows, odo, grid, origin, velocity, status, on_target, has_beacon, beacons,
+                 heard, G, lattice, no_sender, out_velocity, out_sleep
+                 ):  # pragma: no cover - compiled
+    """Decide the chunk's robots (robot k: state row ``rows[k]``, its map probed already):
+    their commands into ``out_velocity`` (R, 2), units per tick, and ``out_sleep`` (R,);
+    their filtered velocity and status into ``velocity`` and ``status``, in place.
+
+    ``heard``: (starts, offsets, distances, sender, vx, vy), robot k's neighbours rows
+    ``starts[k]:starts[k + 1]``; ``beacons`` (R, 2) when ``has_beacon``.
+    """
+    starts, offsets, distances, sender, vx, vy = heard
+    side = 2 * lattice.reach + 1
+    q = np.empty((side * side, 2))
+    qf = np.empty((side * side, 2))
+    w = np.empty(side * side)
+    wf = np.empty(side * side)
+    qpos = np.empty(side * side, dtype=np.int64)
+    taken = np.empty(side * side, dtype=np.bool_)
+    inertia, vmax, deadband = G.inertia, G.v, G.deadband
+    for k in range(len(rows)):
+        i = rows[k]
+        n_q, cx, cy = _sensed_target(grid[i], origin[i], odo[i], lattice, q, qpos)
+        e0, e1 = _entering(on_target[k], q, n_q, has_beacon, beacons[k], G.kappa_enter)
+        a, b = starts[k], starts[k + 1]
+        x = _exploring(q, n_q, qpos, cx, cy, odo[i], offsets[a:b], distances[a:b], G, lattice,
+                       w, wf, qf, taken)
+        f = interact(offsets[a:b], distances[a:b], sender[a:b], vx[a:b], vy[a:b], velocity[i],
+                     G.d_cover, G.r_sense, G.kappa_avoid, G.kappa_cons, no_sender)
+        c0 = (e0 + x[0]) + f[0]
+        c1 = (e1 + x[1]) + f[1]
+        n = hypot(c0, c1)
+        if n > vmax:
+            c0, c1 = c0 * (vmax / n), c1 * (vmax / n)
+        v0 = (1 - inertia) * c0 + inertia * velocity[i, 0]
+        v1 = (1 - inertia) * c1 + inertia * velocity[i, 1]
+        n = hypot(v0, v1)
+        if n > vmax:
+            v0, v1 = v0 * (vmax / n), v1 * (vmax / n)
+        if hypot(v0, v1) < deadband and hypot(c0, c1) < deadband:
+            velocity[i, 0], velocity[i, 1] = 0.0, 0.0
+            status[i] = RESTING if on_target[k] else SEEKING
+            out_velocity[k, 0], out_velocity[k, 1] = 0.0, 0.0
+            out_sleep[k] = True
+        else:
+            velocity[i, 0], velocity[i, 1] = v0, v1
+            status[i] = EXPLORING if on_target[k] else SEEKING
+            out_velocity[k, 0], out_velocity[k, 1] = v0, v1
+            out_sleep[k] = False
