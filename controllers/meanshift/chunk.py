@@ -114,25 +114,28 @@ def put_answers(grid, where, answers):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qpos):  # pragma: no cover - compiled
+def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qcell, qx, qy
+                   ):  # pragma: no cover - compiled
     """The robot's sensed target points: their offsets into ``q`` (rows 0..k-1, stencil
-    order), each stencil cell's row in ``q`` into ``qpos`` (-1: not a sensed target point).
-    Returns k and the robot's lattice cell."""
+    order) and their stencil cells (a * side + b) into ``qcell``, the offsets of the
+    stencil's lattice rows and columns into ``qx``, ``qy`` (side,), units. Returns k and the
+    robot's lattice cell."""
     cell, reach, _, radius2 = lattice
     side = 2 * reach + 1
     cx = np.int64(math.floor(odo_i[0] / cell))
     cy = np.int64(math.floor(odo_i[1] / cell))
+    for a in range(side):
+        qx[a] = (cx + a - reach) * cell - odo_i[0]
+        qy[a] = (cy + a - reach) * cell - odo_i[1]
     k = 0
     for a in range(side):
-        ix = cx + a - reach
-        dx = ix * cell - odo_i[0]
+        dx = qx[a]
+        row = cx + a - reach - origin_i[0]
         for b in range(side):
-            iy = cy + b - reach
-            dy = iy * cell - odo_i[1]
-            qpos[a * side + b] = -1
-            if dx * dx + dy * dy <= radius2 and grid_i[ix - origin_i[0], iy - origin_i[1]] == 1:
+            dy = qy[b]
+            if dx * dx + dy * dy <= radius2 and grid_i[row, cy + b - reach - origin_i[1]] == 1:
                 q[k, 0], q[k, 1] = dx, dy
-                qpos[a * side + b] = k
+                qcell[k] = a * side + b
                 k += 1
     return k, cx, cy
 
@@ -159,12 +162,13 @@ def _entering(on_target, q, k, has_beacon, beacon, kappa_enter):  # pragma: no c
 
 
 @njit(cache=True)
-def _exploring(q, k, qpos, cx, cy, odo_i, offsets, distances, G, lattice, w, wf, qf, taken
-               ):  # pragma: no cover - compiled
-    """kernel.explore's command for the robot's sensed target points ``q[:k]``, its
-    neighbours at ``offsets``, ``distances``: a point is occupied when some neighbour within
-    r_sense + r_occupied lies within r_occupied of it (the same test), found by searching
-    only the lattice cells round each neighbour."""
+def _exploring(q, k, qcell, qx, qy, cx, cy, odo_i, offsets, distances, G, lattice, w, wf, qf,
+               taken):  # pragma: no cover - compiled
+    """kernel.explore's command for the robot's sensed target points ``q[:k]`` (stencil
+    cells ``qcell``, lattice rows and columns at offsets ``qx``, ``qy``), its neighbours at
+    ``offsets``, ``distances``: a point is occupied when some neighbour within
+    r_sense + r_occupied lies within r_occupied of it, by the same test on the same
+    numbers; each neighbour marks the stencil cells round it (``taken``, one per cell)."""
     out = np.zeros(2)
     if k == 0:
         return out
@@ -173,11 +177,31 @@ def _exploring(q, k, qpos, cx, cy, odo_i, offsets, distances, G, lattice, w, wf,
         d = np.sqrt(q[i, 0] * q[i, 0] + q[i, 1] * q[i, 1])
         w[i] = 0.5 * (1.0 + np.cos(np.pi * min(d / r_sense, 1.0)))
     _add_kernel_mean(out, w, q, k, G.kappa_fill)
-    near = r_sense + r_occupied
-    limit = r_occupied ** 2
+    if not _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, r_sense + r_occupied,
+                       r_occupied, lattice, taken):
+        _add_kernel_mean(out, w, q, k, G.kappa_expl)
+        return out
+    free = 0
+    for p in range(k):
+        if not taken[qcell[p]]:
+            wf[free] = w[p]
+            qf[free, 0], qf[free, 1] = q[p, 0], q[p, 1]
+            free += 1
+    _add_kernel_mean(out, wf, qf, free, G.kappa_expl)
+    return out
+
+
+@njit(cache=True)
+def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lattice, taken
+                ):  # pragma: no cover - compiled
+    """``taken`` (side * side,): the stencil cells within ``r_occupied`` of a neighbour at
+    most ``near`` away (kernel.explore's test: dx * dx, then + dy * dy, <= r_occupied ** 2).
+    Returns whether any neighbour is that near."""
     cell, reach, _, _ = lattice
     side = 2 * reach + 1
-    taken[:k] = False
+    limit = r_occupied ** 2
+    dy2 = np.empty(side)
+    taken[:] = False
     any_near = False
     for j in range(distances.shape[0]):
         if not distances[j] <= near:
@@ -185,33 +209,21 @@ def _exploring(q, k, qpos, cx, cy, odo_i, offsets, distances, G, lattice, w, wf,
         any_near = True
         nx, ny = offsets[j, 0], offsets[j, 1]
         a_lo = max(np.int64(math.floor((odo_i[0] + nx - r_occupied) / cell)) - 1 - cx + reach, 0)
-        a_hi = min(np.int64(math.floor((odo_i[0] + nx + r_occupied) / cell)) + 1 - cx + reach,
-                   side - 1)
+        a_hi = min(np.int64(math.floor((odo_i[0] + nx + r_occupied) / cell)) + 2 - cx + reach,
+                   side)
         b_lo = max(np.int64(math.floor((odo_i[1] + ny - r_occupied) / cell)) - 1 - cy + reach, 0)
-        b_hi = min(np.int64(math.floor((odo_i[1] + ny + r_occupied) / cell)) + 1 - cy + reach,
-                   side - 1)
-        for a in range(a_lo, a_hi + 1):
-            for b in range(b_lo, b_hi + 1):
-                p = qpos[a * side + b]
-                if p < 0 or taken[p]:
-                    continue
-                dx = q[p, 0] - nx
-                dy = q[p, 1] - ny
-                d2 = dx * dx
-                d2 += dy * dy
-                if d2 <= limit:
-                    taken[p] = True
-    if not any_near:
-        _add_kernel_mean(out, w, q, k, G.kappa_expl)
-        return out
-    free = 0
-    for i in range(k):
-        if not taken[i]:
-            wf[free] = w[i]
-            qf[free, 0], qf[free, 1] = q[i, 0], q[i, 1]
-            free += 1
-    _add_kernel_mean(out, wf, qf, free, G.kappa_expl)
-    return out
+        b_hi = min(np.int64(math.floor((odo_i[1] + ny + r_occupied) / cell)) + 2 - cy + reach,
+                   side)
+        for b in range(b_lo, b_hi):
+            dy = qy[b] - ny
+            dy2[b] = dy * dy
+        for a in range(a_lo, a_hi):
+            dx = qx[a] - nx
+            dx2 = dx * dx
+            row = a * side
+            for b in range(b_lo, b_hi):
+                taken[row + b] |= dx2 + dy2[b] <= limit
+    return any_near
 
 
 @njit(cache=True)
@@ -231,16 +243,17 @@ def decide_chunk(rows, odo, grid, origin, velocity, status, on_target, has_beaco
     qf = np.empty((side * side, 2))
     w = np.empty(side * side)
     wf = np.empty(side * side)
-    qpos = np.empty(side * side, dtype=np.int64)
+    qcell = np.empty(side * side, dtype=np.int64)
     taken = np.empty(side * side, dtype=np.bool_)
+    qx, qy = np.empty(side), np.empty(side)
     inertia, vmax, deadband = G.inertia, G.v, G.deadband
     for k in range(len(rows)):
         i = rows[k]
-        n_q, cx, cy = _sensed_target(grid[i], origin[i], odo[i], lattice, q, qpos)
+        n_q, cx, cy = _sensed_target(grid[i], origin[i], odo[i], lattice, q, qcell, qx, qy)
         e0, e1 = _entering(on_target[k], q, n_q, has_beacon, beacons[k], G.kappa_enter)
         a, b = starts[k], starts[k + 1]
-        x = _exploring(q, n_q, qpos, cx, cy, odo[i], offsets[a:b], distances[a:b], G, lattice,
-                       w, wf, qf, taken)
+        x = _exploring(q, n_q, qcell, qx, qy, cx, cy, odo[i], offsets[a:b], distances[a:b], G,
+                       lattice, w, wf, qf, taken)
         f = interact(offsets[a:b], distances[a:b], sender[a:b], vx[a:b], vy[a:b], velocity[i],
                      G.d_cover, G.r_sense, G.kappa_avoid, G.kappa_cons, no_sender)
         c0 = (e0 + x[0]) + f[0]
