@@ -3,7 +3,7 @@ per-robot controller (MeanShiftRobot), to the bit: positions every tick, broadca
 readings, the summary and the sleep decisions.
 
 GOLDEN holds the hashes of the per-robot controller's runs, recorded at 2807bdb (before
-the swarm existed), in tests/engine/test_holonomic_golden.py's way: a change of the
+the swarm existed), as tests/runhash.py fingerprints a run: a change of the
 algorithm, of its float order or of when a robot sleeps changes them.
 """
 
@@ -28,7 +28,7 @@ from swarmsim.controller import (
     silent_message,
 )
 from swarmsim.engine.sim import TIMING_FIELDS
-from tests.engine.test_holonomic_golden import run_hash
+from tests.runhash import run_hash
 
 GOLDEN = {  # (world, seed, ticks): run_hash of the per-robot controller at 2807bdb
     ("tiny", 0, 520): "1cc88ffd1ea2e8f8",  # its robots start to sleep at about tick 450
