@@ -77,7 +77,7 @@ def prepare_chunk(rows, moved, odo, grid, origin, lattice):  # pragma: no cover 
     """
     cell, reach, margin, radius2 = lattice
     side = 2 * reach + 1
-    most = len(rows) * side * side
+    most = 64 + len(rows)  # grown as needed: most ticks ask a few questions per robot
     ks = np.empty(most, dtype=np.intp)
     offsets = np.empty((most, 2))
     where = np.empty((most, 3), dtype=np.int64)
@@ -90,6 +90,10 @@ def prepare_chunk(rows, moved, odo, grid, origin, lattice):  # pragma: no cover 
         cx = np.int64(math.floor(odo[i, 0] / cell))
         cy = np.int64(math.floor(odo[i, 1] / cell))
         _recentre(grid[i], origin[i], cx, cy, reach, margin, scratch)
+        if m + side * side > most:
+            most = 2 * most + side * side
+            ks, offsets, where = _grown(ks, m, most), _grown(offsets, m, most), _grown(where, m,
+                                                                                      most)
         for a in range(side):
             ix = cx + a - reach
             dx = ix * cell - odo[i, 0]
@@ -104,6 +108,14 @@ def prepare_chunk(rows, moved, odo, grid, origin, lattice):  # pragma: no cover 
                         where[m, 0], where[m, 1], where[m, 2] = i, r, c
                         m += 1
     return ks[:m], offsets[:m], where[:m]
+
+
+@njit(cache=True)
+def _grown(rows, used, size):  # pragma: no cover - compiled
+    """A new array of ``size`` rows whose first ``used`` rows are ``rows``'."""
+    out = np.empty((size,) + rows.shape[1:], dtype=rows.dtype)
+    out[:used] = rows[:used]
+    return out
 
 
 @njit(cache=True)
@@ -163,7 +175,7 @@ def _entering(on_target, q, k, has_beacon, beacon, kappa_enter):  # pragma: no c
 
 @njit(cache=True)
 def _exploring(q, k, qcell, qx, qy, cx, cy, odo_i, offsets, distances, G, lattice, w, wf, qf,
-               taken):  # pragma: no cover - compiled
+               taken, nearest):  # pragma: no cover - compiled
     """kernel.explore's command for the robot's sensed target points ``q[:k]`` (stencil
     cells ``qcell``, lattice rows and columns at offsets ``qx``, ``qy``), its neighbours at
     ``offsets``, ``distances``: a point is occupied when some neighbour within
@@ -178,7 +190,7 @@ def _exploring(q, k, qcell, qx, qy, cx, cy, odo_i, offsets, distances, G, lattic
         w[i] = 0.5 * (1.0 + np.cos(np.pi * min(d / r_sense, 1.0)))
     _add_kernel_mean(out, w, q, k, G.kappa_fill)
     if not _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, r_sense + r_occupied,
-                       r_occupied, lattice, taken):
+                       r_occupied, lattice, taken, nearest):
         _add_kernel_mean(out, w, q, k, G.kappa_expl)
         return out
     free = 0
@@ -192,16 +204,17 @@ def _exploring(q, k, qcell, qx, qy, cx, cy, odo_i, offsets, distances, G, lattic
 
 
 @njit(cache=True)
-def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lattice, taken
-                ):  # pragma: no cover - compiled
+def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lattice, taken,
+                nearest):  # pragma: no cover - compiled
     """``taken`` (side * side,): the stencil cells within ``r_occupied`` of a neighbour at
-    most ``near`` away (kernel.explore's test: dx * dx, then + dy * dy, <= r_occupied ** 2).
-    Returns whether any neighbour is that near."""
+    most ``near`` away, by kernel.explore's test (dx * dx, then + dy * dy, <= r_occupied **
+    2) on the smallest such sum over the neighbours (``nearest``, scratch). Returns whether
+    any neighbour is that near."""
     cell, reach, _, _ = lattice
     side = 2 * reach + 1
     limit = r_occupied ** 2
     dy2 = np.empty(side)
-    taken[:] = False
+    nearest[:] = np.inf
     any_near = False
     for j in range(distances.shape[0]):
         if not distances[j] <= near:
@@ -222,7 +235,9 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
             dx2 = dx * dx
             row = a * side
             for b in range(b_lo, b_hi):
-                taken[row + b] |= dx2 + dy2[b] <= limit
+                nearest[row + b] = min(nearest[row + b], dx2 + dy2[b])
+    for c in range(side * side):
+        taken[c] = nearest[c] <= limit
     return any_near
 
 
@@ -245,6 +260,7 @@ def decide_chunk(rows, odo, grid, origin, velocity, status, on_target, has_beaco
     wf = np.empty(side * side)
     qcell = np.empty(side * side, dtype=np.int64)
     taken = np.empty(side * side, dtype=np.bool_)
+    nearest = np.empty(side * side)
     qx, qy = np.empty(side), np.empty(side)
     inertia, vmax, deadband = G.inertia, G.v, G.deadband
     for k in range(len(rows)):
@@ -253,7 +269,7 @@ def decide_chunk(rows, odo, grid, origin, velocity, status, on_target, has_beaco
         e0, e1 = _entering(on_target[k], q, n_q, has_beacon, beacons[k], G.kappa_enter)
         a, b = starts[k], starts[k + 1]
         x = _exploring(q, n_q, qcell, qx, qy, cx, cy, odo[i], offsets[a:b], distances[a:b], G,
-                       lattice, w, wf, qf, taken)
+                       lattice, w, wf, qf, taken, nearest)
         f = interact(offsets[a:b], distances[a:b], sender[a:b], vx[a:b], vy[a:b], velocity[i],
                      G.d_cover, G.r_sense, G.kappa_avoid, G.kappa_cons, no_sender)
         c0 = (e0 + x[0]) + f[0]
