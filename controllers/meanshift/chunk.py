@@ -213,6 +213,10 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
     cell, reach, _, _ = lattice
     side = 2 * reach + 1
     limit = r_occupied ** 2
+    # the lattice rows and columns within r_occupied of a neighbour, and a little more: the
+    # test's dx (computed as the sensed points' offsets are) is within a few ulps of
+    # ix * cell - (odo + n), far less than this margin
+    reach_out = r_occupied * (1.0 + 1e-6) + 1e-6 * cell
     dy2 = np.empty(side)
     nearest[:] = np.inf
     any_near = False
@@ -221,11 +225,11 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
             continue
         any_near = True
         nx, ny = offsets[j, 0], offsets[j, 1]
-        a_lo = max(np.int64(math.floor((odo_i[0] + nx - r_occupied) / cell)) - 1 - cx + reach, 0)
-        a_hi = min(np.int64(math.floor((odo_i[0] + nx + r_occupied) / cell)) + 2 - cx + reach,
+        a_lo = max(np.int64(math.ceil((odo_i[0] + nx - reach_out) / cell)) - cx + reach, 0)
+        a_hi = min(np.int64(math.floor((odo_i[0] + nx + reach_out) / cell)) + 1 - cx + reach,
                    side)
-        b_lo = max(np.int64(math.floor((odo_i[1] + ny - r_occupied) / cell)) - 1 - cy + reach, 0)
-        b_hi = min(np.int64(math.floor((odo_i[1] + ny + r_occupied) / cell)) + 2 - cy + reach,
+        b_lo = max(np.int64(math.ceil((odo_i[1] + ny - reach_out) / cell)) - cy + reach, 0)
+        b_hi = min(np.int64(math.floor((odo_i[1] + ny + reach_out) / cell)) + 1 - cy + reach,
                    side)
         for b in range(b_lo, b_hi):
             dy = qy[b] - ny
