@@ -12,8 +12,11 @@ of them asked in one query between the passes.
 The same numbers as the per-robot controller, to the bit: the same operations in the same
 order (numpy's elementwise arithmetic, the kernels of kernel.py, Python's ``math.hypot`` as
 controllers.common.pyhypot gives it). Only the test for occupied target points differs in
-how it is searched: each neighbour marks the lattice points near it, instead of every point
-asking every neighbour; the same points pass the same test.
+how it is searched: each neighbour visits the lattice points within r_occupied of it (and a
+margin of 1e-6 r_occupied) and keeps each point's smallest squared distance, instead of every
+point asking every neighbour; a point is occupied when that smallest sum passes kernel.explore's
+test, so the same points pass the same test on the same numbers. (The margin holds while
+odometry stays far below 1e6 units: the computed offsets err by a few ulps.)
 
 A robot's map (controllers.common.localmap.LocalMap, in arrays): ``grid[i]`` (size, size)
 int8 (1 target, 0 not, -1 not yet probed), the lattice index of its first row and column

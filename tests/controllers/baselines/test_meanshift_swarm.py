@@ -128,3 +128,16 @@ def test_compiled_hypot_is_pythons_to_the_bit():
     python = np.array([math.hypot(x, y) for x, y in xy.tolist()])
     assert np.array_equal(_compiled_hypots(xy), python)
     assert not np.array_equal(_libm_hypots(xy), python)
+
+
+def test_a_run_compiles_no_chunk_kernel_after_its_warm_up():
+    """MeanShift.warm_up compiles the chunk kernels for the very types a run passes them:
+    the run adds no signature (numba would compile for seconds mid-run)."""
+    from controllers.meanshift import chunk
+
+    kernels = (chunk.prepare_chunk, chunk.put_answers, chunk.decide_chunk)
+    sim = Simulation("tiny", controller="meanshift", seed=0, max_ticks=60)  # warms up
+    before = [list(k.signatures) for k in kernels]
+    sim.run()
+    assert [list(k.signatures) for k in kernels] == before
+    assert all(before)
