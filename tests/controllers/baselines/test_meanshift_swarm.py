@@ -41,25 +41,51 @@ def test_swarm_runs_hash_as_the_per_robot_controller_did(world, seed, ticks):
     assert run_hash(world, MeanShift, seed, ticks, {}) == GOLDEN[world, seed, ticks]
 
 
-def test_swarm_and_per_robot_controller_make_the_same_run():
-    """The same run, tick for tick, with the same summary (decisions: the same robots slept
-    at the same ticks), the swarm deciding in chunks of several sizes."""
-    def run(cls):
-        sim = Simulation("tiny", controller=cls, seed=3, max_ticks=480,
-                         settings={"stop_on_complete": False})
-        positions, asleep = [], []
-        res = sim.run(on_tick=lambda s: (positions.append(s.positions.copy()),
-                                         asleep.append(s.asleep.copy())))
-        summary = {k: v for k, v in res.summary.items()
-                   if k not in TIMING_FIELDS and k != "controller"}  # the class's module path
-        return (np.array(positions), np.array(asleep), sim.messages.tobytes(), summary,
-                res.timeseries)
+NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
+         "message_loss": 0.1}
 
-    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = run(MeanShift), run(MeanShiftRobot)
+
+def _run(cls, settings):
+    """tiny seed 3, 480 ticks: positions and sleepers every tick, the broadcasts at the end,
+    the summary (but its timings and the controller's name) and the time series."""
+    sim = Simulation("tiny", controller=cls, seed=3, max_ticks=480,
+                     settings={"stop_on_complete": False, **settings})
+    positions, asleep = [], []
+    res = sim.run(on_tick=lambda s: (positions.append(s.positions.copy()),
+                                     asleep.append(s.asleep.copy())))
+    summary = {k: v for k, v in res.summary.items()
+               if k not in TIMING_FIELDS and k != "controller"}  # the class's module path
+    return (np.array(positions), np.array(asleep), sim.messages.tobytes(), summary,
+            res.timeseries)
+
+
+@pytest.mark.parametrize("settings", [{}, NOISY], ids=["plain", "noisy"])
+def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch):
+    """The same run, tick for tick, with the same summary (decisions: the same robots slept
+    at the same ticks), the swarm deciding 7 robots at a time (tiny's 40 are one chunk)."""
+    per_robot = _run(MeanShiftRobot, settings)
+    monkeypatch.setattr("swarmsim.engine.sim.DECIDE_CHUNK", 7)
+    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = _run(MeanShift, settings), per_robot
     assert np.array_equal(pa, pb) and np.array_equal(sa, sb)
     assert ma == mb and ta == tb
     assert suma == sumb
     assert sa.any() and not sa.all()  # robots slept, and not all of them
+
+
+def test_a_restored_run_goes_on_as_the_run(tmp_path):
+    """The swarm's arrays (odometry, velocities, statuses, maps) are all a checkpoint needs."""
+    run = Simulation("tiny", controller="meanshift", seed=1, max_ticks=400,
+                     settings={"stop_on_complete": False})
+    for _ in range(150):
+        run.advance()
+    run.save(tmp_path / "ms.ckpt")
+    restored = Simulation.restore(tmp_path / "ms.ckpt")
+    for _ in range(100):
+        run.advance()
+        restored.advance()
+        assert np.array_equal(run.positions, restored.positions)
+    assert run.messages.tobytes() == restored.messages.tobytes()
+    assert np.array_equal(run.swarm.grid, restored.swarm.grid)
 
 
 def _batch(offsets, on_target, moved, probe):
