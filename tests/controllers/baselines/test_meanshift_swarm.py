@@ -59,7 +59,9 @@ def _run(cls, settings):
             res.timeseries)
 
 
-@pytest.mark.parametrize("settings", [{}, NOISY], ids=["plain", "noisy"])
+@pytest.mark.parametrize("settings", [
+    {}, NOISY, {"map_cell": 0.7, "r_occupied": 2.5, "r_sense": 8.0}],
+    ids=["plain", "noisy", "other lattice"])
 def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch):
     """The same run, tick for tick, with the same summary (decisions: the same robots slept
     at the same ticks), the swarm deciding 7 robots at a time (tiny's 40 are one chunk)."""
