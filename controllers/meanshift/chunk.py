@@ -1,13 +1,9 @@
-"""Mean-shift's chunk kernels (numba): a chunk's robots decided in two passes over their state
-rows (:class:`~controllers.meanshift.swarm.MeanShiftSwarm`), with the floor probes of all
-of them asked in one query between the passes.
-
-1. :func:`prepare_chunk`: each robot adds its odometry, moves the window of its local map
-   when its lattice cell leaves it, and lists the lattice points within its sensing radius
-   that it has not probed yet.
-2. :func:`decide_chunk`: with those answers in the maps, each robot's entering, exploring
-   and interaction commands, the low-pass filter and its rest, as
-   :meth:`MeanShiftRobot.step <controllers.meanshift.controller.MeanShiftRobot.step>` does.
+"""Mean-shift's chunk kernel (numba): a chunk's robots decided in one pass over their state
+rows (:class:`~controllers.meanshift.swarm.MeanShiftSwarm`), once their local maps have
+moved and been probed (controllers.common.mapbatch.MapRows.sense, one floor-probe query for
+the chunk): :func:`decide_chunk` gives each robot's entering, exploring and interaction
+commands, the low-pass filter and its rest, as
+:meth:`MeanShiftRobot.step <controllers.meanshift.controller.MeanShiftRobot.step>` does.
 
 The same numbers as the per-robot controller, to the bit: the same operations in the same
 order (numpy's elementwise arithmetic, the kernels of kernel.py, Python's ``math.hypot`` as
@@ -18,10 +14,10 @@ point asking every neighbour; a point is occupied when that smallest sum passes 
 test, so the same points pass the same test on the same numbers. (The margin holds while
 odometry stays far below 1e6 units: the computed offsets err by a few ulps.)
 
-A robot's map (controllers.common.localmap.LocalMap, in arrays): ``grid[i]`` (size, size)
-int8 (1 target, 0 not, -1 not yet probed), the lattice index of its first row and column
-``origin[i]``, its odometry ``odo[i]`` (units). Its sensed points are the stencil of lattice
-cells ``-reach..reach`` round its lattice cell, row by row, within its radius.
+A robot's map (controllers.common.mapbatch.MapRows, a LocalMap in arrays): ``grid[i]``
+(size, size) int8 (1 target, 0 not, -1 not yet probed), the lattice index of its first row
+and column ``origin[i]``, its odometry ``odo[i]`` (units). Its sensed points are the stencil
+of lattice cells ``-reach..reach`` round its lattice cell, row by row, within its radius.
 """
 
 from __future__ import annotations
@@ -43,89 +39,9 @@ Gains = namedtuple("Gains", ["d_cover", "r_sense", "r_occupied", "v", "kappa_ent
                              "inertia", "deadband"])
 """MeanShiftParams' numbers as the kernels read them (floats, the same names)."""
 
-Lattice = namedtuple("Lattice", ["cell", "reach", "margin", "radius2"])
-"""A local map's lattice: spacing (units), stencil reach and window margin (cells), the
-squared sensing radius (units^2)."""
-
-
-@njit(cache=True)
-def _recentre(grid, origin, cx, cy, reach, margin, scratch):  # pragma: no cover - compiled
-    """Move a robot's window (``grid`` (size, size), ``origin`` (2,)) so the stencil round
-    lattice cell (cx, cy) fits in it; what it knew inside both windows is kept, the rest is
-    -1 (LocalMap._recentre)."""
-    size = grid.shape[0]
-    o0, o1 = origin[0], origin[1]
-    if cx - reach >= o0 and cy - reach >= o1 and cx + reach < o0 + size and cy + reach < o1 + size:
-        return
-    n0, n1 = cx - (reach + margin), cy - (reach + margin)
-    s0, s1 = n0 - o0, n1 - o1
-    scratch[:, :] = -1
-    lo0, hi0 = max(s0, 0), min(s0 + size, size)
-    lo1, hi1 = max(s1, 0), min(s1 + size, size)
-    if hi0 > lo0 and hi1 > lo1:
-        for r in range(lo0, hi0):
-            for c in range(lo1, hi1):
-                scratch[r - s0, c - s1] = grid[r, c]
-    grid[:, :] = scratch
-    origin[0], origin[1] = n0, n1
-
-
-@njit(cache=True)
-def prepare_chunk(rows, moved, odo, grid, origin, lattice):  # pragma: no cover - compiled
-    """Odometry, windows and the probe questions of the chunk's robots (robot k is state row
-    ``rows[k]``; ``moved`` (R, 2) its displacement over the last tick, units).
-
-    Returns the questions: the chunk's robot asking (M,), the offset of the point from it
-    (M, 2), units, and where its answer goes (M, 3): state row, window row and column.
-    """
-    cell, reach, margin, radius2 = lattice
-    side = 2 * reach + 1
-    most = 64 + len(rows)  # grown as needed: most ticks ask a few questions per robot
-    ks = np.empty(most, dtype=np.intp)
-    offsets = np.empty((most, 2))
-    where = np.empty((most, 3), dtype=np.int64)
-    scratch = np.empty((grid.shape[1], grid.shape[2]), dtype=np.int8)
-    m = 0
-    for k in range(len(rows)):
-        i = rows[k]
-        odo[i, 0] = odo[i, 0] + moved[k, 0]
-        odo[i, 1] = odo[i, 1] + moved[k, 1]
-        cx = np.int64(math.floor(odo[i, 0] / cell))
-        cy = np.int64(math.floor(odo[i, 1] / cell))
-        _recentre(grid[i], origin[i], cx, cy, reach, margin, scratch)
-        if m + side * side > most:
-            most = 2 * most + side * side
-            ks, offsets, where = _grown(ks, m, most), _grown(offsets, m, most), _grown(where, m,
-                                                                                      most)
-        for a in range(side):
-            ix = cx + a - reach
-            dx = ix * cell - odo[i, 0]
-            for b in range(side):
-                iy = cy + b - reach
-                dy = iy * cell - odo[i, 1]
-                if dx * dx + dy * dy <= radius2:
-                    r, c = ix - origin[i, 0], iy - origin[i, 1]
-                    if grid[i, r, c] < 0:
-                        ks[m] = k
-                        offsets[m, 0], offsets[m, 1] = dx, dy
-                        where[m, 0], where[m, 1], where[m, 2] = i, r, c
-                        m += 1
-    return ks[:m], offsets[:m], where[:m]
-
-
-@njit(cache=True)
-def _grown(rows, used, size):  # pragma: no cover - compiled
-    """A new array of ``size`` rows whose first ``used`` rows are ``rows``'."""
-    out = np.empty((size,) + rows.shape[1:], dtype=rows.dtype)
-    out[:used] = rows[:used]
-    return out
-
-
-@njit(cache=True)
-def put_answers(grid, where, answers):  # pragma: no cover - compiled
-    """Write the probes' ``answers`` (M,) bool into the maps at ``where`` (M, 3)."""
-    for m in range(len(answers)):
-        grid[where[m, 0], where[m, 1], where[m, 2]] = 1 if answers[m] else 0
+Lattice = namedtuple("Lattice", ["cell", "reach", "radius2"])
+"""A local map's lattice: spacing (units), stencil reach (cells), the squared sensing radius
+(units^2)."""
 
 
 @njit(cache=True)
@@ -135,7 +51,7 @@ def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qcell, qx, qy
     order) and their stencil cells (a * side + b) into ``qcell``, the offsets of the
     stencil's lattice rows and columns into ``qx``, ``qy`` (side,), units. Returns k and the
     robot's lattice cell."""
-    cell, reach, _, radius2 = lattice
+    cell, reach, radius2 = lattice
     side = 2 * reach + 1
     cx = np.int64(math.floor(odo_i[0] / cell))
     cy = np.int64(math.floor(odo_i[1] / cell))
@@ -213,7 +129,7 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
     most ``near`` away, by kernel.explore's test (dx * dx, then + dy * dy, <= r_occupied **
     2) on the smallest such sum over the neighbours (``nearest``, scratch). Returns whether
     any neighbour is that near."""
-    cell, reach, _, _ = lattice
+    cell, reach, _ = lattice
     side = 2 * reach + 1
     limit = r_occupied ** 2
     # the lattice rows and columns within r_occupied of a neighbour, and a little more: the

@@ -87,7 +87,7 @@ def test_a_restored_run_goes_on_as_the_run(tmp_path):
         restored.advance()
         assert np.array_equal(run.positions, restored.positions)
     assert run.messages.tobytes() == restored.messages.tobytes()
-    assert np.array_equal(run.swarm.grid, restored.swarm.grid)
+    assert np.array_equal(run.swarm.maps.grid, restored.swarm.maps.grid)
 
 
 def _batch(offsets, on_target, moved, probe):
@@ -159,11 +159,12 @@ def test_compiled_hypot_is_pythons_to_the_bit():
 
 
 def test_a_run_compiles_no_chunk_kernel_after_its_warm_up():
-    """MeanShift.warm_up compiles the chunk kernels for the very types a run passes them:
+    """MeanShift.warm_up compiles the map and chunk kernels for the very types a run passes:
     the run adds no signature (numba would compile for seconds mid-run)."""
+    from controllers.common import mapbatch
     from controllers.meanshift import chunk
 
-    kernels = (chunk.prepare_chunk, chunk.put_answers, chunk.decide_chunk)
+    kernels = (mapbatch.advance, mapbatch.store, chunk.decide_chunk)
     sim = Simulation("tiny", controller="meanshift", seed=0, max_ticks=60)  # warms up
     before = [list(k.signatures) for k in kernels]
     sim.run()
