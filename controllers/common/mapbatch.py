@@ -79,7 +79,9 @@ def advance(rows, moved, odo, origin, grid, reach, margin, cell,
     k + 1's, each robot's in LocalMap's stencil order.
     """
     size = grid.shape[1]
-    most = rows.shape[0] * (2 * reach + 1) * (2 * reach + 1)
+    stencil = (2 * reach + 1) * (2 * reach + 1)
+    most = 64 + rows.shape[0]  # grown as needed: most ticks ask a few points a robot (a
+    # chunk's whole stencils, allocated every tick, were 15 MB at K's 603 robots)
     ks = np.empty(most, dtype=np.int64)
     offsets = np.empty((most, 2))
     cells = np.empty((most, 2), dtype=np.int64)
@@ -91,6 +93,10 @@ def advance(rows, moved, odo, origin, grid, reach, margin, cell,
         b0 = np.int64(math.floor(odo[i, 0] / cell))
         b1 = np.int64(math.floor(odo[i, 1] / cell))
         _recentre(grid[i], origin[i], b0, b1, reach, margin, size)
+        if m + stencil > most:
+            most = 2 * most + stencil
+            ks, offsets, cells = _grown(ks, m, most), _grown(offsets, m, most), _grown(cells, m,
+                                                                                      most)
         o0, o1 = origin[i, 0], origin[i, 1]
         for a in range(-reach, reach + 1):
             dx = (b0 + a) * cell - odo[i, 0]
@@ -102,6 +108,14 @@ def advance(rows, moved, odo, origin, grid, reach, margin, cell,
                     cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
                     m += 1
     return ks[:m], offsets[:m], cells[:m]
+
+
+@njit(cache=True)
+def _grown(rows, used, size):  # pragma: no cover - compiled
+    """A new array of ``size`` rows whose first ``used`` rows are ``rows``'."""
+    out = np.empty((size,) + rows.shape[1:], dtype=rows.dtype)
+    out[:used] = rows[:used]
+    return out
 
 
 @njit(cache=True)

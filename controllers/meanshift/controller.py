@@ -35,6 +35,7 @@ distances.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -51,10 +52,12 @@ from swarmsim.controller import (
     require_positive,
 )
 
+from .chunk import EXPLORING, RESTING, SEEKING
 from .kernel import explore, interact
 from .kernel import warm_up as _warm_up_kernels
+from .swarm import MeanShiftSwarm
+from .swarm import warm_up as _warm_up_chunk
 
-SEEKING, EXPLORING, RESTING = 0, 1, 2
 STATUSES = ("Seeking", "Exploring", "Resting")
 MESSAGE_FIELDS = [("vx", "f4"), ("vy", "f4")]
 MIN_PROBE_RANGE = 10.0
@@ -109,8 +112,9 @@ class MeanShiftParams:
                              "floor points a robot senses) and at most r_sense / 4")
 
 
-class MeanShift:
-    """Sun et al. 2023: enter, explore free target floor by mean shift, avoid, agree."""
+class MeanShiftDeclarations:
+    """What both mean-shift classes declare (controller API): the name, parameters,
+    statuses, broadcasts and sensing."""
 
     name = "meanshift"
     Params = MeanShiftParams
@@ -129,6 +133,27 @@ class MeanShift:
         """Compile or load the kernels before a run's clock starts."""
         _warm_up_map()
         _warm_up_kernels()
+        _warm_up_chunk()
+
+
+class MeanShift(MeanShiftDeclarations):
+    """Sun et al. 2023: enter, explore free target floor by mean shift, avoid, agree.
+
+    The run's robots are one :class:`~controllers.meanshift.swarm.MeanShiftSwarm` (their
+    state in arrays, decided in compiled chunks); :class:`MeanShiftRobot` is the same
+    controller one robot at a time, the reference its runs are held to, to the bit.
+    """
+
+    @classmethod
+    def create_swarm(cls, setups: Sequence[RobotSetup], params: MeanShiftParams,
+                     rngs: Sequence[np.random.Generator]) -> MeanShiftSwarm:
+        """The run's robots (row i: robot i); mean-shift draws no random numbers."""
+        return MeanShiftSwarm(setups, params)
+
+
+class MeanShiftRobot(MeanShiftDeclarations):
+    """One mean-shift robot (a per-robot controller): the reference implementation of
+    :class:`MeanShift`, whose swarm makes the very same runs."""
 
     def __init__(self, setup: RobotSetup, params: MeanShiftParams, rng: np.random.Generator):
         self.id = setup.robot_id
@@ -187,4 +212,4 @@ class MeanShift:
         return make_action((float(v[0]), float(v[1])), self.message())
 
 
-__all__ = ["MeanShift", "MeanShiftParams"]
+__all__ = ["MeanShift", "MeanShiftParams", "MeanShiftRobot"]

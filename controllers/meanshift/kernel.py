@@ -1,5 +1,5 @@
 """Mean-shift's per-tick arithmetic, compiled (numba): the exploring and interaction commands
-of :class:`~controllers.meanshift.controller.MeanShift` in one pass each, where numpy made ~30 calls on
+of :class:`~controllers.meanshift.controller.MeanShiftRobot` in one pass each, where numpy made ~30 calls on
 arrays of a few hundred points (~60 us a robot, most of a mean-shift tick).
 
 The same sums as numpy's, to the bit: a 1-D ``sum()`` is numpy's pairwise summation

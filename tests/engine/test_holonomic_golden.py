@@ -8,11 +8,9 @@ a different command) changes them.
 
 from __future__ import annotations
 
-import hashlib
-
 import pytest
 
-from swarmsim import Simulation
+from tests.runhash import run_hash
 
 NOISY = {"speed_noise": 0.05, "heading_noise": 0.05, "distance_noise": 0.05,
          "bearing_noise": 0.05, "message_loss": 0.1}
@@ -25,19 +23,6 @@ CASES = {
     "tiny dispersion seed 2": ("tiny", "dispersion", 2, 300, {}),
     "K ggc seed 0": ("K", "ggc", 0, 300, {}),
 }
-
-
-def run_hash(world: str, controller: str, seed: int, ticks: int, settings: dict) -> str:
-    """sha256 (first 16 hex digits) of positions every tick, then broadcasts and floor bits."""
-    sim = Simulation(world, controller=controller, seed=seed, max_ticks=ticks,
-                     settings={"stop_on_complete": False, **settings})
-    digest = hashlib.sha256()
-    for _ in range(ticks):
-        sim.step()
-        digest.update(sim.positions.tobytes())
-    digest.update(sim.messages.tobytes())
-    digest.update(sim.on_target.tobytes())
-    return digest.hexdigest()[:16]
 
 
 GOLDEN = {
