@@ -8,7 +8,6 @@ code's numbers: Python's hypot (controllers/common/pyhypot.py) and the local map
 from __future__ import annotations
 
 import hashlib
-import math
 
 import numpy as np
 import pytest
@@ -16,7 +15,6 @@ from shapely.geometry import Polygon
 
 from controllers.common.localmap import LocalMap
 from controllers.common.mapbatch import MapRows, lattice_values
-from controllers.common.pyhypot import py_hypot
 from controllers.cvt import CVT
 from controllers.cvt.robot import CVTRobot
 from swarmsim import Simulation
@@ -91,18 +89,6 @@ def test_a_restored_cvt_run_goes_on_as_the_run(tmp_path):
         assert np.array_equal(run.positions, restored.positions)
     assert run.messages.tobytes() == restored.messages.tobytes()
     assert run.swarm.rows.status.tobytes() == restored.swarm.rows.status.tobytes()
-
-
-def test_py_hypot_is_pythons_hypot_to_the_bit():
-    """The C library's hypot (numba's math.hypot) rounds some of these the other way."""
-    rng = np.random.default_rng(4)
-    xs = rng.normal(size=20_000) * 10 ** rng.uniform(-4, 3, 20_000)
-    ys = rng.normal(size=20_000) * 10 ** rng.uniform(-4, 3, 20_000)
-    for x, y in zip(xs.tolist(), ys.tolist(), strict=True):
-        assert py_hypot(x, y) == math.hypot(x, y), (x, y)
-    for x, y in [(0.0, 0.0), (-3.0, 4.0), (5e-320, 1e-321), (1e308, 1e308), (0.0, -2.5)]:
-        assert py_hypot(x, y) == math.hypot(x, y)
-    assert py_hypot(math.inf, math.nan) == math.inf and math.isnan(py_hypot(1.0, math.nan))
 
 
 def test_map_rows_remember_what_local_maps_remember():

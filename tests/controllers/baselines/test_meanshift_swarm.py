@@ -156,6 +156,10 @@ def test_compiled_hypot_is_pythons_to_the_bit():
     python = np.array([math.hypot(x, y) for x, y in xy.tolist()])
     assert np.array_equal(_compiled_hypots(xy), python)
     assert not np.array_equal(_libm_hypots(xy), python)
+    special = np.array([(0.0, 0.0), (-3.0, 4.0), (5e-320, 1e-321), (1e308, 1e308), (0.0, -2.5),
+                        (math.inf, math.nan)])
+    assert np.array_equal(_compiled_hypots(special),
+                          np.array([math.hypot(x, y) for x, y in special.tolist()]))
 
 
 def test_a_run_compiles_no_chunk_kernel_after_its_warm_up():
