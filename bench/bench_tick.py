@@ -9,6 +9,13 @@ full tick / bare step says how much the simulator adds on top of pymunk.
     python bench/bench_tick.py                       # 600, 2000, 5000 robots, both controllers
     python bench/bench_tick.py --robots 2000 --controller ggc --ticks 200
 
+With --world, each controller instead makes whole runs of that world (seeds --seeds, to its
+own end or --max-ticks) and the bench prints its mean tick, wall and CPU, by phase, and the
+ratio of its CPU per tick to GGC's (issue 72: every shipped controller within 3x of GGC):
+
+    python bench/bench_tick.py --world K --controller ggc cvt meanshift kilobot dash fcdfs \
+        dispersion --seeds 1 2
+
 Numbers are medians over --repeats blocks of ticks; these machines are noisy (+-30 %).
 """
 
@@ -67,6 +74,39 @@ def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int)
     return out
 
 
+def measure_runs(world: str, controller: str, seeds: list[int], max_ticks: int | None) -> dict:
+    """Whole runs of ``world``: ms per tick (wall, CPU and each phase's wall), over all the
+    runs' ticks together."""
+    ticks, wall, cpu, phases = 0, 0.0, 0.0, dict.fromkeys(PHASES, 0.0)
+    for seed in seeds:
+        sim = Simulation(world, controller=controller, seed=seed, max_ticks=max_ticks)
+        start, start_cpu = time.perf_counter(), time.process_time()
+        while sim.finished() is None:
+            sim.step()
+        wall += time.perf_counter() - start
+        cpu += time.process_time() - start_cpu
+        ticks += sim.tick
+        for k in PHASES:
+            phases[k] += sim.phase_seconds[k]
+    out = {k: v / ticks * 1e3 for k, v in phases.items()}
+    out.update(ticks=ticks, tick=wall / ticks * 1e3, cpu=cpu / ticks * 1e3)
+    return out
+
+
+def main_world(args: argparse.Namespace) -> None:
+    """Whole runs of --world per controller, against GGC's CPU per tick."""
+    controllers = ["ggc", *[c for c in args.controller if c != "ggc"]]
+    print(f"{args.world}, seeds {args.seeds}: ms per tick over whole runs (wall by phase)")
+    print(f"{'controller':<11}{'ticks':>8}" + "".join(f"{p:>9}" for p in PHASES)
+          + f"{'tick':>9}{'cpu':>9}{'x ggc':>7}")
+    base = None
+    for controller in controllers:
+        r = measure_runs(args.world, controller, args.seeds, args.max_ticks)
+        base = base or r["cpu"]
+        print(f"{controller:<11}{r['ticks']:>8}" + "".join(f"{r[p]:>9.2f}" for p in PHASES)
+              + f"{r['tick']:>9.2f}{r['cpu']:>9.2f}{r['cpu'] / base:>7.1f}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--robots", type=int, nargs="+", default=[600, 2000, 5000])
@@ -74,7 +114,13 @@ def main() -> None:
     parser.add_argument("--warmup", type=int, default=600, help="ticks before measuring")
     parser.add_argument("--ticks", type=int, default=100, help="ticks per measured block")
     parser.add_argument("--repeats", type=int, default=3, help="measured blocks (median)")
+    parser.add_argument("--world", help="whole runs of this world instead (GGC first)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1], help="with --world")
+    parser.add_argument("--max-ticks", type=int, dest="max_ticks", help="with --world")
     args = parser.parse_args()
+    if args.world:
+        main_world(args)
+        return
     head = (f"{'controller':<11}{'robots':>7}{'awake':>7}" + "".join(f"{p:>9}" for p in PHASES)
             + f"{'tick':>9}{'bare':>9}{'ratio':>8}")
     print("ms per tick (median of blocks); bare = pymunk step of the same bodies")

@@ -46,3 +46,10 @@ def test_bench_groups_prints_a_row_per_start_and_group_count():
     assert build >= 0 and ms >= 0 and peak > 0  # times print rounded: a tiny run may be 0
     assert message_bytes == 44 + 3 * 8  # the scattered start's per-group values, 8 bytes each
     assert groups.one("tiny", 3, "formation", ticks=2).split()[6] == "44"
+
+
+def test_bench_tick_compares_whole_runs_of_a_world():
+    tick = load("bench_tick")
+    r = tick.measure_runs("tiny", "dispersion", seeds=[0, 1], max_ticks=30)
+    assert r["ticks"] == 60 and r["tick"] > 0 and r["cpu"] > 0
+    assert r["tick"] >= r["decide"]
