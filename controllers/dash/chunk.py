@@ -18,10 +18,10 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
-from controllers.common.push import push_away
+from controllers.common.push import push_of
 from controllers.common.pyhypot import py_hypot as hypot
 
-from .kernel import spacing_view
+from .kernel import spacing_view_into
 from .params import SEEKING, SPREADING
 
 Gains = namedtuple("Gains", ["d_safe", "d_cover", "s_start", "adapt_rate", "consensus_band",
@@ -35,12 +35,13 @@ distances (P,), units, and their broadcast ``id`` (int32), ``status`` (int8) and
 
 
 @njit(cache=True)
-def _adapt(i, a, b, heard, G, level, s, max_level, no_sender):  # pragma: no cover - compiled
+def _adapt(i, a, b, heard, G, level, s, max_level, no_sender, peers
+           ):  # pragma: no cover - compiled
     """DashRobot.adapt for robot row ``i`` hearing rows ``a:b``: one adapt_rate step of its
-    spacing at most."""
-    mean, too_close = spacing_view(heard.distances[a:b], heard.sender[a:b], heard.status[a:b],
-                                   heard.spacing[a:b], 1.5 * G.d_cover,
-                                   s[i] * (1 - G.tolerance), no_sender, SEEKING)
+    spacing at most (``peers``: a buffer for its peers' spacings)."""
+    mean, too_close = spacing_view_into(peers, heard.distances[a:b], heard.sender[a:b],
+                                        heard.status[a:b], heard.spacing[a:b], 1.5 * G.d_cover,
+                                        s[i] * (1 - G.tolerance), no_sender, SEEKING)
     if math.isnan(mean):  # no peer: its own
         mean = s[i]
     band, rate = G.consensus_band, G.adapt_rate
@@ -62,6 +63,7 @@ def wished(rows, heard, on_target, has_beacon, beacons, G, max_level, no_sender,
     (units per tick) into ``velocity[k]``, its speed into ``speed[k]``, whether its spacing
     held into ``settled[k]``. ``ask[k]``: the robot is on the target and would move, so its
     floor probe at ``probe_at[k]`` (units) must say the step stays on it."""
+    peers = np.empty(heard.distances.shape[0], dtype=heard.spacing.dtype)
     for k in range(rows.shape[0]):
         i = rows[k]
         a, b = heard.starts[k], heard.starts[k + 1]
@@ -70,16 +72,16 @@ def wished(rows, heard, on_target, has_beacon, beacons, G, max_level, no_sender,
             status[i] = SEEKING
             level[i] = 0
             s[i] = G.s_start
-            v = push_away(heard.offsets[a:b], heard.distances[a:b], G.d_safe * 1.5, G.gain)
+            vx, vy = push_of(heard.offsets, heard.distances, a, b, G.d_safe * 1.5, G.gain)
             if has_beacon:
-                v = v + beacons[k] * G.v
+                vx = vx + beacons[k, 0] * G.v
+                vy = vy + beacons[k, 1] * G.v
         else:
             before = level[i]
-            _adapt(i, a, b, heard, G, level, s, max_level, no_sender)
-            v = push_away(heard.offsets[a:b], heard.distances[a:b], s[i], G.gain)
+            _adapt(i, a, b, heard, G, level, s, max_level, no_sender, peers)
+            vx, vy = push_of(heard.offsets, heard.distances, a, b, s[i], G.gain)
             status[i] = SPREADING
             held = level[i] == before
-        vx, vy = v[0], v[1]
         sp = hypot(vx, vy)
         if sp > G.v:
             scale = G.v / sp
