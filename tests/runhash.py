@@ -1,22 +1,42 @@
 """A run's fingerprint for golden tests: the sha256 of its positions at every tick, then its
 broadcasts and floor readings at the end (tests/engine/test_holonomic_golden.py,
-tests/controllers/baselines/test_meanshift_swarm.py)."""
+tests/controllers/baselines/test_meanshift_swarm.py), and its summary (run_digest)."""
 
 from __future__ import annotations
 
 import hashlib
 
 from swarmsim import Simulation
+from swarmsim.engine.costs import TIMING_FIELDS
 
 
 def run_hash(world: str, controller: str | type, seed: int, ticks: int, settings: dict) -> str:
     """sha256 (first 16 hex digits) of positions every tick, then broadcasts and floor bits."""
+    return _run(world, controller, seed, ticks, settings)[0]
+
+
+def run_digest(controller: str | type, world: str, seed: int, ticks: int,
+               settings: dict) -> tuple[str, dict, int]:
+    """:func:`run_hash` of a run; its summary without the fields that time it or name the
+    controller as given (a batch controller and its per-robot reference are two classes);
+    and the robot-ticks it ended asleep."""
+    digest, sim, asleep = _run(world, controller, seed, ticks, settings)
+    summary = {k: v for k, v in sim.result().summary.items()
+               if k not in (*TIMING_FIELDS, "controller")}
+    return digest, summary, asleep
+
+
+def _run(world: str, controller: str | type, seed: int, ticks: int,
+         settings: dict) -> tuple[str, Simulation, int]:
+    """The run's fingerprint (16 hex digits), the Simulation ``ticks`` ticks on, and the
+    robot-ticks it ended asleep."""
     sim = Simulation(world, controller=controller, seed=seed, max_ticks=ticks,
                      settings={"stop_on_complete": False, **settings})
-    digest = hashlib.sha256()
+    digest, asleep = hashlib.sha256(), 0
     for _ in range(ticks):
         sim.step()
         digest.update(sim.positions.tobytes())
+        asleep += int(sim.asleep.sum())
     digest.update(sim.messages.tobytes())
     digest.update(sim.on_target.tobytes())
-    return digest.hexdigest()[:16]
+    return digest.hexdigest()[:16], sim, asleep

@@ -14,20 +14,27 @@ from numba import njit
 def push_away(offsets, distances, radius, gain):  # pragma: no cover - compiled
     """``-gain`` times the sum of the offsets (units) of the neighbours closer than
     ``radius``, each weighted by (radius - d) / d: a push away from them."""
+    out = np.zeros(2)
+    out[0], out[1] = push_of(offsets, distances, 0, distances.shape[0], radius, gain)
+    return out
+
+
+@njit(cache=True)
+def push_of(offsets, distances, lo, hi, radius, gain):  # pragma: no cover - compiled
+    """:func:`push_away` of the neighbours in rows ``lo:hi``, as two floats (x, y): no array
+    made per robot."""
     sx = sy = 0.0
     close = False
-    for j in range(distances.shape[0]):
+    for j in range(lo, hi):
         if distances[j] < radius:
             d = max(distances[j], 1e-6)
             weight = (radius - d) / d
             sx += offsets[j, 0] * weight
             sy += offsets[j, 1] * weight
             close = True
-    out = np.zeros(2)
     if close:
-        out[0] = -gain * sx
-        out[1] = -gain * sy
-    return out
+        return -gain * sx, -gain * sy
+    return 0.0, 0.0
 
 
 def warm_up() -> None:

@@ -1,5 +1,16 @@
-"""The Dash controller (controller.py) and its compiled kernel (kernel.py)."""
+"""The DASH controller: its declarations (params.py), the batch controller (controller.py), its
+swarm (swarm.py) and compiled chunk kernel (chunk.py), the spacing kernel (kernel.py), and the
+per-robot reference (robot.py)."""
+
+from pathlib import Path
+
+from swarmsim.controller import stamp_kernels_by_code
+
+# chunk.py's kernel calls kernel.py's and reads params.py's constants: the package's kernels
+# are stamped by the code of all its files, before any of them is decorated
+stamp_kernels_by_code(Path(__file__).parent, whole=True)
 
 from .controller import Dash, DashParams
+from .robot import DashRobot
 
-__all__ = ["Dash", "DashParams"]
+__all__ = ["Dash", "DashParams", "DashRobot"]

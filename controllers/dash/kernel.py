@@ -18,7 +18,15 @@ def spacing_view(distances, sender, status, spacing, reach, too_close, no_sender
     """The mean broadcast spacing (float32, as numpy's mean of float32; NaN: no peer) of the
     peers within ``reach`` (units) that speak and have left Seeking, and how many neighbours
     are closer than ``too_close`` (units)."""
-    peers = np.empty(distances.shape[0], dtype=spacing.dtype)
+    return spacing_view_into(np.empty(distances.shape[0], dtype=spacing.dtype), distances,
+                             sender, status, spacing, reach, too_close, no_sender, seeking)
+
+
+@njit(cache=True)
+def spacing_view_into(peers, distances, sender, status, spacing, reach, too_close, no_sender,
+                      seeking):  # pragma: no cover - compiled
+    """:func:`spacing_view`, the peers' spacings gathered in ``peers`` (of spacing's dtype,
+    at least as long as ``distances``): no array made per robot."""
     k = close = 0
     for j in range(distances.shape[0]):
         if (distances[j] <= reach and sender[j] != no_sender and status[j] != seeking

@@ -5,7 +5,7 @@ import hashlib
 import numpy as np
 import pytest
 
-from controllers.dispersion import Dispersion
+from controllers.dispersion import DispersionRobot
 from swarmsim import Simulation
 from swarmsim.controller import Action, ChunkActions
 from tests.bad_controllers import PutSwarm
@@ -33,13 +33,13 @@ def test_columns_put_row_by_row_equal_the_columns_of_the_list():
     assert put.messages == of.messages and put.sleepers == of.sleepers
 
 
-class ColumnsDispersion(Dispersion):
+class ColumnsDispersion(DispersionRobot):
     """Dispersion as a batch controller: a chunk's robots decided into columns (each robot's
     step, put), the path of a batch controller's ChunkActions."""
 
     @classmethod
     def create_swarm(cls, setups, params, rngs) -> PutSwarm:
-        return PutSwarm.of(Dispersion, setups, params, rngs)
+        return PutSwarm.of(DispersionRobot, setups, params, rngs)
 
 
 def run_hash(controller: str) -> tuple[str, int]:

@@ -1,0 +1,15 @@
+"""The dispersion controller: its declarations (params.py), the batch controller
+(controller.py), its swarm (swarm.py) and compiled chunk kernel (chunk.py), and the per-robot
+reference (robot.py)."""
+
+from pathlib import Path
+
+from swarmsim.controller import stamp_kernels_by_code
+
+# the package's kernels are stamped by the code of all its files, before any is decorated
+stamp_kernels_by_code(Path(__file__).parent, whole=True)
+
+from .controller import Dispersion, DispersionParams
+from .robot import DispersionRobot
+
+__all__ = ["Dispersion", "DispersionParams", "DispersionRobot"]
