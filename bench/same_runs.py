@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from swarmsim.engine.sim import TIMING_FIELDS
+from swarmsim.results.provenance import code_version
 
 RECORD = Path(__file__).with_name("same_runs.json")
 CASES = {
@@ -32,7 +33,8 @@ CASES = {
     "house": ["house", "--seed", "0"],
     "K scattered": ["K", "--seed", "0", "--set", "start=random"],
 }
-"""Each case's `swarmsim run` arguments."""
+"""Each case's `swarmsim run` arguments (same_runs.json also names the code that recorded
+them, ``recorded_by``)."""
 UNHASHED = {*TIMING_FIELDS, "code_version"}
 
 
@@ -80,6 +82,7 @@ def main() -> int:
             print(f"{case}: {'same' if same else 'DIFFERENT'} "
                   f"{'' if same else f'(now {now}, recorded {was})'}", flush=True)
     if args.record:
+        recorded["recorded_by"] = code_version()
         RECORD.write_text(json.dumps(recorded, indent=2, sort_keys=True) + "\n")
     return 1 if differ else 0
 
