@@ -137,7 +137,7 @@ def test_a_run_freezes_old_objects_only_while_it_runs_and_leaves_no_garbage():
     sim.run(on_tick=lambda s: seen.append(gc.get_freeze_count()))
     assert min(seen) > 0  # the objects from before the run sat out full collections
     assert gc.get_freeze_count() == 0  # and were handed back afterwards
-    gone = weakref.ref(sim.swarm.robots[0])
+    gone = weakref.ref(sim.swarm)
     del sim
     gc.collect()
     assert gone() is None  # a finished run's robots are collected as usual
