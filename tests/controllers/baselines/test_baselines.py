@@ -196,13 +196,13 @@ def test_kilobot_counts_one_trap_per_lap_round_a_robot_off_the_target():
     so it stopped two ticks after its first lap)."""
     import math
 
-    from controllers.kilobot import JOINED, OUTSIDE, WAIT, Kilobot, KilobotParams
+    from controllers.kilobot import JOINED, OUTSIDE, WAIT, KilobotParams, KilobotRobot
     from swarmsim.controller import RobotSetup, make_perception, message_dtype
 
     params = KilobotParams()
-    robot = Kilobot(RobotSetup(robot_id=10), params, np.random.default_rng(0))
+    robot = KilobotRobot(RobotSetup(robot_id=10), params, np.random.default_rng(0))
     robot.status, robot.grad = OUTSIDE, 5
-    msg = np.zeros(1, dtype=message_dtype(Kilobot.MESSAGE_FIELDS))
+    msg = np.zeros(1, dtype=message_dtype(KilobotRobot.MESSAGE_FIELDS))
     msg["id"], msg["status"], msg["gradient"], msg["moving"] = 3, WAIT, 4, False
     laps = []
     for tick in range(160):  # 0.12 radians a tick: a lap every ~52 ticks
