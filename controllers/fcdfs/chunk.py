@@ -282,8 +282,10 @@ def _formation_gradient(s, k, p):  # pragma: no cover - compiled
     """FCDFSRobot.formation_gradient (-1: None)."""
     found, best = False, 0
     for j in range(s.starts[k], s.starts[k + 1]):
+        if s.distances[j] > 1.5 * p.d_min:
+            break  # the rows are nearest first
         st = s.status[j]
-        if (s.distances[j] <= 1.5 * p.d_min and s.sender[j] != NO_SENDER
+        if (s.sender[j] != NO_SENDER
                 and (st == TRAVEL or st == QUEUE or st == DOOR)
                 and s.gradient[j] < INF_GRADIENT and (not found or s.gradient[j] < best)):
             found, best = True, s.gradient[j]
@@ -294,7 +296,9 @@ def _formation_gradient(s, k, p):  # pragma: no cover - compiled
 def _travel_parent(rows, s, p, k, i):  # pragma: no cover - compiled
     """FormationTravel.travel_parent (formationkernel.first_parent), -1: None."""
     for j in range(s.starts[k], s.starts[k + 1]):
-        if (s.distances[j] <= 1.5 * p.d_min and not s.moving[j] and s.sender[j] != NO_SENDER
+        if s.distances[j] > 1.5 * p.d_min:
+            break  # the rows are nearest first
+        if (not s.moving[j] and s.sender[j] != NO_SENDER
                 and s.gradient[j] == rows.grad[i] - 1):
             return j
     return -1
@@ -391,7 +395,9 @@ def _clear_ahead(s, p, k, hx, hy):  # pragma: no cover - compiled
     """FCDFSRobot.clear_ahead: no robot within queue_gap in a 60-degree cone."""
     for j in range(s.starts[k], s.starts[k + 1]):
         d = s.distances[j]
-        if d <= p.queue_gap and s.offsets[j, 0] * hx + s.offsets[j, 1] * hy > 0.5 * d:
+        if d > p.queue_gap:
+            break  # the rows are nearest first
+        if s.offsets[j, 0] * hx + s.offsets[j, 1] * hy > 0.5 * d:
             return False
     return True
 
@@ -412,35 +418,32 @@ def _queue(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
                 rows.door[i], rows.pdir[i] = s.door[j], s.pdir[j]
                 break
     door_id = rows.door[i]
-    sees_door, any_link, low = False, False, 0
-    for j in range(a, b):
-        heard = s.sender[j] != NO_SENDER
-        if heard and s.sender[j] == door_id:
-            sees_door = True
+    at, mover, any_link, low = -1, -1, False, 0  # one pass: the door's row, the first
+    for j in range(a, b):  # robot entering close by, the line's fewest hops
+        if s.sender[j] == NO_SENDER:
+            continue
+        if at < 0 and s.sender[j] == door_id:
+            at = j
+        if (mover < 0 and s.status[j] == MOVING
+                and s.distances[j] <= p.avoid_range + 0.5):
+            mover = j
         if _link(s, p, j, door_id):
             if not any_link or s.hops[j] < low:
                 low = s.hops[j]
             any_link = True
-    if sees_door:
+    if at >= 0:
         hops = 1
     elif any_link:
         hops = low + 1
     else:
         hops = INF_GRADIENT
     rows.hops[i] = hops if hops <= MAX_HOPS else INF_GRADIENT
-    for j in range(a, b):
-        if (s.status[j] == MOVING and s.sender[j] != NO_SENDER
-                and s.distances[j] <= p.avoid_range + 0.5):
-            m = max(s.distances[j], 1e-9)
-            ax, ay = -s.offsets[j, 0] / m, -s.offsets[j, 1] / m
-            share = 1.0 if _clear_ahead(s, p, k, ax, ay) else 0.5
-            _go_act(rows, p, k, i, out, ax * p.v * share, ay * p.v * share)
-            return
-    at = -1
-    for j in range(a, b):
-        if s.sender[j] == door_id and s.sender[j] != NO_SENDER:
-            at = j
-            break
+    if mover >= 0:
+        m = max(s.distances[mover], 1e-9)
+        ax, ay = -s.offsets[mover, 0] / m, -s.offsets[mover, 1] / m
+        share = 1.0 if _clear_ahead(s, p, k, ax, ay) else 0.5
+        _go_act(rows, p, k, i, out, ax * p.v * share, ay * p.v * share)
+        return
     wake = math.nan
     if at >= 0:
         dx, dy = s.offsets[at, 0], s.offsets[at, 1]
@@ -461,6 +464,8 @@ def _queue(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
     else:
         parent = -1
         for j in range(a, b):
+            if s.distances[j] > 2.0 * p.d_min:
+                break  # the rows are nearest first; a link is within 2 d_min
             if _link(s, p, j, door_id) and s.hops[j] < rows.hops[i]:
                 parent = j
                 break
@@ -700,7 +705,9 @@ def _go(rows, s, p, k, i, out, tx, ty):  # pragma: no cover - compiled
     vx, vy = ux * speed, uy * speed
     for j in range(s.starts[k], s.starts[k + 1]):
         d = s.distances[j]
-        if not (d <= p.avoid_range and d > 1e-9):
+        if d > p.avoid_range:
+            break  # the rows are nearest first
+        if not d > 1e-9:
             continue
         ex, ey = s.offsets[j, 0] / d, s.offsets[j, 1] / d
         toward = vx * ex + vy * ey
