@@ -486,7 +486,7 @@ def _or(wake, otherwise):  # pragma: no cover - compiled
     return otherwise if math.isnan(wake) or wake == 0.0 else wake
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # called per neighbour: no call, no array refcounts
 def _link(s, p, j, door_id):  # pragma: no cover - compiled
     """Row j is a link of the line (FCDFSRobot.queue's ``link``)."""
     st = s.status[j]
@@ -552,7 +552,7 @@ def _wall(rows, s, p, q, k, i, cx, cy):  # pragma: no cover - compiled
     return not _probe(q, k, ox, oy)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")  # called per neighbour: no call, no array refcounts
 def _near_centre(rows, s, p, i, j, cx, cy):  # pragma: no cover - compiled
     """Neighbour j stands within half a cell of cell (cx, cy)'s centre."""
     tx = rows.pos[i, 0] + s.offsets[j, 0] - float(cx) * p.spacing
