@@ -393,11 +393,12 @@ def _door_step(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
 @njit(cache=True)
 def _clear_ahead(s, p, k, hx, hy):  # pragma: no cover - compiled
     """FCDFSRobot.clear_ahead: no robot within queue_gap in a 60-degree cone."""
+    distances, offsets = s.distances, s.offsets
     for j in range(s.starts[k], s.starts[k + 1]):
-        d = s.distances[j]
+        d = distances[j]
         if d > p.queue_gap:
             break  # the rows are nearest first
-        if s.offsets[j, 0] * hx + s.offsets[j, 1] * hy > 0.5 * d:
+        if offsets[j, 0] * hx + offsets[j, 1] * hy > 0.5 * d:
             return False
     return True
 
@@ -418,18 +419,23 @@ def _queue(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
                 rows.door[i], rows.pdir[i] = s.door[j], s.pdir[j]
                 break
     door_id = rows.door[i]
-    at, mover, any_link, low = -1, -1, False, 0  # one pass: the door's row, the first
-    for j in range(a, b):  # robot entering close by, the line's fewest hops
-        if s.sender[j] == NO_SENDER:
+    # one pass: the door's row, the first robot entering close by, the line's fewest hops
+    # (the columns in locals: a NamedTuple's array read in a loop costs reference counts)
+    sender, status, distances, hops_of, doors = s.sender, s.status, s.distances, s.hops, s.door
+    at, mover, any_link, low = -1, -1, False, 0
+    reach, make_way = 2.0 * p.d_min, p.avoid_range + 0.5
+    for j in range(a, b):
+        if sender[j] == NO_SENDER:
             continue
-        if at < 0 and s.sender[j] == door_id:
+        if at < 0 and sender[j] == door_id:
             at = j
-        if (mover < 0 and s.status[j] == MOVING
-                and s.distances[j] <= p.avoid_range + 0.5):
+        st = status[j]
+        if mover < 0 and st == MOVING and distances[j] <= make_way:
             mover = j
-        if _link(s, p, j, door_id):
-            if not any_link or s.hops[j] < low:
-                low = s.hops[j]
+        if (distances[j] <= reach and hops_of[j] < INF_GRADIENT
+                and (st == QUEUE or st == DOOR) and doors[j] == door_id):  # a link of the line
+            if not any_link or hops_of[j] < low:
+                low = hops_of[j]
             any_link = True
     if at >= 0:
         hops = 1
@@ -462,11 +468,14 @@ def _queue(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
             _queue_sleep(rows, p, k, i, out, _or(wake, p.queue_gap + 0.5))
             return
     else:
-        parent = -1
+        parent, own = -1, rows.hops[i]
         for j in range(a, b):
-            if s.distances[j] > 2.0 * p.d_min:
+            if distances[j] > reach:
                 break  # the rows are nearest first; a link is within 2 d_min
-            if _link(s, p, j, door_id) and s.hops[j] < rows.hops[i]:
+            st = status[j]
+            if (distances[j] <= reach and sender[j] != NO_SENDER and hops_of[j] < INF_GRADIENT
+                    and (st == QUEUE or st == DOOR) and doors[j] == door_id
+                    and hops_of[j] < own):  # a link of the line with fewer hops
                 parent = j
                 break
         if parent < 0:
@@ -486,35 +495,27 @@ def _or(wake, otherwise):  # pragma: no cover - compiled
     return otherwise if math.isnan(wake) or wake == 0.0 else wake
 
 
-@njit(cache=True, inline="always")  # called per neighbour: no call, no array refcounts
-def _link(s, p, j, door_id):  # pragma: no cover - compiled
-    """Row j is a link of the line (FCDFSRobot.queue's ``link``)."""
-    st = s.status[j]
-    return (s.distances[j] <= 2.0 * p.d_min and s.sender[j] != NO_SENDER
-            and s.hops[j] < INF_GRADIENT and (st == QUEUE or st == DOOR)
-            and s.door[j] == door_id)
-
-
 @njit(cache=True)
 def _try_enter(rows, s, p, q, k, i, out, dx, dy):  # pragma: no cover - compiled
     """FCDFSRobot.try_enter: True when it entered (its action written)."""
     a, b = s.starts[k], s.starts[k + 1]
     door_id = rows.door[i]
     mine = math.hypot(dx, dy)
+    sender, status, doors, offsets = s.sender, s.status, s.door, s.offsets
     for j in range(a, b):
-        if s.sender[j] == NO_SENDER or s.door[j] != door_id:
+        if sender[j] == NO_SENDER or doors[j] != door_id or status[j] != MOVING:
             continue
-        from_door = math.hypot(s.offsets[j, 0] - dx, s.offsets[j, 1] - dy)
-        if s.status[j] == MOVING and from_door <= p.clearance:
+        if math.hypot(offsets[j, 0] - dx, offsets[j, 1] - dy) <= p.clearance:
             return False
+    me = rows.robot_id[i]
     for j in range(a, b):
-        if s.sender[j] == NO_SENDER or s.door[j] != door_id:
+        if sender[j] == NO_SENDER or doors[j] != door_id or status[j] != QUEUE:
             continue
-        from_door = math.hypot(s.offsets[j, 0] - dx, s.offsets[j, 1] - dy)
-        if not (s.status[j] == QUEUE and from_door <= p.door_radius):
+        from_door = math.hypot(offsets[j, 0] - dx, offsets[j, 1] - dy)
+        if not from_door <= p.door_radius:
             continue
         tie = abs(from_door - mine) <= 1e-6
-        if (from_door < mine and not tie) or (tie and s.sender[j] < rows.robot_id[i]):
+        if (from_door < mine and not tie) or (tie and sender[j] < me):
             return False
     rows.pos[i, 0], rows.pos[i, 1] = -dx, -dy
     found, ex, ey = _entry_cell(rows, s, p, q, k, i)
@@ -552,26 +553,29 @@ def _wall(rows, s, p, q, k, i, cx, cy):  # pragma: no cover - compiled
     return not _probe(q, k, ox, oy)
 
 
-@njit(cache=True, inline="always")  # called per neighbour: no call, no array refcounts
-def _near_centre(rows, s, p, i, j, cx, cy):  # pragma: no cover - compiled
-    """Neighbour j stands within half a cell of cell (cx, cy)'s centre."""
-    tx = rows.pos[i, 0] + s.offsets[j, 0] - float(cx) * p.spacing
-    ty = rows.pos[i, 1] + s.offsets[j, 1] - float(cy) * p.spacing
-    return math.hypot(tx, ty) < 0.5 * p.spacing
+@njit(cache=True, inline="always")  # called per neighbour
+def _near_centre(x, y, ox, oy, cx, cy, spacing):  # pragma: no cover - compiled
+    """A neighbour at (ox, oy) from a robot at (x, y) stands within half a cell of cell
+    (cx, cy)'s centre (units)."""
+    tx = x + ox - float(cx) * spacing
+    ty = y + oy - float(cy) * spacing
+    return math.hypot(tx, ty) < 0.5 * spacing
 
 
 @njit(cache=True)
 def _settled_at(rows, s, p, k, i, cx, cy):  # pragma: no cover - compiled
     """FCDFSRobot.settled_at."""
     a, b = s.starts[k], s.starts[k + 1]
-    door_id = rows.door[i]
+    door_id, x, y = rows.door[i], rows.pos[i, 0], rows.pos[i, 1]
+    sender, status, doors, ci, cj, offsets = s.sender, s.status, s.door, s.ci, s.cj, s.offsets
     for j in range(a, b):
-        if ((s.status[j] == SETTLED or s.status[j] == DOOR) and s.sender[j] != NO_SENDER
-                and s.door[j] == door_id and s.ci[j] == cx and s.cj[j] == cy):
+        if ((status[j] == SETTLED or status[j] == DOOR) and sender[j] != NO_SENDER
+                and doors[j] == door_id and ci[j] == cx and cj[j] == cy):
             return True
     for j in range(a, b):
-        if ((s.status[j] == SETTLED or s.status[j] == DOOR) and s.sender[j] != NO_SENDER
-                and s.door[j] != door_id and _near_centre(rows, s, p, i, j, cx, cy)):
+        if ((status[j] == SETTLED or status[j] == DOOR) and sender[j] != NO_SENDER
+                and doors[j] != door_id
+                and _near_centre(x, y, offsets[j, 0], offsets[j, 1], cx, cy, p.spacing)):
             return True
     return False
 
@@ -587,14 +591,15 @@ def _blocked(rows, s, p, q, k, i, cx, cy):  # pragma: no cover - compiled
 def _active_at(rows, s, p, k, i, cx, cy):  # pragma: no cover - compiled
     """FCDFSRobot.active_at."""
     a, b = s.starts[k], s.starts[k + 1]
-    door_id = rows.door[i]
+    door_id, x, y = rows.door[i], rows.pos[i, 0], rows.pos[i, 1]
+    sender, status, doors, ci, cj, offsets = s.sender, s.status, s.door, s.ci, s.cj, s.offsets
     for j in range(a, b):
-        if (s.status[j] == MOVING and s.sender[j] != NO_SENDER and s.door[j] == door_id
-                and s.ci[j] == cx and s.cj[j] == cy):
+        if (status[j] == MOVING and sender[j] != NO_SENDER and doors[j] == door_id
+                and ci[j] == cx and cj[j] == cy):
             return True
     for j in range(a, b):
-        if (s.status[j] == MOVING and s.sender[j] != NO_SENDER
-                and _near_centre(rows, s, p, i, j, cx, cy)):
+        if (status[j] == MOVING and sender[j] != NO_SENDER
+                and _near_centre(x, y, offsets[j, 0], offsets[j, 1], cx, cy, p.spacing)):
             return True
     return False
 
