@@ -135,24 +135,28 @@ def _edge_follow(ox, oy, dist, p):  # pragma: no cover - compiled
 def _lowest_gradient(s, a, b, reach):  # pragma: no cover - compiled
     """formationkernel.lowest_gradient over rows a:b."""
     found, best = False, 0
-    for j in range(a, b):
-        if (s.distances[j] <= reach and not s.moving[j] and s.sender[j] != NO_SENDER
-                and s.gradient[j] < INF_GRADIENT and (not found or s.gradient[j] < best)):
-            found, best = True, s.gradient[j]
+    distances, moving, sender, gradient = s.distances, s.moving, s.sender, s.gradient
+    for j in range(a, b):  # (columns in locals: a NamedTuple's array read in a loop costs
+        # reference counts each time)
+        if (distances[j] <= reach and not moving[j] and sender[j] != NO_SENDER
+                and gradient[j] < INF_GRADIENT and (not found or gradient[j] < best)):
+            found, best = True, gradient[j]
     return best if found else -1
 
 
 @njit(cache=True)
 def _blocked(s, a, b, p, grad, me):  # pragma: no cover - compiled
     """formationkernel.blocked over rows a:b (Kilobot's start rule)."""
+    distances, moving, sender, gradient, status = (s.distances, s.moving, s.sender,
+                                                   s.gradient, s.status)
     for j in range(a, b):
-        if s.sender[j] != NO_SENDER and s.distances[j] <= p.quiet_range and s.moving[j]:
+        if sender[j] != NO_SENDER and distances[j] <= p.quiet_range and moving[j]:
             return True
     for j in range(a, b):
-        if s.sender[j] == NO_SENDER or not s.distances[j] <= p.start_range:
+        if sender[j] == NO_SENDER or not distances[j] <= p.start_range:
             continue
-        if ((s.status[j] == WAIT or s.status[j] == TRAVEL)
-                and (s.gradient[j] > grad or (s.gradient[j] == grad and s.sender[j] > me))):
+        if ((status[j] == WAIT or status[j] == TRAVEL)
+                and (gradient[j] > grad or (gradient[j] == grad and sender[j] > me))):
             return True
     return False
 
@@ -337,10 +341,11 @@ def _should_join(rows, s, p, k, i, nearest, answers):  # pragma: no cover - comp
 @njit(cache=True)
 def _must_yield(rows, s, p, k, i, vx, vy):  # pragma: no cover - compiled
     """KilobotRobot.must_yield: a moving robot with a larger id close ahead."""
+    distances, moving, sender, offsets = s.distances, s.moving, s.sender, s.offsets
+    me = rows.robot_id[i]
     for j in range(s.starts[k], s.starts[k + 1]):
-        if (s.distances[j] <= p.yield_distance and s.moving[j]
-                and s.sender[j] > rows.robot_id[i]
-                and s.offsets[j, 0] * vx + s.offsets[j, 1] * vy > 0):
+        if (distances[j] <= p.yield_distance and moving[j] and sender[j] > me
+                and offsets[j, 0] * vx + offsets[j, 1] * vy > 0):
             return True
     return False
 
