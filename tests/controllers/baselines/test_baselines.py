@@ -130,7 +130,7 @@ def test_formation_controllers_wait_in_formation():
 def test_fcdfs_settles_on_a_lattice():
     """Settled FCDFS robots sit on a square lattice of spacing d_cover (intervals)."""
     sim, _ = run("fcdfs", 2500)
-    pos = sim.positions[[c.status in (2, 4) for c in sim.swarm.robots]]
+    pos = sim.positions[np.isin(sim.swarm.rows.status, (2, 4))]  # Door, Settled
     assert len(pos) >= 10
     d = np.hypot(*(pos[:, None] - pos[None]).transpose(2, 0, 1))
     np.fill_diagonal(d, np.inf)
