@@ -19,8 +19,12 @@ def outcome(sim: Simulation) -> tuple:
     robots.csv rows, positions and broadcasts as bytes, engine sleep, controller state."""
     result = sim.run()
     swarm = sim.swarm
-    state = (swarm.state.tobytes() if hasattr(swarm, "state")
-             else pickle.dumps([vars(robot) for robot in swarm.robots]))
+    if hasattr(swarm, "state"):
+        state = swarm.state.tobytes()
+    elif hasattr(swarm, "rows"):  # a batch swarm's state columns (Kilobot's, CVT's)
+        state = b"".join(column.tobytes() for column in swarm.rows)
+    else:
+        state = pickle.dumps([vars(robot) for robot in swarm.robots])
     for values in getattr(swarm, "per_group", ()):  # GGC's per-group arrays
         state += values.tobytes()
     return (sim.tick, untimed(result.summary), result.timeseries, result.robots,

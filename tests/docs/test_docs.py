@@ -15,7 +15,7 @@ CURRENT = sorted(p for p in DOCS.glob("*.md") if p.name != "README.md")
 REPORTS = sorted((DOCS / "reports").glob("*.md"))
 """The dated journals: provenance, not updated as the code changes."""
 EXTERNAL = {"docs/riport.md"}
-"""docs/ paths of other repositories that the code cites (controllers/fcdfs.py:
+"""docs/ paths of other repositories that the code cites (controllers/fcdfs/controller.py:
 Kristofy/uniform-dispersion-problem)."""
 
 MEASURED = re.compile(

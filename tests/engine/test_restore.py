@@ -180,7 +180,7 @@ class _Locked:
 
 def test_runs_that_cannot_be_saved_are_refused_and_nothing_is_written(tmp_path):
     path = tmp_path / "run.ckpt"
-    sim = _sim("kilobot")
+    sim = _sim(CROWDER)  # a per-robot controller: one object per robot
     sim.hooks.append(_Counter())
     with pytest.raises(ConfigError, match=r"user's loop hook \(_Counter\)"):
         sim.save(path)

@@ -130,7 +130,7 @@ def test_formation_controllers_wait_in_formation():
 def test_fcdfs_settles_on_a_lattice():
     """Settled FCDFS robots sit on a square lattice of spacing d_cover (intervals)."""
     sim, _ = run("fcdfs", 2500)
-    pos = sim.positions[[c.status in (2, 4) for c in sim.swarm.robots]]
+    pos = sim.positions[np.isin(sim.swarm.rows.status, (2, 4))]  # Door, Settled
     assert len(pos) >= 10
     d = np.hypot(*(pos[:, None] - pos[None]).transpose(2, 0, 1))
     np.fill_diagonal(d, np.inf)
@@ -196,13 +196,13 @@ def test_kilobot_counts_one_trap_per_lap_round_a_robot_off_the_target():
     so it stopped two ticks after its first lap)."""
     import math
 
-    from controllers.kilobot import JOINED, OUTSIDE, WAIT, Kilobot, KilobotParams
+    from controllers.kilobot import JOINED, OUTSIDE, WAIT, KilobotParams, KilobotRobot
     from swarmsim.controller import RobotSetup, make_perception, message_dtype
 
     params = KilobotParams()
-    robot = Kilobot(RobotSetup(robot_id=10), params, np.random.default_rng(0))
+    robot = KilobotRobot(RobotSetup(robot_id=10), params, np.random.default_rng(0))
     robot.status, robot.grad = OUTSIDE, 5
-    msg = np.zeros(1, dtype=message_dtype(Kilobot.MESSAGE_FIELDS))
+    msg = np.zeros(1, dtype=message_dtype(KilobotRobot.MESSAGE_FIELDS))
     msg["id"], msg["status"], msg["gradient"], msg["moving"] = 3, WAIT, 4, False
     laps = []
     for tick in range(160):  # 0.12 radians a tick: a lap every ~52 ticks

@@ -1,150 +1,34 @@
-"""Kilobot programmable self-assembly (Rubenstein, Cornejo & Nagpal, Science 345:795, 2014),
-the GGC paper's comparison algorithm [41], in the GGC paper's units.
-
-Rules (reconstructed from the supplementary pseudocode as mirrored by public
-implementations; /work/shared/research/algorithms.md section 2):
-
-* Start: the swarm stands as one hexagonal formation (spacing ``d_min``) around the seed
-  (the RobotSetup leader, gradient 0; no grouping: every robot follows the one seed). The
-  Kilobot seeds stand next to the shape, so the seed first leads the formation there, as GGC
-  does: it heads for the beacon and broadcasts a travel command; every robot copies its
-  gradient parent's command one tick later (the formation moves rigidly) and the seed halts
-  when its floor sensor finds the target. It then stays, joined.
-* Gradient: a waiting robot's gradient is 1 + the smallest gradient among stationary
-  neighbours within 1.5 * d_min (hop count from the seed through the formation); a moving
-  robot's is 1 + the smallest among stationary neighbours within ``gradient_reach * d_cover``
-  (Kilobot's GRADIENT_DIST / DESIRED_DIST ~ 1.3).
-* Start moving (WAIT -> MOVE): only when no moving robot is within ``quiet_range``, and no
-  waiting neighbour within ``start_range`` has a larger gradient, or the same gradient and a
-  larger id (so the outermost robots peel off one per neighbourhood).
-* Edge-following: keep ``d_cover`` from the nearest stationary robot, rotating around it
-  (``orbit`` -1: clockwise, as the Kilobots do); yield (wait) while a moving robot with a
-  larger id is within ``yield_distance`` ahead.
-* Join (stop for good), only on the target and at least d_cover - arrive_tolerance from the
-  nearest stationary robot: when the floor probe ``probe_distance`` ahead leaves the target
-  ("about to leave the shape"), or when the nearest stationary robot has joined with a
-  gradient >= this robot's (its layer is full). A robot outside the target never joins.
-* Our additions for robustness (documented; the Kilobot paper has no such rule): a robot that
-  has circled the same robot all the way round, or has moved less than ``theta`` in ``T_r``
-  ticks without yielding (trapped in a pocket narrower than d_cover), joins if it is on the
-  target and otherwise heads for the beacon for T_r ticks; trapped a third time in a row off
-  the target, it stops there for good (so that it cannot keep every waiting robot near it
-  waiting forever); a moving robot that senses no stationary robot heads for the beacon.
-
-Kilobots localize by trilateration and test their estimated position against a stored shape
-bitmap; here the floor sensor and a 1-unit probe play that role, like GGC's robots.
-
-Sensing: distances and bearings of neighbours within max(gradient_reach * d_cover,
-quiet_range), their broadcast gradient, id, status and travel command, the floor sensor, a
-floor probe 1 unit ahead, and (seed only) the beacon's bearing: the same class of sensing as
-GGC (hop counts and distances); no map of the target.
+"""One Kilobot robot at a time (a per-robot controller, :class:`KilobotRobot`): the
+reference implementation of :class:`controllers.kilobot.Kilobot`, whose swarm
+(swarm.py, chunk.py) makes the very same runs (tests/controllers/baselines/test_kilobot_swarm.py).
+The rules: controllers/kilobot/__init__.py.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
 from controllers.common import formationkernel
 from controllers.common.edges import CirclingWatch, ProgressWatch
 from controllers.common.formation import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
-from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import (
-    NO_SENDER,
-    Action,
-    Perception,
-    RobotSetup,
-    make_action,
-    require_positive,
+from controllers.common.gradient import INF_GRADIENT
+from swarmsim.controller import NO_SENDER, Action, Perception, RobotSetup, make_action
+
+from .params import (
+    INSIDE,
+    JOINED,
+    MOVING,
+    OUTSIDE,
+    TRAVEL,
+    WAIT,
+    KilobotDeclarations,
+    KilobotParams,
 )
 
-TRAVEL, WAIT, OUTSIDE, INSIDE, JOINED = range(5)
-STATUSES = ("Travel", "Wait", "MoveOutside", "MoveInside", "Joined")
-MOVING = (OUTSIDE, INSIDE)
-MESSAGE_FIELDS = [*GRADIENT_FIELDS, ("cmd", "i1"), ("vx", "f4"), ("vy", "f4")]
 
-
-@dataclass(frozen=True)
-class KilobotParams:
-    """Parameters of the Kilobot self-assembly controller (lengths in units, times in ticks).
-
-    Attributes:
-        d_safe: safe distance (paper Table 2: 1).
-        d_cover: edge-following and joining distance (Kilobot's DESIRED_DIST; GGC's coverage
-            distance, default 6).
-        d_min: spacing of the start formation; waiting robots relay the gradient within
-            1.5 * d_min.
-        v: speed (paper Table 2: 0.1 per tick).
-        gradient_reach: a moving robot takes its gradient from stationary neighbours within
-            gradient_reach * d_cover.
-        start_range: a waiting robot compares gradients with waiting neighbours this close.
-        quiet_range: a waiting robot starts only when no moving robot is this close (default
-            d_cover + d_safe: an edge-follower passing by blocks it).
-        yield_distance: a moving robot waits while a moving robot with a larger id is this
-            close ahead.
-        radial_gain: edge following: radial correction per unit of distance error.
-        arrive_tolerance: a robot joins only at least d_cover - arrive_tolerance from the
-            nearest stationary robot.
-        probe_distance: the floor probe looks this far ahead (<= 2, the engine's probe range).
-        orbit: -1 follows edges clockwise (the Kilobots' sense), +1 counter-clockwise.
-        init_timeout: a robot that has heard no gradient after this many ticks starts waiting
-            with an infinite gradient.
-        T_r: progress is checked every T_r ticks while moving (our robustness addition).
-        theta: a moving robot that moved less than theta in T_r ticks (not counting ticks it
-            yielded) is trapped: on the target it joins, off it it heads for the beacon.
-    """
-
-    d_safe: float = 1.0
-    d_cover: float = 6.0
-    d_min: float = 1.0
-    v: float = 0.1
-    gradient_reach: float = 1.3
-    start_range: float = 6.0
-    quiet_range: float = 7.0
-    yield_distance: float = 2.0
-    radial_gain: float = 1.0
-    arrive_tolerance: float = 0.3
-    probe_distance: float = 1.0
-    orbit: int = -1
-    init_timeout: int = 400
-    T_r: int = 100
-    theta: float = 1.0
-
-    def __post_init__(self) -> None:
-        require_positive(self, "d_safe", "d_cover", "d_min", "v", "gradient_reach", "start_range",
-                         "quiet_range", "yield_distance", "radial_gain", "probe_distance",
-                         "init_timeout", "T_r")
-        if self.d_cover < self.d_safe:
-            raise ValueError(f"d_cover ({self.d_cover}) must be >= d_safe ({self.d_safe})")
-        if self.orbit not in (1, -1):
-            raise ValueError(f"orbit must be 1 or -1, got {self.orbit!r}")
-        if self.arrive_tolerance < 0 or self.theta < 0:
-            raise ValueError("arrive_tolerance and theta must be >= 0")
-        if self.probe_distance > 2.0:
-            raise ValueError(f"probe_distance ({self.probe_distance}) must be <= 2 (the "
-                             "engine's default probe range)")
-
-
-class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
-    """Kilobot self-assembly: peel off the formation, follow its edge, join inside the shape."""
-
-    name = "kilobot"
-    Params = KilobotParams
-    STATUSES = STATUSES
-    SETTLED_STATUSES = ("Joined",)  # done, standing still (collision instruments)
-    MESSAGE_FIELDS = MESSAGE_FIELDS
-    SILENT = SILENT
-    COLOURINGS = COLOURINGS
-    LEADER_FIELD = "leader"
-    GROUP_FIELD = "group"
-    default_start = "formation"
-    requires_beacon = True
-
-    @classmethod
-    def sensing_range(cls, params: KilobotParams) -> float:
-        return max(params.gradient_reach * params.d_cover, params.quiet_range,
-                   params.start_range, params.yield_distance, params.d_cover + 2)
+class KilobotRobot(KilobotDeclarations, FormationTravel, CirclingWatch, ProgressWatch):
+    """One Kilobot robot: peel off the formation, follow its edge, join inside the shape
+    (the reference of :class:`~controllers.kilobot.Kilobot`)."""
 
     def __init__(self, setup: RobotSetup, params: KilobotParams, rng: np.random.Generator):
         self.id = setup.robot_id
@@ -313,4 +197,4 @@ class Kilobot(FormationTravel, CirclingWatch, ProgressWatch):
         return self.act(self.heading * self.params.v)
 
 
-__all__ = ["FormationTravel", "Kilobot", "KilobotParams"]
+__all__ = ["KilobotRobot"]

@@ -1,178 +1,38 @@
-"""FCDFS: Find-Corner Depth-First Search uniform dispersal (Amir & Bruckstein), the GGC
-paper's "angle-first" comparison algorithm [43], on a square lattice in continuous space.
-
-Source: M. Amir and A. M. Bruckstein, "Minimizing Travel in the Uniform Dispersal Problem for
-Robotic Sensors", AAMAS 2019 (arXiv:1903.03259), extended as "Time, Travel, and Energy in the
-Uniform Dispersion Problem" (arXiv:2404.19564), where it is named "Find-Corner Depth-First
-Search" (FCDFS). (The GGC paper's ref. [43] text was not available; "FCDFS" and "angle-first",
-i.e. find-corner-first, match this algorithm, and the GGC paper's description fits it: robots
-enter through a door one after another, in a line, and settle in a regular arrangement with
-intervals, so coverage cannot reach 1.) The rules were read from the arXiv abstracts and a
-public summary of the 2024 paper (Kristofy/uniform-dispersion-problem, docs/riport.md).
-
-FCDFS works on a grid: robots enter at a door cell, at most one per cell, and each robot,
-every step, takes the first rule that applies:
-
-1. if the cell in its primary direction P is free, move there;
-2. else if the cell in its secondary direction S (P turned 90 degrees) is free, move there;
-3. else if at least 3 of its 4 neighbouring cells are blocked (wall or settled robot), settle
-   (a dead end; we settle only if the robot came in through the free side, else it turns
-   there: this matters at the entry cell, which a robot enters from the door robot's cell);
-4. else (exactly P and S blocked) if the diagonal cell opposite the blocked corner is free, or
-   it stood there two steps ago, it is in a corner: settle;
-5. else it is in a corridor bend: turn P to the free direction it did not come from, move.
-
-Settling only in corners keeps the free region simply connected, so every robot finds a
-shortest path and the area fills completely. In the asynchronous variant a robot waits while
-an active robot occupies the cell it wants.
-
-Our continuous-space version (the paper's grid is abstract; every choice here is ours):
-
-* The lattice: square, spacing ``cell`` (default d_cover = 6, so the settled arrangement has
-  the "intervals" the GGC paper mentions: a square lattice needs spacing <= 4 sqrt(2) = 5.66
-  for gap-free coverage at r = 4), axis-aligned (robots share a compass), origin at the door.
-  A cell is a wall when the floor probe says its centre is not target floor.
-* The door: the swarm starts as a hexagonal formation (like GGC); the leader leads it toward
-  the beacon (travel command copied from the gradient parent, GGC's way) and halts as soon as
-  it hears a robot report target floor under it; it names that robot (the nearest such) the
-  door. The door robot steps ``door_depth`` into the target along P (so that entering robots
-  can pass it) and stays there as cell (0, 0); P is the lattice axis nearest the beacon's
-  bearing. Everything is relayed through the formation with the halt command. The door's
-  cell is a wall for FCDFS; the entry cell (FCDFS's door cell, filled last) is the first of
-  the door's neighbours in the order P, S, -S, -P that is target floor.
-* The line: the other robots queue toward a point 0.6 door_radius behind the door (away
-  from the lattice; straight at it when they sense the door, else toward their neighbour with the
-  fewest hops to it), keeping ``queue_gap`` from the robot ahead, and step away from an entering robot closer than avoid_range + 0.5. The queued
-  robot nearest the door steps onto the entry cell when no entered robot is still moving
-  within ``entry_clearance`` of the door and the entry cell is neither settled nor taken.
-* Moving robots go from cell centre to cell centre (dead reckoning from the door), side-step
-  robots in their way, and broadcast the cell they are heading to; settled robots broadcast
-  their cell. A robot that has waited ``patience`` ticks settles where it is (deadlock guard).
-
-Sensing: relative positions (bearing and distance) of neighbours within 2 * cell, their
-broadcast status, lattice cell, hop count and travel command; the floor sensor; a floor probe
-reaching the neighbouring lattice cells (``min_probe_range`` 9: one cell diagonally, where
-GGC's robots probe 2 units); odometry; and (leader only) the beacon's bearing. Moving robots
-need metric relative positions (to keep to the lattice), unlike GGC's hop counts.
+"""One FCDFS robot at a time (a per-robot controller, :class:`FCDFSRobot`): the reference
+implementation of :class:`controllers.fcdfs.FCDFS`, whose swarm (swarm.py, chunk.py) makes the
+very same runs (tests/controllers/baselines/test_fcdfs_swarm.py). The rules:
+controllers/fcdfs/controller.py.
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import numpy as np
 
 from controllers.common.formation import CMD_HALT, CMD_NONE, CMD_TRAVEL, FormationTravel, unit
-from controllers.common.gradient import COLOURINGS, GRADIENT_FIELDS, INF_GRADIENT, SILENT
-from swarmsim.controller import Action, Perception, RobotSetup, make_action, require_positive
+from controllers.common.gradient import INF_GRADIENT
+from swarmsim.controller import Action, Perception, RobotSetup, make_action
 
-TRAVEL, QUEUE, DOOR, MOVING, SETTLED = range(5)
-STATUSES = ("Travel", "Queue", "Door", "Moving", "Settled")
-MESSAGE_FIELDS = [*GRADIENT_FIELDS, ("cmd", "i1"), ("vx", "f4"), ("vy", "f4"), ("door", "i4"), ("pdir", "i1"),
-                  ("touch", "?"), ("hops", "i4"), ("ci", "i4"), ("cj", "i4")]
-AXES = ((1, 0), (0, 1), (-1, 0), (0, -1))
-MIN_PROBE_RANGE = 9.0
-NO_DOOR = -1
-MAX_HOPS = 64
-
-
-def rotate(d: tuple[int, int], turn: int) -> tuple[int, int]:
-    """Lattice direction turned 90 degrees: counter-clockwise for turn = +1, else clockwise."""
-    return (-d[1], d[0]) if turn > 0 else (d[1], -d[0])
-
-
-def neg(d: tuple[int, int]) -> tuple[int, int]:
-    return (-d[0], -d[1])
-
-
-def add(a: tuple[int, int], b: tuple[int, int]) -> tuple[int, int]:
-    return (a[0] + b[0], a[1] + b[1])
+from .params import (
+    AXES,
+    DOOR,
+    MAX_HOPS,
+    MIN_PROBE_RANGE,
+    MOVING,
+    NO_DOOR,
+    QUEUE,
+    SETTLED,
+    TRAVEL,
+    FCDFSDeclarations,
+    FCDFSParams,
+    add,
+    neg,
+    rotate,
+)
 
 
-@dataclass(frozen=True)
-class FCDFSParams:
-    """Parameters of the FCDFS controller (lengths in units, times in ticks).
-
-    Attributes:
-        d_safe: safe distance (paper Table 2: 1).
-        d_cover: coverage distance; the lattice spacing ``cell`` defaults to it.
-        cell: lattice spacing (0 = d_cover). cell * sqrt(2) + arrive_tolerance must stay
-            within the class's min_probe_range (9).
-        d_min: spacing of the start formation (gradients and hops relay within 1.5 * d_min).
-        v: speed (paper Table 2: 0.1 per tick).
-        turn: +1: S is P turned counter-clockwise; -1: clockwise.
-        queue_gap: a queued robot stops when another robot is this close ahead.
-        door_depth: the door robot steps in until this much target floor lies behind it (so
-            the robots entering can pass it), units (<= 2, the engine's probe range).
-        door_radius: a queued robot this close to the door may enter.
-        entry_clearance: a robot enters only when no moving robot is this close to the door
-            (0 = 1.5 * cell: the previous one has left the entry cell).
-        arrive_tolerance: a moving robot has reached a cell centre within this distance.
-        avoid_range: a moving robot side-steps robots this close ahead.
-        patience: a moving robot that has waited this many ticks settles where it is.
-        init_timeout: a robot that has heard no gradient after this many ticks queues.
-    """
-
-    d_safe: float = 1.0
-    d_cover: float = 6.0
-    cell: float = 0.0
-    d_min: float = 1.0
-    v: float = 0.1
-    turn: int = -1
-    queue_gap: float = 0.95
-    door_depth: float = 2.0
-    door_radius: float = 2.5
-    entry_clearance: float = 0.0
-    arrive_tolerance: float = 0.1
-    avoid_range: float = 1.2
-    patience: int = 400
-    init_timeout: int = 400
-
-    def __post_init__(self) -> None:
-        require_positive(self, "d_safe", "d_cover", "d_min", "v", "queue_gap", "door_depth",
-                         "door_radius", "arrive_tolerance", "avoid_range", "patience",
-                         "init_timeout")
-        if self.cell < 0 or self.entry_clearance < 0:
-            raise ValueError("cell and entry_clearance must be >= 0 (0 = default)")
-        if self.turn not in (1, -1):
-            raise ValueError(f"turn must be 1 or -1, got {self.turn!r}")
-        if self.spacing * math.sqrt(2) + self.arrive_tolerance > MIN_PROBE_RANGE:
-            raise ValueError(f"cell ({self.spacing}) too large: its diagonal must be within the "
-                             f"probe range the controller requests ({MIN_PROBE_RANGE})")
-        if self.spacing + self.door_radius > MIN_PROBE_RANGE:
-            raise ValueError("cell + door_radius must be within the probe range "
-                             f"({MIN_PROBE_RANGE})")
-
-    @property
-    def spacing(self) -> float:
-        """The lattice spacing in use."""
-        return self.cell if self.cell > 0 else self.d_cover
-
-    @property
-    def clearance(self) -> float:
-        return self.entry_clearance if self.entry_clearance > 0 else 1.5 * self.spacing
-
-
-class FCDFS(FormationTravel):
-    """Find-Corner DFS: enter through a door in a line, settle in lattice corners."""
-
-    name = "fcdfs"
-    Params = FCDFSParams
-    STATUSES = STATUSES
-    SETTLED_STATUSES = ("Settled",)  # done, standing still (collision instruments)
-    MESSAGE_FIELDS = MESSAGE_FIELDS
-    SILENT = SILENT
-    COLOURINGS = COLOURINGS
-    LEADER_FIELD = "leader"
-    GROUP_FIELD = "group"
-    default_start = "formation"
-    requires_beacon = True
-    min_probe_range = MIN_PROBE_RANGE
-
-    @classmethod
-    def sensing_range(cls, params: FCDFSParams) -> float:
-        return max(2 * params.spacing, params.clearance + params.door_radius + 0.5)
+class FCDFSRobot(FCDFSDeclarations, FormationTravel):
+    """One FCDFS robot: enter through a door in a line, settle in lattice corners (the
+    reference of :class:`~controllers.fcdfs.FCDFS`)."""
 
     def __init__(self, setup: RobotSetup, params: FCDFSParams, rng: np.random.Generator):
         self.id = setup.robot_id
@@ -500,4 +360,4 @@ def rotate_vec(u: np.ndarray, turn: int) -> np.ndarray:
     return np.array([-u[1], u[0]]) if turn > 0 else np.array([u[1], -u[0]])
 
 
-__all__ = ["FCDFS", "FCDFSParams"]
+__all__ = ["FCDFSRobot", "rotate_vec"]

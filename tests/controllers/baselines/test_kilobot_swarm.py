@@ -1,0 +1,92 @@
+"""Kilobot's robots as arrays (KilobotSwarm, compiled chunks) make the very runs of the
+per-robot controller (KilobotRobot), to the bit: positions every tick, broadcasts, floor
+readings, the summary and the sleep decisions.
+
+GOLDEN holds the hashes of the per-robot controller's runs, recorded at 87b9045 (before
+the swarm existed), as tests/runhash.py fingerprints a run: a change of the
+algorithm, of its float order or of when a robot sleeps changes them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from controllers.kilobot import Kilobot, KilobotRobot
+from swarmsim import Simulation
+from swarmsim.engine.sim import TIMING_FIELDS
+from tests.runhash import run_hash
+
+NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
+         "message_loss": 0.1}
+GOLDEN = {  # tiny seed 3 (40 robots), 800 ticks: run_hash of the per-robot controller at 87b9045
+    "plain": ({}, "d501545cfd9c689b"),  # robots peel off from tick ~350; 4 have joined by 800
+    "lossy": ({"message_loss": 0.1, "distance_noise": 0.05}, "d19fc1c22c427dbf"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(GOLDEN))
+def test_swarm_runs_hash_as_the_per_robot_controller_did(name):
+    settings, golden = GOLDEN[name]
+    assert run_hash("tiny", Kilobot, 3, 800, settings) == golden
+
+
+def _run(cls, settings, ticks=800):
+    """tiny seed 3, 20 robots, 800 ticks: positions and sleepers every tick, the broadcasts at the end,
+    the summary (but its timings and the controller's name) and the time series."""
+    sim = Simulation("tiny", controller=cls, seed=3, robots=20, max_ticks=ticks,
+                     settings={"stop_on_complete": False, **settings})
+    positions, asleep = [], []
+    res = sim.run(on_tick=lambda s: (positions.append(s.positions.copy()),
+                                     asleep.append(s.asleep.copy())))
+    summary = {k: v for k, v in res.summary.items()
+               if k not in TIMING_FIELDS and k != "controller"}  # the class's module path
+    return (np.array(positions), np.array(asleep), sim.messages.tobytes(), summary,
+            res.timeseries)
+
+
+@pytest.mark.parametrize("settings", [{}, NOISY, {"d_cover": 4.0, "orbit": 1}],
+                         ids=["plain", "noisy", "other orbit"])
+def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch):
+    """The same run, tick for tick, with the same summary (decisions: the same robots slept
+    at the same ticks; status counts), the swarm deciding 7 robots at a time."""
+    per_robot = _run(KilobotRobot, settings)
+    monkeypatch.setattr("swarmsim.engine.sim.DECIDE_CHUNK", 7)
+    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = _run(Kilobot, settings), per_robot
+    assert np.array_equal(pa, pb) and np.array_equal(sa, sb)
+    assert ma == mb and ta == tb
+    assert suma == sumb
+    assert sa.any() and not sa.all()  # robots slept, and not all of them
+    counts = suma["status_counts"]
+    assert counts.get("Joined", 0) > 1 and len(counts) > 1  # robots moved, and joined
+
+
+def test_a_restored_run_goes_on_as_the_run(tmp_path):
+    """The swarm's arrays are all a checkpoint needs: saved while robots edge-follow."""
+    run = Simulation("tiny", controller="kilobot", seed=3, robots=20, max_ticks=800,
+                     settings={"stop_on_complete": False})
+    for _ in range(400):
+        run.advance()
+    assert run.messages["moving"].any()  # robots edge-follow: circling, odometry, traps
+    run.save(tmp_path / "kb.ckpt")
+    restored = Simulation.restore(tmp_path / "kb.ckpt")
+    for _ in range(200):
+        run.advance()
+        restored.advance()
+        assert np.array_equal(run.positions, restored.positions)
+    assert run.messages.tobytes() == restored.messages.tobytes()
+    for a, b in zip(run.swarm.rows, restored.swarm.rows, strict=True):
+        assert np.array_equal(a, b)
+
+
+def test_a_run_compiles_no_chunk_kernel_after_its_warm_up():
+    """Kilobot.warm_up compiles the chunk kernels for the very types a run passes: the run
+    adds no signature (numba would compile for seconds mid-run)."""
+    from controllers.kilobot import chunk
+
+    kernels = (chunk.probe_questions, chunk.decide_chunk)
+    sim = Simulation("tiny", controller="kilobot", seed=0, robots=20, max_ticks=60)
+    before = [list(k.signatures) for k in kernels]
+    sim.run()
+    assert [list(k.signatures) for k in kernels] == before
+    assert all(before)
