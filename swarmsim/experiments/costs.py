@@ -211,9 +211,9 @@ def computing_claim(costs: Sequence[ControllerCosts], study: str = "ggc") -> Cla
         "GGC's computing cost is small and CVT's large", measured, combine(verdicts),
         test=(f"{study}'s controller CPU ms per robot-tick below {LARGE}'s beyond the spread "
               "between seeds (Welch's 95% interval)"),
-        where=("Figure 24's runs; CPU time of this implementation on this machine (GGC, CVT, "
-               "mean-shift and DASH decide a chunk of robots in one compiled call, kilobot "
-               "and FCDFS robot by robot), not an operation count"),
+        where=("Figure 24's runs; CPU time of this implementation on this machine (every "
+               "method decides a chunk of robots in one compiled call), not an operation "
+               "count"),
         paper="Table 3: computing cost CVT large, GGC small; Section 6.8: 'minimal computation'")
 
 
