@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from controllers.common.chunkio import probe_many_of
 from controllers.common.mapbatch import MapRows
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 
@@ -50,7 +51,7 @@ class CVTSwarm:
         """The chunk's actions (``robots``: their rows, in the batch's order), dense."""
         rows = np.ascontiguousarray(robots, dtype=np.int64)
         moved = _c_array(batch.moved, np.float64).reshape(-1, 2)
-        self.maps.sense(rows, moved, _probe_many(batch))
+        self.maps.sense(rows, moved, probe_many_of(batch))
         n = len(rows)
         has_beacon = batch.beacons is not None
         sensed = Sensed(
@@ -86,18 +87,6 @@ def _c_array(a: Any, dtype: type) -> np.ndarray:
     already): the chunk kernel is compiled for one set of argument types."""
     return np.require(a, dtype=dtype, requirements=("C", "W"))
 
-
-def _probe_many(batch: DecideBatch) -> Any:
-    """The batch's ``probe_many``, or its robots' probes asked one by one (a batch made by
-    hand may have none)."""
-    if batch.probe_many is not None:
-        return batch.probe_many
-
-    def one_by_one(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-        return np.array([bool(batch.probe(k)(offset)) for k, offset
-                         in zip(ks.tolist(), offsets, strict=True)], dtype=np.bool_)
-
-    return one_by_one
 
 
 def _empty_batch() -> DecideBatch:

@@ -9,11 +9,12 @@ The same runs as the per-robot :class:`~controllers.dash.robot.DashRobot`, to th
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from controllers.common.chunkio import probe_many_of
 from swarmsim.controller import NO_SENDER, ChunkActions, DecideBatch, RobotSetup
 
 from .chunk import Gains, Heard, wished
@@ -59,7 +60,7 @@ class DashSwarm:
                probe_at)
         asked = np.flatnonzero(ask)
         if len(asked):
-            stays = _probe_many(batch)(asked, probe_at[asked])
+            stays = probe_many_of(batch)(asked, probe_at[asked])
             speed[asked[~np.asarray(stays, dtype=np.bool_)]] = 0.0
         moving = speed > self.gains.deadband
         velocity[~moving] = 0.0
@@ -82,18 +83,6 @@ class DashSwarm:
         """No figures of its own (as the per-robot controller)."""
         return {}
 
-
-def _probe_many(batch: DecideBatch) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The batch's ``probe_many``, or its robots' probes asked one by one, one offset (units)
-    at a time (a batch made by hand may have none)."""
-    if batch.probe_many is not None:
-        return batch.probe_many
-
-    def one_by_one(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-        return np.array([bool(batch.probe(int(k))(o)) for k, o in zip(ks, offsets, strict=True)],
-                        dtype=np.bool_)
-
-    return one_by_one
 
 
 __all__ = ["DashSwarm"]

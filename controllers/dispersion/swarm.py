@@ -8,11 +8,12 @@ bit (tests/controllers/baselines/test_dispersion_swarm.py).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from controllers.common.chunkio import probe_many_of
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
 
 from .chunk import Gains, wished
@@ -49,7 +50,7 @@ class DispersionSwarm:
                on_target, has_beacon, beacons, self.gains, velocity, speed, ask, probe_at)
         asked = np.flatnonzero(ask)
         if len(asked):
-            stays = _probe_many(batch)(asked, probe_at[asked])
+            stays = probe_many_of(batch)(asked, probe_at[asked])
             speed[asked[~np.asarray(stays, dtype=np.bool_)]] = 0.0
         moving = speed > self.gains.deadband
         velocity[~moving] = 0.0
@@ -66,18 +67,6 @@ class DispersionSwarm:
         """No figures of its own (as the per-robot controller)."""
         return {}
 
-
-def _probe_many(batch: DecideBatch) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The batch's ``probe_many``, or its robots' probes asked one by one, one offset (units)
-    at a time (a batch made by hand may have none)."""
-    if batch.probe_many is not None:
-        return batch.probe_many
-
-    def one_by_one(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-        return np.array([bool(batch.probe(int(k))(o)) for k, o in zip(ks, offsets, strict=True)],
-                        dtype=np.bool_)
-
-    return one_by_one
 
 
 __all__ = ["DispersionSwarm"]

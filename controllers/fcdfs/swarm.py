@@ -8,11 +8,12 @@ The same runs as the per-robot :class:`~controllers.fcdfs.robot.FCDFSRobot`, to 
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from controllers.common.chunkio import column, probe_many_of
 from controllers.common.formation import CMD_NONE
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
@@ -71,7 +72,7 @@ class FCDFSSwarm:
             decide_chunk(self.rows, sensed, self.kernel_params, q, todo, out)
             todo = np.flatnonzero(q.missed).astype(np.int64)
             if len(todo):
-                probe_many = probe_many or _probe_many(batch)
+                probe_many = probe_many or probe_many_of(batch)
                 ks, js = np.nonzero(q.answers < 0)
                 q.answers[ks, js] = probe_many(ks, q.offsets[ks, js])
         broadcast = np.zeros(n, dtype=batch.neighbours.messages.dtype)
@@ -113,10 +114,6 @@ def _out(n: int) -> Out:
                ci=np.zeros(n, dtype=np.int64), cj=np.zeros(n, dtype=np.int64))
 
 
-def _column(a: Any, dtype: type) -> np.ndarray:
-    """``a`` as a C-contiguous array of ``dtype`` (a copy only when it is not one already)."""
-    return np.require(a, dtype=dtype, requirements=("C",))
-
 
 def _sensed(robots: np.ndarray, batch: Any) -> Sensed:
     """The batch's sensing as the kernel's columns."""
@@ -124,34 +121,22 @@ def _sensed(robots: np.ndarray, batch: Any) -> Sensed:
     n = len(robots)
     has_beacon = batch.beacons is not None
     return Sensed(
-        tick=int(batch.tick), rows=_column(robots, np.int64),
-        starts=_column(batch.neighbours.starts, np.int64),
-        offsets=_column(batch.offsets, np.float64).reshape(-1, 2),
-        distances=_column(batch.neighbours.distances, np.float64),
-        sender=_column(m["id"], np.int64), status=_column(m["status"], np.int64),
-        moving=_column(m["moving"], np.bool_), gradient=_column(m["gradient"], np.int64),
-        cmd=_column(m["cmd"], np.int64), vx=_column(m["vx"], np.float64),
-        vy=_column(m["vy"], np.float64), door=_column(m["door"], np.int64),
-        pdir=_column(m["pdir"], np.int64), touch=_column(m["touch"], np.bool_),
-        hops=_column(m["hops"], np.int64), ci=_column(m["ci"], np.int64),
-        cj=_column(m["cj"], np.int64), on_target=_column(batch.on_target, np.bool_),
-        moved=_column(batch.moved, np.float64).reshape(-1, 2),
-        beacons=(_column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
+        tick=int(batch.tick), rows=column(robots, np.int64),
+        starts=column(batch.neighbours.starts, np.int64),
+        offsets=column(batch.offsets, np.float64).reshape(-1, 2),
+        distances=column(batch.neighbours.distances, np.float64),
+        sender=column(m["id"], np.int64), status=column(m["status"], np.int64),
+        moving=column(m["moving"], np.bool_), gradient=column(m["gradient"], np.int64),
+        cmd=column(m["cmd"], np.int64), vx=column(m["vx"], np.float64),
+        vy=column(m["vy"], np.float64), door=column(m["door"], np.int64),
+        pdir=column(m["pdir"], np.int64), touch=column(m["touch"], np.bool_),
+        hops=column(m["hops"], np.int64), ci=column(m["ci"], np.int64),
+        cj=column(m["cj"], np.int64), on_target=column(batch.on_target, np.bool_),
+        moved=column(batch.moved, np.float64).reshape(-1, 2),
+        beacons=(column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
                  else np.zeros((n, 2))),
         has_beacon=has_beacon)
 
-
-def _probe_many(batch: DecideBatch) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The batch's ``probe_many``, or its robots' probes asked one by one (a batch made by
-    hand may have none)."""
-    if batch.probe_many is not None:
-        return batch.probe_many
-
-    def one_by_one(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-        return np.array([bool(batch.probe(int(k))(o)) for k, o in zip(ks, offsets, strict=True)],
-                        dtype=np.bool_)
-
-    return one_by_one
 
 
 def warm_up() -> None:

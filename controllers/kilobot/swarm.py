@@ -9,11 +9,12 @@ The same runs as the per-robot :class:`~controllers.kilobot.robot.KilobotRobot`,
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from controllers.common.chunkio import column, probe_many_of
 from controllers.common.formation import CMD_NONE
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER, ChunkActions, DecideBatch, RobotSetup
@@ -63,7 +64,7 @@ class KilobotSwarm:
         answers = np.zeros(n, dtype=np.bool_)
         asked = np.flatnonzero(ask)
         if len(asked):
-            answers[asked] = _probe_many(batch)(asked, offsets[asked])
+            answers[asked] = probe_many_of(batch)(asked, offsets[asked])
         out = Out(velocity=np.zeros((n, 2)), listen=np.zeros(n),
                   sleep=np.zeros(n, dtype=np.bool_), wake_range=np.zeros(n),
                   wake_tick=np.zeros(n, dtype=np.int64))
@@ -99,10 +100,6 @@ class KilobotSwarm:
         return {"status_counts": dict(sorted(counts.items()))}
 
 
-def _column(a: Any, dtype: type) -> np.ndarray:
-    """``a`` as a C-contiguous array of ``dtype`` (a copy only when it is not one already)."""
-    return np.require(a, dtype=dtype, requirements=("C",))
-
 
 def _sensed(robots: np.ndarray, batch: DecideBatch) -> Sensed:
     """The batch's sensing as the kernels' columns."""
@@ -110,32 +107,20 @@ def _sensed(robots: np.ndarray, batch: DecideBatch) -> Sensed:
     n = len(robots)
     has_beacon = batch.beacons is not None
     return Sensed(
-        tick=int(batch.tick), rows=_column(robots, np.int64),
-        starts=_column(batch.neighbours.starts, np.int64),
-        offsets=_column(batch.offsets, np.float64).reshape(-1, 2),
-        distances=_column(batch.neighbours.distances, np.float64),
-        sender=_column(messages["id"], np.int64), status=_column(messages["status"], np.int64),
-        moving=_column(messages["moving"], np.bool_),
-        gradient=_column(messages["gradient"], np.int64),
-        cmd=_column(messages["cmd"], np.int64), vx=_column(messages["vx"], np.float64),
-        vy=_column(messages["vy"], np.float64), on_target=_column(batch.on_target, np.bool_),
-        moved=_column(batch.moved, np.float64).reshape(-1, 2),
-        beacons=(_column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
+        tick=int(batch.tick), rows=column(robots, np.int64),
+        starts=column(batch.neighbours.starts, np.int64),
+        offsets=column(batch.offsets, np.float64).reshape(-1, 2),
+        distances=column(batch.neighbours.distances, np.float64),
+        sender=column(messages["id"], np.int64), status=column(messages["status"], np.int64),
+        moving=column(messages["moving"], np.bool_),
+        gradient=column(messages["gradient"], np.int64),
+        cmd=column(messages["cmd"], np.int64), vx=column(messages["vx"], np.float64),
+        vy=column(messages["vy"], np.float64), on_target=column(batch.on_target, np.bool_),
+        moved=column(batch.moved, np.float64).reshape(-1, 2),
+        beacons=(column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
                  else np.zeros((n, 2))),
         has_beacon=has_beacon)
 
-
-def _probe_many(batch: DecideBatch) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
-    """The batch's ``probe_many``, or its robots' probes asked one by one (a batch made by
-    hand may have none)."""
-    if batch.probe_many is not None:
-        return batch.probe_many
-
-    def one_by_one(ks: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-        return np.array([bool(batch.probe(int(k))(o)) for k, o in zip(ks, offsets, strict=True)],
-                        dtype=np.bool_)
-
-    return one_by_one
 
 
 def warm_up() -> None:
