@@ -21,6 +21,7 @@ from swarmsim import Simulation
 from swarmsim.controller import make_perception
 from swarmsim.engine.sim import TIMING_FIELDS
 from swarmsim.sensing.sensing import FloorSensor
+from tests.restorecheck import restored_goes_on, run_for
 
 RUNS = {
     # name: (world, seed, ticks, settings)
@@ -77,17 +78,8 @@ def test_chunks_change_nothing(monkeypatch):
 
 def test_a_restored_cvt_run_goes_on_as_the_run(tmp_path):
     """The swarm's arrays (maps, discs, statuses) are all of a checkpoint needs of CVT."""
-    run = Simulation("tiny", controller="cvt", seed=1, max_ticks=400,
-                     settings={"stop_on_complete": False})
-    for _ in range(200):
-        run.advance()
-    run.save(tmp_path / "cvt.ckpt")
-    restored = Simulation.restore(tmp_path / "cvt.ckpt")
-    for _ in range(150):
-        run.advance()
-        restored.advance()
-        assert np.array_equal(run.positions, restored.positions)
-    assert run.messages.tobytes() == restored.messages.tobytes()
+    run = run_for("cvt", seed=1, ticks=200, max_ticks=400)
+    restored = restored_goes_on(run, tmp_path, 150)
     assert run.swarm.rows.status.tobytes() == restored.swarm.rows.status.tobytes()
 
 

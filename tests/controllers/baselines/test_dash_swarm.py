@@ -18,6 +18,7 @@ from swarmsim.controller import (
     RobotSetup,
     message_dtype,
 )
+from tests.restorecheck import restored_goes_on, run_for
 from tests.runhash import run_digest
 
 NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
@@ -58,17 +59,8 @@ def test_small_chunks_change_nothing(monkeypatch):
 
 def test_a_restored_dash_run_goes_on_as_the_run(tmp_path):
     """The swarm's arrays (levels, spacings, statuses) are all a checkpoint needs of DASH."""
-    run = Simulation("tiny", controller="dash", seed=1, max_ticks=400,
-                     settings={"stop_on_complete": False})
-    for _ in range(200):
-        run.advance()
-    run.save(tmp_path / "dash.ckpt")
-    restored = Simulation.restore(tmp_path / "dash.ckpt")
-    for _ in range(150):
-        run.advance()
-        restored.advance()
-        assert np.array_equal(run.positions, restored.positions)
-    assert run.messages.tobytes() == restored.messages.tobytes()
+    run = run_for("dash", seed=1, ticks=200, max_ticks=400)
+    restored = restored_goes_on(run, tmp_path, 150)
     assert run.swarm.s.tobytes() == restored.swarm.s.tobytes()
     assert (run.swarm.level > 0).any()  # the spacings had grown
 

@@ -10,7 +10,6 @@ import pytest
 
 from controllers.dispersion import Dispersion, DispersionParams, DispersionRobot
 from controllers.dispersion.swarm import DispersionSwarm
-from swarmsim import Simulation
 from swarmsim.controller import (
     DecideBatch,
     NeighbourBatch,
@@ -19,6 +18,7 @@ from swarmsim.controller import (
     message_dtype,
     silent_message,
 )
+from tests.restorecheck import restored_goes_on, run_for
 from tests.runhash import run_digest
 
 NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
@@ -58,17 +58,8 @@ def test_small_chunks_change_nothing(monkeypatch):
 
 def test_a_restored_dispersion_run_goes_on_as_the_run(tmp_path):
     """Dispersion keeps no state of its own: a checkpoint goes on as the run."""
-    run = Simulation("tiny", controller="dispersion", seed=1, max_ticks=300,
-                     settings={"stop_on_complete": False})
-    for _ in range(150):
-        run.advance()
-    run.save(tmp_path / "dispersion.ckpt")
-    restored = Simulation.restore(tmp_path / "dispersion.ckpt")
-    for _ in range(100):
-        run.advance()
-        restored.advance()
-        assert np.array_equal(run.positions, restored.positions)
-    assert run.messages.tobytes() == restored.messages.tobytes()
+    run = run_for("dispersion", seed=1, ticks=150, max_ticks=300)
+    restored_goes_on(run, tmp_path, 100)
 
 
 def test_the_swarm_decides_a_hand_made_chunk_as_each_robot_steps():

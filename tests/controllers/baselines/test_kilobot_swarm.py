@@ -15,6 +15,7 @@ import pytest
 from controllers.kilobot import Kilobot, KilobotRobot
 from swarmsim import Simulation
 from swarmsim.engine.sim import TIMING_FIELDS
+from tests.restorecheck import restored_goes_on, run_for
 from tests.runhash import run_hash
 
 NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
@@ -63,18 +64,9 @@ def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch)
 
 def test_a_restored_run_goes_on_as_the_run(tmp_path):
     """The swarm's arrays are all a checkpoint needs: saved while robots edge-follow."""
-    run = Simulation("tiny", controller="kilobot", seed=3, robots=20, max_ticks=800,
-                     settings={"stop_on_complete": False})
-    for _ in range(400):
-        run.advance()
+    run = run_for("kilobot", seed=3, ticks=400, max_ticks=800, robots=20)
     assert run.messages["moving"].any()  # robots edge-follow: circling, odometry, traps
-    run.save(tmp_path / "kb.ckpt")
-    restored = Simulation.restore(tmp_path / "kb.ckpt")
-    for _ in range(200):
-        run.advance()
-        restored.advance()
-        assert np.array_equal(run.positions, restored.positions)
-    assert run.messages.tobytes() == restored.messages.tobytes()
+    restored = restored_goes_on(run, tmp_path, 200)
     for a, b in zip(run.swarm.rows, restored.swarm.rows, strict=True):
         assert np.array_equal(a, b)
 

@@ -28,6 +28,7 @@ from swarmsim.controller import (
     silent_message,
 )
 from swarmsim.engine.sim import TIMING_FIELDS
+from tests.restorecheck import restored_goes_on, run_for
 from tests.runhash import run_hash
 
 GOLDEN = {  # (world, seed, ticks): run_hash of the per-robot controller at 2807bdb
@@ -76,17 +77,8 @@ def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch)
 
 def test_a_restored_run_goes_on_as_the_run(tmp_path):
     """The swarm's arrays (odometry, velocities, statuses, maps) are all a checkpoint needs."""
-    run = Simulation("tiny", controller="meanshift", seed=1, max_ticks=400,
-                     settings={"stop_on_complete": False})
-    for _ in range(150):
-        run.advance()
-    run.save(tmp_path / "ms.ckpt")
-    restored = Simulation.restore(tmp_path / "ms.ckpt")
-    for _ in range(100):
-        run.advance()
-        restored.advance()
-        assert np.array_equal(run.positions, restored.positions)
-    assert run.messages.tobytes() == restored.messages.tobytes()
+    run = run_for("meanshift", seed=1, ticks=150, max_ticks=400)
+    restored = restored_goes_on(run, tmp_path, 100)
     assert np.array_equal(run.swarm.maps.grid, restored.swarm.maps.grid)
 
 
