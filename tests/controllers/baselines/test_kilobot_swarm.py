@@ -14,9 +14,8 @@ import pytest
 
 from controllers.kilobot import Kilobot, KilobotRobot
 from swarmsim import Simulation
-from swarmsim.engine.sim import TIMING_FIELDS
 from tests.restorecheck import restored_goes_on, run_for
-from tests.runhash import run_hash
+from tests.runhash import run_hash, run_trace
 
 NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
          "message_loss": 0.1}
@@ -32,28 +31,15 @@ def test_swarm_runs_hash_as_the_per_robot_controller_did(name):
     assert run_hash("tiny", Kilobot, 3, 800, settings) == golden
 
 
-def _run(cls, settings, ticks=800):
-    """tiny seed 3, 20 robots, 800 ticks: positions and sleepers every tick, the broadcasts at the end,
-    the summary (but its timings and the controller's name) and the time series."""
-    sim = Simulation("tiny", controller=cls, seed=3, robots=20, max_ticks=ticks,
-                     settings={"stop_on_complete": False, **settings})
-    positions, asleep = [], []
-    res = sim.run(on_tick=lambda s: (positions.append(s.positions.copy()),
-                                     asleep.append(s.asleep.copy())))
-    summary = {k: v for k, v in res.summary.items()
-               if k not in TIMING_FIELDS and k != "controller"}  # the class's module path
-    return (np.array(positions), np.array(asleep), sim.messages.tobytes(), summary,
-            res.timeseries)
-
 
 @pytest.mark.parametrize("settings", [{}, NOISY, {"d_cover": 4.0, "orbit": 1}],
                          ids=["plain", "noisy", "other orbit"])
 def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch):
     """The same run, tick for tick, with the same summary (decisions: the same robots slept
     at the same ticks; status counts), the swarm deciding 7 robots at a time."""
-    per_robot = _run(KilobotRobot, settings)
+    per_robot = run_trace(KilobotRobot, settings, 800, robots=20)
     monkeypatch.setattr("swarmsim.engine.sim.DECIDE_CHUNK", 7)
-    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = _run(Kilobot, settings), per_robot
+    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = run_trace(Kilobot, settings, 800, robots=20), per_robot
     assert np.array_equal(pa, pb) and np.array_equal(sa, sb)
     assert ma == mb and ta == tb
     assert suma == sumb

@@ -27,9 +27,8 @@ from swarmsim.controller import (
     message_dtype,
     silent_message,
 )
-from swarmsim.engine.sim import TIMING_FIELDS
 from tests.restorecheck import restored_goes_on, run_for
-from tests.runhash import run_hash
+from tests.runhash import run_hash, run_trace
 
 GOLDEN = {  # (world, seed, ticks): run_hash of the per-robot controller at 2807bdb
     ("tiny", 0, 520): "1cc88ffd1ea2e8f8",  # its robots start to sleep at about tick 450
@@ -46,19 +45,6 @@ NOISY = {"distance_noise": 0.05, "bearing_noise": 0.05, "speed_noise": 0.05,
          "message_loss": 0.1}
 
 
-def _run(cls, settings):
-    """tiny seed 3, 480 ticks: positions and sleepers every tick, the broadcasts at the end,
-    the summary (but its timings and the controller's name) and the time series."""
-    sim = Simulation("tiny", controller=cls, seed=3, max_ticks=480,
-                     settings={"stop_on_complete": False, **settings})
-    positions, asleep = [], []
-    res = sim.run(on_tick=lambda s: (positions.append(s.positions.copy()),
-                                     asleep.append(s.asleep.copy())))
-    summary = {k: v for k, v in res.summary.items()
-               if k not in TIMING_FIELDS and k != "controller"}  # the class's module path
-    return (np.array(positions), np.array(asleep), sim.messages.tobytes(), summary,
-            res.timeseries)
-
 
 @pytest.mark.parametrize("settings", [
     {}, NOISY, {"map_cell": 0.7, "r_occupied": 2.5, "r_sense": 8.0}],
@@ -66,9 +52,9 @@ def _run(cls, settings):
 def test_swarm_and_per_robot_controller_make_the_same_run(settings, monkeypatch):
     """The same run, tick for tick, with the same summary (decisions: the same robots slept
     at the same ticks), the swarm deciding 7 robots at a time (tiny's 40 are one chunk)."""
-    per_robot = _run(MeanShiftRobot, settings)
+    per_robot = run_trace(MeanShiftRobot, settings, 480)
     monkeypatch.setattr("swarmsim.engine.sim.DECIDE_CHUNK", 7)
-    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = _run(MeanShift, settings), per_robot
+    (pa, sa, ma, suma, ta), (pb, sb, mb, sumb, tb) = run_trace(MeanShift, settings, 480), per_robot
     assert np.array_equal(pa, pb) and np.array_equal(sa, sb)
     assert ma == mb and ta == tb
     assert suma == sumb
