@@ -13,6 +13,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .pyhypot import py_hypot
+
 
 @njit(cache=True)
 def lowest_gradient(distances, messages, reach, no_sender, inf):  # pragma: no cover
@@ -59,6 +61,16 @@ def blocked(distances, messages, quiet_range, start_range, gradient, me, no_send
                 and (m.gradient > gradient or (m.gradient == gradient and m.id > me))):
             return True
     return False
+
+
+@njit(cache=True)
+def unit(x, y):  # pragma: no cover - compiled
+    """controllers.common.formation.unit of (x, y), compiled: (x, y) over its length (Python's
+    hypot, to the bit), or (0, 0) when that is 1e-12 or less."""
+    n = py_hypot(x, y)
+    if n > 1e-12:
+        return x / n, y / n
+    return 0.0, 0.0
 
 
 def warm_up(dtype: np.dtype) -> None:

@@ -27,8 +27,8 @@ import numpy as np
 from numba import njit
 
 from controllers.common.formation import CMD_HALT, CMD_TRAVEL
+from controllers.common.formationkernel import unit
 from controllers.common.gradient import INF_GRADIENT
-from controllers.common.pyhypot import py_hypot
 from swarmsim.controller import NO_SENDER
 
 from .params import DOOR, MAX_HOPS, MIN_PROBE_RANGE, MOVING, NO_DOOR, QUEUE, SETTLED, TRAVEL
@@ -149,15 +149,6 @@ def _probe(q, k, ox, oy):  # pragma: no cover - compiled
     q.count[k] = j + 1
     q.missed[k] = True
     return False
-
-
-@njit(cache=True)
-def _unit(x, y):  # pragma: no cover - compiled
-    """controllers.common.formation.unit of (x, y)."""
-    n = py_hypot(x, y)
-    if n > 1e-12:
-        return x / n, y / n
-    return 0.0, 0.0
 
 
 @njit(cache=True)
@@ -482,7 +473,7 @@ def _queue(rows, s, p, q, k, i, out):  # pragma: no cover - compiled
             _queue_sleep(rows, p, k, i, out, 2.0 * p.d_min)
             return
         gx, gy = s.offsets[parent, 0], s.offsets[parent, 1]
-    hx, hy = _unit(gx, gy)
+    hx, hy = unit(gx, gy)
     if not _clear_ahead(s, p, k, hx, hy):
         _queue_sleep(rows, p, k, i, out, _or(wake, p.queue_gap + 0.5))
         return
@@ -706,7 +697,7 @@ def _go(rows, s, p, k, i, out, tx, ty):  # pragma: no cover - compiled
     """FCDFSRobot.go: toward (tx, ty) at speed v, side-stepping robots close ahead."""
     dist = math.hypot(tx, ty)
     speed = min(p.v, dist)
-    ux, uy = _unit(tx, ty)
+    ux, uy = unit(tx, ty)
     vx, vy = ux * speed, uy * speed
     for j in range(s.starts[k], s.starts[k + 1]):
         d = s.distances[j]
@@ -720,7 +711,7 @@ def _go(rows, s, p, k, i, out, tx, ty):  # pragma: no cover - compiled
             rx, ry = (-ey, ex) if p.turn > 0 else (ey, -ex)
             vx = (vx - toward * ex) + rx * toward
             vy = (vy - toward * ey) + ry * toward
-    ux, uy = _unit(vx, vy)
+    ux, uy = unit(vx, vy)
     _go_act(rows, p, k, i, out, ux * speed, uy * speed)
 
 

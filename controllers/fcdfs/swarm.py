@@ -138,7 +138,6 @@ def _sensed(robots: np.ndarray, batch: Any) -> Sensed:
         has_beacon=has_beacon)
 
 
-
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the chunk kernel now, for
     the argument types :meth:`FCDFSSwarm.decide` passes it."""

@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from controllers.common.formation import CMD_HALT, CMD_TRAVEL
+from controllers.common.formationkernel import unit
 from controllers.common.gradient import INF_GRADIENT
 from controllers.common.pyhypot import py_hypot
 from swarmsim.controller import NO_SENDER
@@ -103,15 +104,6 @@ class Out(NamedTuple):
 
 
 @njit(cache=True)
-def _unit(x, y):  # pragma: no cover - compiled
-    """controllers.common.formation.unit of (x, y)."""
-    n = py_hypot(x, y)
-    if n > 1e-12:
-        return x / n, y / n
-    return 0.0, 0.0
-
-
-@njit(cache=True)
 def _first_structure(moving, a, b):  # pragma: no cover - compiled
     """The first (nearest) row in a:b of a robot that is not moving, or -1."""
     for j in range(a, b):
@@ -127,7 +119,7 @@ def _edge_follow(ox, oy, dist, p):  # pragma: no cover - compiled
     rx, ry = ox / m, oy / m
     tx, ty = ry * p.orbit, -rx * p.orbit
     error = max(-1.0, min(1.0, (dist - p.d_cover) * p.radial_gain))
-    ux, uy = _unit(tx + error * rx, ty + error * ry)
+    ux, uy = unit(tx + error * rx, ty + error * ry)
     return ux * p.v, uy * p.v
 
 
@@ -185,7 +177,7 @@ def probe_questions(rows, s, p, ask, offsets):  # pragma: no cover - compiled
                 continue
             vx, vy = _edge_follow(s.offsets[nearest, 0], s.offsets[nearest, 1],
                                   s.distances[nearest], p)
-            hx, hy = _unit(vx, vy)
+            hx, hy = unit(vx, vy)
         ask[k] = True
         offsets[k, 0], offsets[k, 1] = hx * p.probe_distance, hy * p.probe_distance
 
@@ -360,7 +352,7 @@ def _move(rows, s, p, k, i, answers, out):  # pragma: no cover - compiled
         _wander(rows, s, p, k, i, answers, out)
         return
     vx, vy = _edge_follow(s.offsets[nearest, 0], s.offsets[nearest, 1], s.distances[nearest], p)
-    rows.heading[i, 0], rows.heading[i, 1] = _unit(vx, vy)
+    rows.heading[i, 0], rows.heading[i, 1] = unit(vx, vy)
     circled = _circling(rows, s, i, nearest)
     if circled:
         rows.circled[i] = 0.0

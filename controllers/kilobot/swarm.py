@@ -122,7 +122,6 @@ def _sensed(robots: np.ndarray, batch: DecideBatch) -> Sensed:
         has_beacon=has_beacon)
 
 
-
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the chunk kernels now, for
     the argument types :meth:`KilobotSwarm.decide` passes them."""
