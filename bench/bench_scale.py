@@ -16,6 +16,8 @@ below it). After --warmup ticks it times --ticks ticks and reports, per size:
     python bench/bench_scale.py --robots 2000 10000 --ticks 50
 
 These machines are noisy (+-30 %): read the growth column from one run, not across runs.
+Real GGC runs of a made world at several sizes, instead of this square world:
+bench_scale_runs.py.
 """
 
 from __future__ import annotations

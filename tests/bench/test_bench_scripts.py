@@ -1,12 +1,15 @@
 """The benches the issues' figures come from still run: bench_floor.py (a run's tick against
-pymunk's bare step), bench_tick.py (the phases of a tick) and bench_groups.py (a run's cost by
-groups), on a tiny world."""
+pymunk's bare step), bench_tick.py (the phases of a tick), bench_groups.py (a run's cost by
+groups) and bench_scale_runs.py (a made world's run cost by size), on a tiny world."""
 
 from __future__ import annotations
 
 import importlib.util
+import math
 import sys
 from pathlib import Path
+
+import pytest
 
 BENCH = Path(__file__).resolve().parents[2] / "bench"
 
@@ -53,3 +56,24 @@ def test_bench_tick_compares_whole_runs_of_a_world():
     r = tick.measure_runs("tiny", "dispersion", seeds=[0, 1], max_ticks=30)
     assert r["ticks"] == 60 and r["tick"] > 0 and r["cpu"] > 0
     assert r["tick"] >= r["decide"]
+
+
+def test_bench_scale_runs_makes_the_same_shape_at_each_size_and_runs_it():
+    runs = load("bench_scale_runs")
+    assert runs.world_shape(10_000) == (640.0, 16)  # the issue's 10k world
+    assert runs.world_shape(2_500) == (320.0, 4) and runs.world_shape(60)[1] == 1
+    small, large = runs.make_world("K", 60), runs.make_world("K", 240)
+    assert small.defaults["robots"] == 60 and large.defaults["robots"] == 240
+    assert large.target_area / 240 == pytest.approx(small.target_area / 60, rel=0.01)
+
+    rows = list(runs.measure_sizes("K", [120, 60], ticks=20, seed=0, in_process=True))
+    assert [r["robots"] for r in rows] == [60, 120] and [r["groups"] for r in rows] == [1, 1]
+    for r in rows:
+        assert r["ticks"] == 20 and r["stop"] == "max_ticks"
+        assert r["cpu"] > 0 and r["physics"] > 0 and 0 < r["awake"] <= r["robots"]
+        assert 0 <= r["coverage"] <= 1 and r["peak_rss_mb"] > 0
+        assert runs.format_row(r).split()[:5] == [str(r["robots"]), "1", f"{r['size']:.0f}",
+                                                  "20", "max_ticks"]
+    assert all(math.isfinite(slope) for slope in runs.slopes(rows))
+    with pytest.raises(ValueError, match="two sizes"):
+        runs.slopes(rows[:1])
