@@ -69,11 +69,12 @@ def test_an_obstacle_off_the_way_changes_nothing() -> None:
 
 
 @pytest.mark.parametrize(("name", "units"), [("K", 185.0), ("house", 175.0),
-                                             ("K-large", 326.0)])
+                                             ("K-large", 326.0), ("K-huge", 655.0)])
 def test_the_shipped_worlds_floors(name: str, units: float) -> None:
     """K's farthest corners (10, 225) and (142, 225) stand 185 above the spawn band's top
     (y 40); the house's roof apex (90, 215) 175 above y 40; K-large's 326 (issue 70 measured
-    over the coverage raster's cell centres: 1,841, 1,742 and 3,245 ticks at v = 0.1)."""
+    over the coverage raster's cell centres: 1,841, 1,742 and 3,245 ticks at v = 0.1); K-huge's
+    top edge (y 770.41) 655 above its spawn band's top (y 115.41)."""
     assert travel_distance(load_world(name)) == pytest.approx(units, abs=1e-6)
 
 

@@ -11,8 +11,9 @@ from swarmsim import Simulation
 from swarmsim.errors import ConfigError
 from swarmsim.world.world import available_worlds, load_world
 
-SHIPPED = ["K", "K-large", "corridor", "house", "tiny"]
+SHIPPED = ["K", "K-huge", "K-large", "corridor", "house", "tiny"]
 PAPER_DEFAULTS = {"K": (603, 3), "house": (942, 3), "K-large": (2000, 10), "tiny": (40, 1),
+                  "K-huge": (10000, 16),
                   "corridor": (60, 2)}
 
 # A minimal valid world; the error tests change one thing in it.
@@ -73,7 +74,7 @@ def test_shipped_world_loads_and_meets_its_sizing_rule(name):
         assert xmin < bx0 and ymin < by0 and bx1 < xmax and by1 < ymax
 
 
-@pytest.mark.parametrize("name", ["K", "house", "K-large"])
+@pytest.mark.parametrize("name", ["K", "house", "K-large", "K-huge"])
 def test_letter_and_house_targets_are_concave(name):
     target = load_world(name).target
     assert target.area < 0.95 * target.convex_hull.area
