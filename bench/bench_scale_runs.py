@@ -25,7 +25,11 @@ robots: between the smallest and the largest size, and the least-squares fit ove
     python bench/bench_scale_runs.py --text GGC --robots 600 1200 --ticks 200
 
 The same number of ticks is a different stage of the run at each size: the target is larger
-and farther, so at tick T a larger swarm has spread less of its way. These machines are noisy
+and farther, so at tick T a larger swarm has spread less of its way. ``--floors F`` runs each
+size for F times its own travel floor instead (the ticks a robot at v_max needs from the spawn
+band to the farthest target point; it grows with sqrt(N)), the same stage at every size:
+
+    python bench/bench_scale_runs.py --floors 0.5       # each size to half its travel floor These machines are noisy
 (+-30 %): read the slope from one invocation, not across invocations.
 """
 
@@ -40,9 +44,11 @@ from collections.abc import Iterator, Sequence
 import numpy as np
 
 from swarmsim import Simulation
+from swarmsim.engine.config import SimConfig
 from swarmsim.engine.sim import PHASES
 from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_GROUPS
+from swarmsim.world.floor import travel_floor_ticks
 from swarmsim.world.makeworld import WorldSpec, build_world
 from swarmsim.world.shapes import text_shape
 from swarmsim.world.world import World
@@ -70,10 +76,20 @@ def make_world(text: str, robots: int) -> World:
     return build_world(text_shape(text), spec).world
 
 
-def measure(text: str, robots: int, ticks: int, seed: int) -> dict:
-    """One run of the made world for ``robots``: its costs per tick (ms), mean awake robots,
-    coverage reached (fraction) and this process's peak RSS (MB)."""
+def run_length(world: World, ticks: int, floors: float | None) -> int:
+    """Ticks to run ``world`` for: ``floors`` times its travel floor (rounded up), or
+    ``ticks`` when ``floors`` is None."""
+    if floors is None:
+        return ticks
+    return math.ceil(floors * travel_floor_ticks(world, SimConfig().v_max))
+
+
+def measure(text: str, robots: int, ticks: int, seed: int, floors: float | None = None) -> dict:
+    """One run of the made world for ``robots`` (``ticks`` long, or ``floors`` travel floors:
+    :func:`run_length`): its costs per tick (ms), mean awake robots, coverage reached
+    (fraction) and this process's peak RSS (MB)."""
     world = make_world(text, robots)
+    ticks = run_length(world, ticks, floors)
     sim = Simulation(world, seed=seed, max_ticks=ticks)
     awake = [0]
 
@@ -91,20 +107,21 @@ def measure(text: str, robots: int, ticks: int, seed: int) -> dict:
     return out
 
 
-def measure_in_fresh_process(text: str, robots: int, ticks: int, seed: int) -> dict:
+def measure_in_fresh_process(text: str, robots: int, ticks: int, seed: int,
+                             floors: float | None = None) -> dict:
     """:func:`measure` in a new interpreter (spawn), so that its peak memory is its own."""
     ctx = multiprocessing.get_context("spawn")
     with ctx.Pool(1) as pool:
-        return pool.apply(measure, (text, robots, ticks, seed))
+        return pool.apply(measure, (text, robots, ticks, seed, floors))
 
 
 def measure_sizes(text: str, sizes: Sequence[int], ticks: int, seed: int,
-                  in_process: bool = False) -> Iterator[dict]:
+                  in_process: bool = False, floors: float | None = None) -> Iterator[dict]:
     """:func:`measure` for each robot count, smallest first, each in a fresh process unless
     ``in_process``; yields each row as soon as it is measured."""
     run = measure if in_process else measure_in_fresh_process
     for robots in sorted(set(sizes)):
-        yield run(text, robots, ticks, seed)
+        yield run(text, robots, ticks, seed, floors)
 
 
 def slopes(rows: Sequence[dict]) -> tuple[float, float]:
@@ -135,21 +152,28 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--text", default="K", help="the target's text, as make-world --text")
     parser.add_argument("--robots", type=int, nargs="+", default=[2000, 4000, 6000, 10000])
     parser.add_argument("--ticks", type=int, default=2000, help="ticks per run (or its end)")
+    parser.add_argument("--floors", type=float, default=None,
+                        help="run each size this many travel floors instead of --ticks")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--in-process", action="store_true", dest="in_process",
                         help="every size in this process (peak MB is then the largest so far)")
     args = parser.parse_args(argv)
     if len(set(args.robots)) < 2:
         parser.error("--robots needs two different counts or more, for a slope")
+    if args.floors is not None and not (math.isfinite(args.floors) and args.floors > 0):
+        parser.error(f"--floors must be a positive number, got {args.floors}")
     if min(args.robots) < 1:
         parser.error(f"--robots must be positive, got {min(args.robots)}")
+    length = (f"{args.floors:g} travel floors" if args.floors is not None
+              else f"{args.ticks} ticks")
     print(f"GGC on make-world --text {args.text!r}, height 640*sqrt(N/10000), {ROBOTS_PER_GROUP}"
-          f" robots per group, seed {args.seed}, up to {args.ticks} ticks: cpu ms per tick"
+          f" robots per group, seed {args.seed}, up to {length}: cpu ms per tick"
           " (process time), phases wall ms per tick, mean robots awake per tick", flush=True)
     print(HEADER, flush=True)
     rows = []
     try:
-        for row in measure_sizes(args.text, args.robots, args.ticks, args.seed, args.in_process):
+        for row in measure_sizes(args.text, args.robots, args.ticks, args.seed, args.in_process,
+                                 args.floors):
             rows.append(row)
             print(format_row(row), flush=True)
     except ConfigError as exc:  # a world or run refused: its one line

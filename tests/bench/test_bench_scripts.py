@@ -77,3 +77,15 @@ def test_bench_scale_runs_makes_the_same_shape_at_each_size_and_runs_it():
     assert all(math.isfinite(slope) for slope in runs.slopes(rows))
     with pytest.raises(ValueError, match="two sizes"):
         runs.slopes(rows[:1])
+
+
+def test_bench_scale_runs_runs_each_size_for_its_own_travel_floors():
+    """--floors: a larger world's run is longer, in proportion to its travel floor."""
+    from swarmsim.world.floor import travel_floor_ticks
+
+    runs = load("bench_scale_runs")
+    small, large = runs.make_world("K", 60), runs.make_world("K", 240)
+    assert runs.run_length(small, 20, None) == 20
+    short, long = runs.run_length(small, 20, 0.05), runs.run_length(large, 20, 0.05)
+    assert short == math.ceil(0.05 * travel_floor_ticks(small, 0.1))
+    assert long > short  # the farthest point of the larger K is farther
