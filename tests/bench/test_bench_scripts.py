@@ -89,3 +89,11 @@ def test_bench_scale_runs_runs_each_size_for_its_own_travel_floors():
     short, long = runs.run_length(small, 20, 0.05), runs.run_length(large, 20, 0.05)
     assert short == math.ceil(0.05 * travel_floor_ticks(small, 0.1))
     assert long > short  # the farthest point of the larger K is farther
+
+
+def test_bench_bare_scale_steps_pymunk_alone_each_way(capsys):
+    bare = load("bench_bare_scale")
+    ways = dict(bare.measure(60, warmup=5, ticks=2, repeats=1))
+    assert set(ways) == set(bare.WAYS) and all(ms > 0 for ms in ways.values())
+    bare.main(["--robots", "60", "--warmup", "3", "--ticks", "1", "--repeats", "1"])
+    assert capsys.readouterr().out.splitlines()[1].startswith("     60: tree ")
