@@ -607,8 +607,7 @@ class Simulation:
         read as silent), and how many of them have a sender (costs.heard_count);
         ``receivers()``: who hears each (asked only by a message model that depends on
         distance)."""
-        # the rows as opaque records, taken with np.take: bytes copied, not field by field
-        heard = np.take(as_records(self.messages), senders).view(self.dtype)
+        heard = tickrows.take_rows(self.messages, senders)  # bytes, not field by field
         quiet = self.messages["id"] == NO_SENDER
         if np.count_nonzero(self.failed):
             quiet |= self.failed
