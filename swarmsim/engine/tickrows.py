@@ -37,14 +37,6 @@ def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarra
     return _differ(as_words(new), as_words(old), c_array(rows, np.int64))
 
 
-def take_rows(rows: np.ndarray, index: np.ndarray) -> np.ndarray:
-    """``rows[index]`` for a structured array ``rows`` (N,) and indices ``index`` (P,), each
-    in [0, N) (unchecked): a new C-contiguous array of the same bytes (as
-    ``np.take(as_records(rows), index)``), copied a word at a time."""
-    words = _gather(as_words(rows), c_array(index, np.int64))
-    return words.view(rows.dtype).reshape(len(words))
-
-
 def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: float,
               velocities: np.ndarray, listen: np.ndarray) -> int:
     """Write a chunk's actions to the robots ``rows`` (R,): ``velocities[rows] = vel`` (R, 2),
@@ -86,10 +78,9 @@ def warm_up() -> None:
     one = np.zeros((1, 2))
     clamp_rows(one, np.zeros(1, dtype=np.int64), 1.0)
     bearings((0.0, 0.0), one)
-    for size in ("i8", "i4", "i2", "i1"):  # each word size a run's broadcasts may take
+    for size in ("i8", "i4", "i2", "i1"):  # each word size a run's broadcasts may have
         flag = np.zeros(1, dtype=[("a", size)])
         rows_differ(flag, flag.copy(), np.zeros(1, dtype=np.int64))
-        take_rows(flag, np.zeros(1, dtype=np.int64))
     row, no = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.bool_)
     put_moves(row, one, np.ones(1), 1.0, one.copy(), np.ones(1))
     put_sleep(row, one, no, np.ones(1), no, row, 1.0, 1, no.copy(), np.ones(1), no.copy(),
@@ -125,16 +116,6 @@ def _differ(a, b, rows):  # pragma: no cover - compiled
             if a[i, c] != b[i, c]:
                 out[i] = True
                 break
-    return out
-
-
-@njit(cache=True)
-def _gather(words, index):  # pragma: no cover - compiled
-    out = np.empty((index.shape[0], words.shape[1]), dtype=words.dtype)
-    for k in range(index.shape[0]):
-        i = index[k]
-        for c in range(words.shape[1]):
-            out[k, c] = words[i, c]
     return out
 
 

@@ -29,9 +29,9 @@ def as_records(rows: np.ndarray) -> np.ndarray:
 
 def as_words(rows: np.ndarray) -> np.ndarray:
     """A view of a structured array's rows (N,) as (N, W) unsigned words, the widest (8, 4,
-    2 or 1 bytes) that divide a row's size: the same bytes, for compiled code to copy or
-    compare a row a word at a time (numba takes no opaque records). A copy first if ``rows``
-    is not C-contiguous."""
+    2 or 1 bytes) that divide a row's size: the same bytes, for compiled code to compare a
+    row a word at a time (numba takes no opaque records). A copy first if ``rows`` is not
+    C-contiguous."""
     rows = np.ascontiguousarray(rows)
     size = rows.dtype.itemsize
     word = next(w for w in (8, 4, 2, 1) if size % w == 0)

@@ -123,15 +123,3 @@ def test_rows_differ_is_the_bytewise_comparison_of_the_rows_asked():
         expected[rows] = differ[rows].any(axis=1)
         assert np.array_equal(tickrows.rows_differ(new, old, rows), expected)
         assert expected.sum() > 10
-
-
-def test_take_rows_copies_the_bytes_numpy_take_does():
-    rng = np.random.default_rng(8)
-    for dtype in RECORD_DTYPES:
-        rows = _random_rows(rng, dtype, 200)
-        index = rng.integers(0, 200, 1000)
-        got = tickrows.take_rows(rows, index)
-        expected = np.take(rows.view((np.void, dtype.itemsize)), index)
-        assert got.dtype == dtype and got.flags.c_contiguous and got.flags.writeable
-        assert got.tobytes() == expected.tobytes()
-        assert len(tickrows.take_rows(rows, index[:0])) == 0
