@@ -8,7 +8,7 @@ robots move each tick; numpy built (robots x stencil) arrays and two whole-grid 
 per tick.
 
 A moved robot's stamp is changed row by row: in a row, the pixels a robot covers are one run
-of columns (the float test is a valley in the column: each rounding step is monotonic), found
+of columns (the test's left side falls, then rises along the row: each rounding is monotonic), found
 from its ends (a square root's guess, checked against the float test itself); each robot's
 runs are kept, and only the pixels the old run or the new one holds alone are counted down
 or up. A robot moving a fraction of a pixel (most ticks) touches no count at all.
