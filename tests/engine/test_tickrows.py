@@ -116,7 +116,8 @@ def test_rows_differ_is_the_bytewise_comparison_of_the_rows_asked():
         new = old.copy()
         raw = new.view(np.uint8).reshape(300, -1)
         changed = rng.choice(300, 60, replace=False)
-        raw[changed, rng.integers(0, dtype.itemsize, 60)] ^= (1 << rng.integers(0, 8, 60)).astype(np.uint8)
+        bits = (1 << rng.integers(0, 8, 60)).astype(np.uint8)  # one bit flipped in each
+        raw[changed, rng.integers(0, dtype.itemsize, 60)] ^= bits
         rows = np.sort(rng.choice(300, 150, replace=False))
         differ = (new.view(np.uint8).reshape(300, -1) != old.view(np.uint8).reshape(300, -1))
         expected = np.zeros(300, dtype=bool)
