@@ -567,13 +567,13 @@ class Simulation:
         starts = np.zeros(len(awake) + 1, dtype=np.int64)
         np.cumsum(views.counts, out=starts[1:])
         offsets, distances = views.offsets, views.distances
-        here = self.positions[awake]
+        here = np.take(self.positions, awake, axis=0)  # positions[awake]; take is faster
         bearings = None if self.world.beacon is None else tickrows.bearings(self.world.beacon,
                                                                            here)
         probe_at, tick = self.floor.probe_at, self.tick
         on = self.imperfect.read_floor(self.on_target[awake],
                                        lambda: self.floor.edge_distance(here))
-        shift = moved[awake]
+        shift = np.take(moved, awake, axis=0)
         turned = self._turned[awake]
 
         @functools.cache  # the per-robot path's Python lists, made when first asked for

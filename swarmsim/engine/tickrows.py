@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from swarmsim.kernels.carrays import c_array
+from swarmsim.kernels.carrays import as_words, c_array
 from swarmsim.kernels.warmup import kernel_warm_up
 
 
@@ -34,9 +34,7 @@ def bearings(beacon: tuple[float, float], at: np.ndarray) -> np.ndarray:
 def rows_differ(new: np.ndarray, old: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """(N,) bool: which of rows ``rows`` differ, bytewise, between two structured arrays of one
     dtype, (N,) each (the other entries False)."""
-    a = np.require(new, requirements="C").view(np.uint8).reshape(len(new), -1)
-    b = np.require(old, requirements="C").view(np.uint8).reshape(len(old), -1)
-    return _differ(a, b, c_array(rows, np.int64))
+    return _differ(as_words(new), as_words(old), c_array(rows, np.int64))
 
 
 def put_moves(rows: np.ndarray, vel: np.ndarray, listen_in: np.ndarray, reach: float,
@@ -80,8 +78,9 @@ def warm_up() -> None:
     one = np.zeros((1, 2))
     clamp_rows(one, np.zeros(1, dtype=np.int64), 1.0)
     bearings((0.0, 0.0), one)
-    flag = np.zeros(1, dtype=[("a", "i8")])
-    rows_differ(flag, flag.copy(), np.zeros(1, dtype=np.int64))
+    for size in ("i8", "i4", "i2", "i1"):  # each word size a run's broadcasts may have
+        flag = np.zeros(1, dtype=[("a", size)])
+        rows_differ(flag, flag.copy(), np.zeros(1, dtype=np.int64))
     row, no = np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.bool_)
     put_moves(row, one, np.ones(1), 1.0, one.copy(), np.ones(1))
     put_sleep(row, one, no, np.ones(1), no, row, 1.0, 1, no.copy(), np.ones(1), no.copy(),

@@ -27,6 +27,21 @@ def as_records(rows: np.ndarray) -> np.ndarray:
     return rows.view(_record(rows.dtype.itemsize))
 
 
+def as_words(rows: np.ndarray) -> np.ndarray:
+    """A view of a structured array's rows (N,) as (N, W) unsigned words, the widest (8, 4,
+    2 or 1 bytes) that divide a row's size: the same bytes, for compiled code to compare a
+    row a word at a time (numba takes no opaque records). A copy first if ``rows`` is not
+    C-contiguous."""
+    rows = np.ascontiguousarray(rows)
+    size = rows.dtype.itemsize
+    word = next(w for w in (8, 4, 2, 1) if size % w == 0)
+    return rows.view(_WORDS[word]).reshape(len(rows), size // word)
+
+
+_WORDS = {8: np.uint64, 4: np.uint32, 2: np.uint16, 1: np.uint8}
+"""The unsigned integer type of each word size, bytes (as_words)."""
+
+
 @functools.cache
 def _record(size: int) -> np.dtype:
     """The opaque record dtype of ``size`` bytes (made once per size, not per call)."""

@@ -43,7 +43,7 @@ class ContactsPart(MetricPart):
         self.overlap_sum += c.overlap_sum
         self.overlap_contacts += c.robot_pairs
         self.contact_ticks += c.in_contact
-        touching = int(c.in_contact.sum())
+        touching = int(np.count_nonzero(c.in_contact))
         self.contact_robot_ticks += touching
         self._in_contact, self._impulse = touching, c.impulse
 

@@ -21,7 +21,7 @@ from shapely.geometry import Polygon
 
 from swarmsim.errors import ConfigError
 from swarmsim.kernels.carrays import c_array
-from swarmsim.metrics.stamps import restamp
+from swarmsim.metrics.stamps import new_stamps, restamp
 
 
 @dataclass(frozen=True)
@@ -137,14 +137,16 @@ class IncrementalCoverage:
         self._count = np.zeros(self.rows * self.cols, dtype=np.int64)
         self._covered = 0  # target pixels with a positive count
         self._positions = np.full(np.shape(positions), np.nan)  # stamped nowhere yet
+        self._spans, self._runs = new_stamps(len(positions), self._half_i, self.rows)
         self.update(positions)
 
     def update(self, positions: np.ndarray) -> float:
         """Re-stamp robots whose position changed; return the coverage fraction P."""
         g = self.grid
         self._covered += restamp(self._count, self._inside, self._positions,
-                                 c_array(positions, np.float64), g.x0, g.y0, g.dx, g.dy,
-                                 self._r2, self._half_i, self._half_j, self.rows, self.cols)
+                                 c_array(positions, np.float64), self._spans, self._runs,
+                                 g.x0, g.y0, g.dx, g.dy, self._r2, self._half_i,
+                                 self._half_j, self.rows, self.cols)
         pixels = self.grid.n_target_pixels
         return float(self._covered / pixels) if pixels else 0.0
 

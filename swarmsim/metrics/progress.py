@@ -108,7 +108,7 @@ class ProgressPart(MetricPart):
             self.completion_distance = self.total_distance
         if not self._rises or coverage > self._rises[-1][0]:
             self._rises.append((coverage, now.tick, self.total_distance))
-        self._on_target = int(now.on_target.sum())
+        self._on_target = int(np.count_nonzero(now.on_target))
         self._awake = now.awake
         if self.counts_broadcast_moving:
             self._broadcast_moving = int(np.count_nonzero(now.messages["moving"]))

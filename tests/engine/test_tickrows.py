@@ -96,3 +96,31 @@ def test_c_array_passes_arrays_through_only_when_they_qualify():
     assert c_array(frozen, np.float64) is frozen
     copied = c_array(frozen, np.float64, writeable=True)
     assert copied.flags.writeable and np.array_equal(copied, frozen)
+
+
+RECORD_DTYPES = [np.dtype([("id", "i4"), ("status", "i1"), ("x", "f8", (4,)), ("y", "i2", (3,)),
+                           ("z", "u1")]),  # 44 bytes: 4-byte words
+                 np.dtype([("id", "i4"), ("status", "i1"), ("ldist", "f4", (3,)), ("flag", "?")]),
+                 np.dtype([("id", "i4"), ("g", "f4")]),  # 8-byte words
+                 np.dtype([("id", "i4"), ("s", "i1"), ("t", "i1"), ("u", "i1")])]  # 7: bytes
+
+
+def _random_rows(rng: np.random.Generator, dtype: np.dtype, n: int) -> np.ndarray:
+    return rng.integers(0, 256, n * dtype.itemsize, dtype=np.uint8).view(dtype)
+
+
+def test_rows_differ_is_the_bytewise_comparison_of_the_rows_asked():
+    rng = np.random.default_rng(7)
+    for dtype in RECORD_DTYPES:
+        old = _random_rows(rng, dtype, 300)
+        new = old.copy()
+        raw = new.view(np.uint8).reshape(300, -1)
+        changed = rng.choice(300, 60, replace=False)
+        bits = (1 << rng.integers(0, 8, 60)).astype(np.uint8)  # one bit flipped in each
+        raw[changed, rng.integers(0, dtype.itemsize, 60)] ^= bits
+        rows = np.sort(rng.choice(300, 150, replace=False))
+        differ = (new.view(np.uint8).reshape(300, -1) != old.view(np.uint8).reshape(300, -1))
+        expected = np.zeros(300, dtype=bool)
+        expected[rows] = differ[rows].any(axis=1)
+        assert np.array_equal(tickrows.rows_differ(new, old, rows), expected)
+        assert expected.sum() > 10
