@@ -1,6 +1,8 @@
 """The compiled coverage stamps (swarmsim/metrics/stamps.py) cover exactly the pixels whose centre
 passes the float test (cx - x)^2 + (cy - y)^2 <= r^2, as numpy evaluates it."""
 
+from typing import NamedTuple
+
 import numpy as np
 import pytest
 
@@ -15,34 +17,66 @@ def brute_counts(positions, x0, y0, dx, dy, r2, rows, cols):
     return (ex[None, :, :] + ey[:, None, :] <= r2).sum(axis=2).ravel()
 
 
+class Grid(NamedTuple):
+    """A random coverage grid and empty stamps for ``robots`` robots (restamp's arguments)."""
+    rows: int
+    cols: int
+    dx: float
+    dy: float
+    x0: float
+    y0: float
+    radius: float
+    half_i: int
+    half_j: int
+    inside: np.ndarray
+    count: np.ndarray
+    old: np.ndarray
+    spans: np.ndarray
+    runs: np.ndarray
+
+    def restamp(self, new: np.ndarray) -> int:
+        return restamp(self.count, self.inside, self.old, new, self.spans, self.runs, self.x0,
+                       self.y0, self.dx, self.dy, self.radius * self.radius, self.half_i, self.half_j,
+                       self.rows, self.cols)
+
+    def brute(self, positions: np.ndarray) -> np.ndarray:
+        return brute_counts(positions, self.x0, self.y0, self.dx, self.dy, self.radius * self.radius,
+                            self.rows, self.cols)
+
+
+def random_grid(rng, most_cells: int, pixel: tuple[float, float], radius_of, robots: int
+                ) -> Grid:
+    """Up to ``most_cells`` rows and columns of pixels ``pixel`` (low, high) units wide; the
+    radius ``radius_of(rng, dx)``; 70 % of the pixels inside the target."""
+    rows, cols = int(rng.integers(5, most_cells)), int(rng.integers(5, most_cells))
+    dx, dy = rng.uniform(*pixel), rng.uniform(*pixel)
+    x0, y0 = rng.uniform(-50, 50), rng.uniform(-50, 50)
+    radius = radius_of(rng, dx)
+    half_i, half_j = int(np.ceil(radius / dy)) + 1, int(np.ceil(radius / dx)) + 1
+    spans, runs = new_stamps(robots, half_i, rows)
+    return Grid(rows, cols, dx, dy, x0, y0, radius, half_i, half_j,
+                rng.random(rows * cols) < 0.7, np.zeros(rows * cols, dtype=np.int64),
+                np.full((robots, 2), np.nan), spans, runs)
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_stamps_cover_the_pixels_the_float_test_admits_as_robots_move(seed):
     rng = np.random.default_rng(seed)
-    rows, cols = int(rng.integers(5, 60)), int(rng.integers(5, 60))
-    dx, dy = rng.uniform(0.1, 1.5), rng.uniform(0.1, 1.5)
-    x0, y0 = rng.uniform(-50, 50), rng.uniform(-50, 50)
-    radius = rng.uniform(0.05, 8.0)
-    r2 = radius * radius
-    half_i, half_j = int(np.ceil(radius / dy)) + 1, int(np.ceil(radius / dx)) + 1
-    inside = rng.random(rows * cols) < 0.7
-    count = np.zeros(rows * cols, dtype=np.int64)
-    old = np.full((40, 2), np.nan)
-    spans, runs = new_stamps(40, half_i, rows)
+    g = random_grid(rng, 60, (0.1, 1.5), lambda rng, dx: rng.uniform(0.05, 8.0), 40)
     covered = 0
     for _ in range(5):
         # positions inside, beyond the grid's edges, and on pixel centres and their rims
-        new = np.column_stack([x0 + rng.uniform(-3, cols * dx + 3, 40),
-                               y0 + rng.uniform(-3, rows * dy + 3, 40)])
-        new[:10, 0] = x0 + (rng.integers(0, cols, 10) + 0.5) * dx + radius * rng.choice(
+        new = np.column_stack([g.x0 + rng.uniform(-3, g.cols * g.dx + 3, 40),
+                               g.y0 + rng.uniform(-3, g.rows * g.dy + 3, 40)])
+        new[:10, 0] = g.x0 + (rng.integers(0, g.cols, 10) + 0.5) * g.dx + g.radius * rng.choice(
             [-1.0, 1.0, 0.0], 10)
-        new[:10, 1] = y0 + (rng.integers(0, rows, 10) + 0.5) * dy
+        new[:10, 1] = g.y0 + (rng.integers(0, g.rows, 10) + 0.5) * g.dy
         new[10:12] = np.nan  # a robot nowhere stamps nothing
-        covered += restamp(count, inside, old, new, spans, runs, x0, y0, dx, dy, r2, half_i,
-                           half_j, rows, cols)
+        covered += g.restamp(new)
         finite = np.isfinite(new).all(axis=1)
-        expected = brute_counts(new[finite], x0, y0, dx, dy, r2, rows, cols)
-        assert (count == expected).all()
-        assert covered == int(((expected > 0) & inside).sum())
+        expected = g.brute(new[finite])
+        assert (g.count == expected).all()
+        assert covered == int(((expected > 0) & g.inside).sum())
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -51,30 +85,22 @@ def test_stamps_follow_small_moves_and_rims_exactly(seed):
     rim only), some onto pixel centres exactly r away, one beyond the grid and back; the
     counts are the brute force's after every step."""
     rng = np.random.default_rng(100 + seed)
-    rows, cols = int(rng.integers(5, 40)), int(rng.integers(5, 40))
-    dx, dy = rng.uniform(0.2, 1.8), rng.uniform(0.2, 1.8)
-    x0, y0 = rng.uniform(-50, 50), rng.uniform(-50, 50)
-    radius = rng.choice([rng.uniform(0.05, 1.0), rng.uniform(1.0, 6.0), 2.0 * dx])
-    r2 = radius * radius
-    half_i, half_j = int(np.ceil(radius / dy)) + 1, int(np.ceil(radius / dx)) + 1
-    inside = rng.random(rows * cols) < 0.7
-    count = np.zeros(rows * cols, dtype=np.int64)
-    old = np.full((30, 2), np.nan)
-    spans, runs = new_stamps(30, half_i, rows)
-    pos = np.column_stack([x0 + rng.uniform(0, cols * dx, 30), y0 + rng.uniform(0, rows * dy, 30)])
+    g = random_grid(rng, 40, (0.2, 1.8), lambda rng, dx: rng.choice(
+        [rng.uniform(0.05, 1.0), rng.uniform(1.0, 6.0), 2.0 * dx]), 30)
+    pos = np.column_stack([g.x0 + rng.uniform(0, g.cols * g.dx, 30),
+                           g.y0 + rng.uniform(0, g.rows * g.dy, 30)])
     covered = 0
     for step in range(25):
         pos = pos + rng.normal(0, 0.15, pos.shape) * (rng.random((30, 1)) < 0.6)
         rim = rng.integers(0, 30, 4)  # on a pixel's rim: the float test decides alone
-        pos[rim, 0] = x0 + (rng.integers(0, cols, 4) + 0.5) * dx + radius
-        pos[rim, 1] = y0 + (rng.integers(0, rows, 4) + 0.5) * dy
-        pos[29] = (x0 - 3 * radius, y0) if step % 2 else (x0 + 1.0, y0 + 1.0)
-        covered += restamp(count, inside, old, pos, spans, runs, x0, y0, dx, dy, r2, half_i,
-                           half_j, rows, cols)
-        expected = brute_counts(pos, x0, y0, dx, dy, r2, rows, cols)
-        assert (count == expected).all()
-        assert covered == int(((expected > 0) & inside).sum())
-    assert (old == pos).all()
+        pos[rim, 0] = g.x0 + (rng.integers(0, g.cols, 4) + 0.5) * g.dx + g.radius
+        pos[rim, 1] = g.y0 + (rng.integers(0, g.rows, 4) + 0.5) * g.dy
+        pos[29] = (g.x0 - 3 * g.radius, g.y0) if step % 2 else (g.x0 + 1.0, g.y0 + 1.0)
+        covered += g.restamp(pos)
+        expected = g.brute(pos)
+        assert (g.count == expected).all()
+        assert covered == int(((expected > 0) & g.inside).sum())
+    assert (g.old == pos).all()
 
 
 @pytest.mark.parametrize("radius", [1e100, 1e200])
