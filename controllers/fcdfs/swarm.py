@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from controllers.common.chunkio import column, probe_many_of
+from controllers.common.chunkio import probe_many_of, sensed_columns
 from controllers.common.formation import CMD_NONE
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import ChunkActions, DecideBatch, RobotSetup
@@ -117,25 +117,13 @@ def _out(n: int) -> Out:
 
 def _sensed(robots: np.ndarray, batch: Any) -> Sensed:
     """The batch's sensing as the kernel's columns."""
-    m = batch.neighbours.messages
-    n = len(robots)
-    has_beacon = batch.beacons is not None
-    return Sensed(
-        tick=int(batch.tick), rows=column(robots, np.int64),
-        starts=column(batch.neighbours.starts, np.int64),
-        offsets=column(batch.offsets, np.float64).reshape(-1, 2),
-        distances=column(batch.neighbours.distances, np.float64),
-        sender=column(m["id"], np.int64), status=column(m["status"], np.int64),
-        moving=column(m["moving"], np.bool_), gradient=column(m["gradient"], np.int64),
-        cmd=column(m["cmd"], np.int64), vx=column(m["vx"], np.float64),
-        vy=column(m["vy"], np.float64), door=column(m["door"], np.int64),
-        pdir=column(m["pdir"], np.int64), touch=column(m["touch"], np.bool_),
-        hops=column(m["hops"], np.int64), ci=column(m["ci"], np.int64),
-        cj=column(m["cj"], np.int64), on_target=column(batch.on_target, np.bool_),
-        moved=column(batch.moved, np.float64).reshape(-1, 2),
-        beacons=(column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
-                 else np.zeros((n, 2))),
-        has_beacon=has_beacon)
+    return Sensed(**sensed_columns(robots, batch, _HEARD))
+
+
+_HEARD = {"status": np.int64, "moving": np.bool_, "gradient": np.int64, "cmd": np.int64,
+          "vx": np.float64, "vy": np.float64, "door": np.int64, "pdir": np.int64,
+          "touch": np.bool_, "hops": np.int64, "ci": np.int64, "cj": np.int64}
+"""The broadcast fields the kernel reads, with the dtypes it takes them in."""
 
 
 def warm_up() -> None:

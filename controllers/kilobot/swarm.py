@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from controllers.common.chunkio import column, probe_many_of
+from controllers.common.chunkio import probe_many_of, sensed_columns
 from controllers.common.formation import CMD_NONE
 from controllers.common.gradient import INF_GRADIENT
 from swarmsim.controller import NO_SENDER, ChunkActions, DecideBatch, RobotSetup
@@ -103,23 +103,12 @@ class KilobotSwarm:
 
 def _sensed(robots: np.ndarray, batch: DecideBatch) -> Sensed:
     """The batch's sensing as the kernels' columns."""
-    messages = batch.neighbours.messages
-    n = len(robots)
-    has_beacon = batch.beacons is not None
-    return Sensed(
-        tick=int(batch.tick), rows=column(robots, np.int64),
-        starts=column(batch.neighbours.starts, np.int64),
-        offsets=column(batch.offsets, np.float64).reshape(-1, 2),
-        distances=column(batch.neighbours.distances, np.float64),
-        sender=column(messages["id"], np.int64), status=column(messages["status"], np.int64),
-        moving=column(messages["moving"], np.bool_),
-        gradient=column(messages["gradient"], np.int64),
-        cmd=column(messages["cmd"], np.int64), vx=column(messages["vx"], np.float64),
-        vy=column(messages["vy"], np.float64), on_target=column(batch.on_target, np.bool_),
-        moved=column(batch.moved, np.float64).reshape(-1, 2),
-        beacons=(column(batch.beacons, np.float64).reshape(-1, 2) if has_beacon
-                 else np.zeros((n, 2))),
-        has_beacon=has_beacon)
+    return Sensed(**sensed_columns(robots, batch, _HEARD))
+
+
+_HEARD = {"status": np.int64, "moving": np.bool_, "gradient": np.int64, "cmd": np.int64,
+          "vx": np.float64, "vy": np.float64}
+"""The broadcast fields the kernels read, with the dtypes they take them in."""
 
 
 def warm_up() -> None:
