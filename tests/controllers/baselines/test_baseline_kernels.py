@@ -22,9 +22,10 @@ from swarmsim.sensing.sensing import FloorSensor
 
 
 def test_pairwise_sum_is_numpys_sum_to_the_bit():
-    """Sizes round numpy's block of 128 and its halving (a plain running sum differs)."""
+    """Sizes round numpy's block of 128 and its halving, nested calls and the stack beyond
+    them (a plain running sum differs)."""
     rng = np.random.default_rng(3)
-    for n in [*range(300), 511, 512, 513, 1031, 4099]:
+    for n in [*range(300), 511, 512, 513, 1031, 2047, 2048, 2049, 2100, 4099, 9000]:
         a = rng.random(n) * 10 ** rng.uniform(-3, 3)
         assert pairwise_sum(a, 0, n) == a.sum()
     a = rng.random(1000)
