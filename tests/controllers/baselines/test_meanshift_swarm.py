@@ -139,7 +139,7 @@ def _crowded_batch(rng, robots, map_cell):
     return params, batch, perceive
 
 
-@pytest.mark.parametrize("map_cell", [1.0, 0.3], ids=["K's lattice", "rows over 64 cells"])
+@pytest.mark.parametrize("map_cell", [1.0, 0.3], ids=["one word a row", "two words a row"])
 def test_swarm_decides_crowded_robots_as_each_robot_steps(map_cell):
     """Robots among up to 30 neighbours (the marking of occupied points: a stencil row in
     one word of bits, and, at map_cell 0.3, 71 cells in two): the swarm's velocities and
