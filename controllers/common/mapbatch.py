@@ -9,7 +9,9 @@ target, 0 not, -1 not yet probed). A chunk's tick is two steps:
 1. :meth:`MapRows.sense` adds each robot's displacement, moves its window when the robot left
    it (:func:`advance`: as ``LocalMap._recentre``) and probes, in one ``probe_many`` query for
    the whole chunk, every lattice point within the radius not yet known (as
-   ``LocalMap.sense``);
+   ``LocalMap.sense``). After a robot's first sensing, every point within the radius is known;
+   a robot that moved at most ``step`` since can find unknown points only on the stencil's
+   rim (:func:`rim_cells`), so only the rim is searched (the same points, in the same order);
 2. a controller's compiled kernel reads a robot's map at any offsets with
    :func:`lattice_values` (as ``LocalMap.lookup``). After step 1 every lattice point within
    the radius is known, so a lookup never needs a probe (``LocalMap.lookup`` probed none
@@ -48,6 +50,9 @@ class MapRows:
         self.odo = np.zeros((robots, 2))
         self.origin = np.full((robots, 2), -(self.reach + LocalMap.MARGIN), dtype=np.int64)
         self.grid = np.full((robots, self.size, self.size), -1, dtype=np.int8)
+        self.sensed = np.zeros(robots, dtype=np.bool_)  # robot i's map sensed once at least
+        self.step = 0.5 * self.cell  # a robot moved at most this since: only the rim is new
+        self.rim = rim_cells(self.reach, self.cell, self.radius, self.step)
 
     @property
     def radius2(self) -> float:
@@ -59,20 +64,45 @@ class MapRows:
         robot k is robot ``rows[k]``): add ``moved[k]`` (R, 2), units, to each one's
         odometry, move its window if it must, and probe every lattice point within the
         radius not yet known (one ``probe_many`` call for the chunk); in place."""
-        ks, offsets, cells = advance(rows, moved, self.odo, self.origin, self.grid, self.reach,
-                                     LocalMap.MARGIN, self.cell, self.radius2)
+        ks, offsets, cells = advance(rows, moved, self.odo, self.origin, self.grid, self.sensed,
+                                     self.rim, self.step, self.reach, LocalMap.MARGIN, self.cell,
+                                     self.radius2)
         if len(ks):
             store(rows, ks, cells, np.asarray(probe_many(ks, offsets), dtype=np.bool_),
                   self.grid)
 
 
+def rim_cells(reach: int, cell: float, radius: float, step: float) -> np.ndarray:
+    """The stencil's rim: (M, 2) int64 offsets (a, b), cells, in stencil order (a, then b),
+    of the lattice points that can be within ``radius`` (units) of a robot anywhere in its
+    lattice cell and farther than ``radius - step`` from some place in it. A robot that moved
+    at most ``step`` (units) since its map was last sensed knows every point off the rim
+    within the radius (it was within the radius then), so only the rim can be unknown.
+
+    The bounds keep a margin of 1e-6 (radius + cell): the offsets a robot computes err by a
+    few ulps of its odometry, far less while odometry stays far below 1e6 units.
+    """
+    a = np.arange(-reach, reach + 1)
+    near = np.where(a > 0, a - 1, -a) * cell  # |a cell - f| over f in [0, cell]: least
+    far = np.maximum(np.abs(a), np.abs(a - 1)) * cell  # and most
+    margin = 1e-6 * (radius + cell)
+    inner, outer = radius - step - margin, radius + margin
+    near2 = near[:, None] ** 2 + near[None, :] ** 2
+    far2 = far[:, None] ** 2 + far[None, :] ** 2
+    keep = (near2 <= outer * outer) & ~((far2 < inner * inner) & (inner > 0))
+    aa, bb = np.nonzero(keep)  # row by row: stencil order
+    return np.column_stack([aa - reach, bb - reach]).astype(np.int64)
+
+
 @njit(cache=True)
-def advance(rows, moved, odo, origin, grid, reach, margin, cell,
+def advance(rows, moved, odo, origin, grid, sensed, rim, step, reach, margin, cell,
             radius2):  # pragma: no cover - compiled
     """Add each chunk robot's displacement ``moved[k]`` to ``odo[rows[k]]``, move its window
     so that the stencil of lattice points round it fits (``reach`` cells each way; a moved
     window keeps ``margin`` cells beyond it and forgets what falls out), and list the lattice
-    points within the sensing radius (``radius2``, units^2) it does not know yet.
+    points within the sensing radius (``radius2``, units^2) it does not know yet: on the
+    stencil's ``rim`` (:func:`rim_cells`) when its map was ``sensed`` before and it moved at
+    most ``step`` (units), else on the whole stencil. Sets ``sensed``.
 
     Returns ks (M,) the chunk robots asking, offsets (M, 2) each point from its robot, units,
     and cells (M, 2) each point's window row and column: all of robot k's before robot
@@ -97,17 +127,52 @@ def advance(rows, moved, odo, origin, grid, reach, margin, cell,
             most = 2 * most + stencil
             ks, offsets, cells = _grown(ks, m, most), _grown(offsets, m, most), _grown(cells, m,
                                                                                       most)
-        o0, o1 = origin[i, 0], origin[i, 1]
-        for a in range(-reach, reach + 1):
-            dx = (b0 + a) * cell - odo[i, 0]
-            for b in range(-reach, reach + 1):
-                dy = (b1 + b) * cell - odo[i, 1]
-                if dx * dx + dy * dy <= radius2 and grid[i, b0 + a - o0, b1 + b - o1] < 0:
-                    ks[m] = k
-                    offsets[m, 0], offsets[m, 1] = dx, dy
-                    cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
-                    m += 1
+        if sensed[i] and moved[k, 0] * moved[k, 0] + moved[k, 1] * moved[k, 1] <= step * step:
+            m = _unknown_on_rim(k, odo[i], grid[i], origin[i], b0, b1, rim, cell, radius2, ks,
+                                offsets, cells, m)
+        else:
+            m = _unknown_in_stencil(k, odo[i], grid[i], origin[i], b0, b1, reach, cell,
+                                    radius2, ks, offsets, cells, m)
+        sensed[i] = True
     return ks[:m], offsets[:m], cells[:m]
+
+
+@njit(cache=True)
+def _unknown_in_stencil(k, odo_i, grid_i, origin_i, b0, b1, reach, cell, radius2, ks, offsets,
+                        cells, m):  # pragma: no cover - compiled
+    """List chunk robot k's unknown lattice points within the radius, the whole stencil round
+    lattice cell (b0, b1) searched, from row ``m`` of ``ks``, ``offsets``, ``cells``; returns
+    the rows used."""
+    o0, o1 = origin_i[0], origin_i[1]
+    for a in range(-reach, reach + 1):
+        dx = (b0 + a) * cell - odo_i[0]
+        for b in range(-reach, reach + 1):
+            dy = (b1 + b) * cell - odo_i[1]
+            if dx * dx + dy * dy <= radius2 and grid_i[b0 + a - o0, b1 + b - o1] < 0:
+                ks[m] = k
+                offsets[m, 0], offsets[m, 1] = dx, dy
+                cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
+                m += 1
+    return m
+
+
+@njit(cache=True)
+def _unknown_on_rim(k, odo_i, grid_i, origin_i, b0, b1, rim, cell, radius2, ks, offsets, cells,
+                    m):  # pragma: no cover - compiled
+    """As :func:`_unknown_in_stencil`, only the stencil's ``rim`` searched (offsets (a, b) in
+    stencil order): the same points, by the same test, in the same order, when every point
+    off the rim within the radius is known."""
+    o0, o1 = origin_i[0], origin_i[1]
+    for j in range(rim.shape[0]):
+        a, b = rim[j, 0], rim[j, 1]
+        dx = (b0 + a) * cell - odo_i[0]
+        dy = (b1 + b) * cell - odo_i[1]
+        if dx * dx + dy * dy <= radius2 and grid_i[b0 + a - o0, b1 + b - o1] < 0:
+            ks[m] = k
+            offsets[m, 0], offsets[m, 1] = dx, dy
+            cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
+            m += 1
+    return m
 
 
 @njit(cache=True)

@@ -18,9 +18,60 @@ def pairwise_sum(a, lo, n):  # pragma: no cover - compiled
     """``a[lo:lo + n].sum()`` as numpy sums a contiguous float array, in its dtype (halves
     above 128 items, 8 accumulators below), so the result is the same to the bit.
 
-    The halving is walked with an explicit stack: numba cannot load a recursive function
-    from its cache (it crashed).
+    Up to four levels of halving (about 2,000 items) are nested calls that allocate nothing
+    (a mean-shift robot sums a few hundred weights twice a tick); deeper ones are walked
+    with an explicit stack: numba cannot load a recursive function from its cache (it
+    crashed).
     """
+    return _halved4(a, lo, n)
+
+
+@njit(cache=True)
+def _halved4(a, lo, n):  # pragma: no cover - compiled
+    """``a[lo:lo + n].sum()``, numpy's: its first halving here, then :func:`_halved3`'s."""
+    if n <= _BLOCK:
+        return _block_sum(a, lo, n)
+    half = _half(n)
+    return _halved3(a, lo, half) + _halved3(a, lo + half, n - half)
+
+
+@njit(cache=True)
+def _halved3(a, lo, n):  # pragma: no cover - compiled
+    """``a[lo:lo + n].sum()``, numpy's: as :func:`_halved4`, one level fewer."""
+    if n <= _BLOCK:
+        return _block_sum(a, lo, n)
+    half = _half(n)
+    return _halved2(a, lo, half) + _halved2(a, lo + half, n - half)
+
+
+@njit(cache=True)
+def _halved2(a, lo, n):  # pragma: no cover - compiled
+    """``a[lo:lo + n].sum()``, numpy's: as :func:`_halved4`, two levels fewer."""
+    if n <= _BLOCK:
+        return _block_sum(a, lo, n)
+    half = _half(n)
+    return _halved1(a, lo, half) + _halved1(a, lo + half, n - half)
+
+
+@njit(cache=True)
+def _halved1(a, lo, n):  # pragma: no cover - compiled
+    """``a[lo:lo + n].sum()``, numpy's: blocks of at most 128, else :func:`_stacked`."""
+    if n <= _BLOCK:
+        return _block_sum(a, lo, n)
+    half = _half(n)
+    return _stacked(a, lo, half) + _stacked(a, lo + half, n - half)
+
+
+@njit(cache=True)
+def _half(n):  # pragma: no cover - compiled
+    """Where numpy splits n (> 128) items: half of them, rounded down to a multiple of 8."""
+    half = n // 2
+    return half - half % 8
+
+
+@njit(cache=True)
+def _stacked(a, lo, n):  # pragma: no cover - compiled
+    """``a[lo:lo + n].sum()``, numpy's, for any n: the halving walked with a stack."""
     if n <= _BLOCK:
         return _block_sum(a, lo, n)
     starts = np.empty(64, dtype=np.int64)
@@ -36,8 +87,7 @@ def pairwise_sum(a, lo, n):  # pragma: no cover - compiled
             done += 1
             top -= 1
             continue
-        half = size // 2
-        half -= half % 8
+        half = _half(size)
         if stages[top] == 2:
             sums[done - 2] = sums[done - 2] + sums[done - 1]
             done -= 1
@@ -60,12 +110,19 @@ def _block_sum(a, lo, n):  # pragma: no cover - compiled
         for i in range(n):
             res += a[lo + i]
         return res
-    r = a[lo:lo + 8].copy()
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
     whole = n - n % 8
-    for i in range(8, whole, 8):
-        for j in range(8):
-            r[j] += a[lo + i + j]
-    res = ((r[0] + r[1]) + (r[2] + r[3])) + ((r[4] + r[5]) + (r[6] + r[7]))
+    for i in range(lo + 8, lo + whole, 8):
+        r0 += a[i]
+        r1 += a[i + 1]
+        r2 += a[i + 2]
+        r3 += a[i + 3]
+        r4 += a[i + 4]
+        r5 += a[i + 5]
+        r6 += a[i + 6]
+        r7 += a[i + 7]
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
     for i in range(whole, n):
         res += a[lo + i]
     return res

@@ -9,10 +9,14 @@ The same numbers as the per-robot controller, to the bit: the same operations in
 order (numpy's elementwise arithmetic, the kernels of kernel.py, Python's ``math.hypot`` as
 controllers.common.pyhypot gives it). Only the test for occupied target points differs in
 how it is searched: each neighbour visits the lattice points within r_occupied of it (and a
-margin of 1e-6 r_occupied) and keeps each point's smallest squared distance, instead of every
-point asking every neighbour; a point is occupied when that smallest sum passes kernel.explore's
-test, so the same points pass the same test on the same numbers. (The margin holds while
-odometry stays far below 1e6 units: the computed offsets err by a few ulps.)
+margin of 1e-6 r_occupied) and marks those whose squared distance passes kernel.explore's
+test, instead of every point asking every neighbour: the same points pass the same test on the
+same numbers. (The margin holds while odometry stays far below 1e6 units: the computed offsets
+err by a few ulps.) The marks are bits, a stencil row's in a few words (one while the
+stencil is at most 64 cells wide), each row of a neighbour's marks or-ed in at once. The
+raised-cosine weights, both kernel means' sums (all points, free points) and the free points'
+weights are made in one pass, after the marking; the means add the same products in the same
+order as kernel.explore's.
 
 A robot's map (controllers.common.mapbatch.MapRows, a LocalMap in arrays): ``grid[i]``
 (size, size) int8 (1 target, 0 not, -1 not yet probed), the lattice index of its first row
@@ -28,9 +32,10 @@ from collections import namedtuple
 import numpy as np
 from numba import njit
 
+from controllers.common.npsum import pairwise_sum
 from controllers.common.pyhypot import py_hypot as hypot
 
-from .kernel import _add_kernel_mean, interact
+from .kernel import interaction
 
 SEEKING, EXPLORING, RESTING = 0, 1, 2
 
@@ -45,12 +50,13 @@ Lattice = namedtuple("Lattice", ["cell", "reach", "radius2"])
 
 
 @njit(cache=True)
-def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qcell, qx, qy
+def _sensed_target(grid_i, origin_i, odo_i, lattice, q, d2, qa, qb, qx, qy
                    ):  # pragma: no cover - compiled
     """The robot's sensed target points: their offsets into ``q`` (rows 0..k-1, stencil
-    order) and their stencil cells (a * side + b) into ``qcell``, the offsets of the
-    stencil's lattice rows and columns into ``qx``, ``qy`` (side,), units. Returns k and the
-    robot's lattice cell."""
+    order), their squared distances (units^2, as the radius test computes them) into ``d2``
+    and their stencil rows and columns into ``qa``, ``qb``, the offsets of the stencil's
+    lattice rows and columns into ``qx``, ``qy`` (side,), units. Returns k and the robot's
+    lattice cell."""
     cell, reach, radius2 = lattice
     side = 2 * reach + 1
     cx = np.int64(math.floor(odo_i[0] / cell))
@@ -64,25 +70,28 @@ def _sensed_target(grid_i, origin_i, odo_i, lattice, q, qcell, qx, qy
         row = cx + a - reach - origin_i[0]
         for b in range(side):
             dy = qy[b]
-            if dx * dx + dy * dy <= radius2 and grid_i[row, cy + b - reach - origin_i[1]] == 1:
+            s = dx * dx + dy * dy
+            if s <= radius2 and grid_i[row, cy + b - reach - origin_i[1]] == 1:
                 q[k, 0], q[k, 1] = dx, dy
-                qcell[k] = a * side + b
+                d2[k] = s
+                qa[k], qb[k] = a, b
                 k += 1
     return k, cx, cy
 
 
 @njit(cache=True)
-def _entering(on_target, q, k, has_beacon, beacon, kappa_enter):  # pragma: no cover - compiled
-    """MeanShiftRobot.entering: toward the nearest sensed target point, else the beacon."""
+def _entering(on_target, q, d2, k, has_beacon, beacon, kappa_enter
+              ):  # pragma: no cover - compiled
+    """MeanShiftRobot.entering: toward the nearest sensed target point (squared distances
+    ``d2``), else the beacon."""
     if on_target:
         return 0.0, 0.0
     if k > 0:
         best = 0
-        best_d = q[0, 0] * q[0, 0] + q[0, 1] * q[0, 1]
+        best_d = d2[0]
         for j in range(1, k):
-            d = q[j, 0] * q[j, 0] + q[j, 1] * q[j, 1]
-            if d < best_d:
-                best, best_d = j, d
+            if d2[j] < best_d:
+                best, best_d = j, d2[j]
         gx, gy = q[best, 0], q[best, 1]
         n = hypot(gx, gy)
         if n > 1e-9:
@@ -93,42 +102,68 @@ def _entering(on_target, q, k, has_beacon, beacon, kappa_enter):  # pragma: no c
 
 
 @njit(cache=True)
-def _exploring(q, k, qcell, qx, qy, cx, cy, odo_i, offsets, distances, G, lattice, w, wf, qf,
-               taken, nearest):  # pragma: no cover - compiled
-    """kernel.explore's command for the robot's sensed target points ``q[:k]`` (stencil
-    cells ``qcell``, lattice rows and columns at offsets ``qx``, ``qy``), its neighbours at
-    ``offsets``, ``distances``: a point is occupied when some neighbour within
-    r_sense + r_occupied lies within r_occupied of it, by the same test on the same
-    numbers; each neighbour marks the stencil cells round it (``taken``, one per cell)."""
-    out = np.zeros(2)
+def _exploring(q, d2, k, qa, qb, qx, qy, cx, cy, odo_i, offsets, distances, G, lattice, taken,
+               scratch):  # pragma: no cover - compiled
+    """kernel.explore's command (x, y), units per tick, for the robot's sensed target points
+    ``q[:k]`` (squared distances ``d2``, stencil rows and columns ``qa``, ``qb``, lattice
+    rows and columns at offsets ``qx``, ``qy``), its neighbours at ``offsets``,
+    ``distances``: a point is occupied when some neighbour within r_sense + r_occupied lies
+    within r_occupied of it, by the same test on the same numbers (:func:`_mark_taken`).
+    ``taken`` (side, words) int64, ``scratch`` (3, side * side): work rows."""
     if k == 0:
-        return out
+        return 0.0, 0.0
     r_sense, r_occupied = G.r_sense, G.r_occupied
+    _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, r_sense + r_occupied, r_occupied,
+                lattice, taken, scratch[2])
+    arg, w, wf = scratch[0], scratch[1], scratch[2]
     for i in range(k):
-        d = np.sqrt(q[i, 0] * q[i, 0] + q[i, 1] * q[i, 1])
-        w[i] = 0.5 * (1.0 + np.cos(np.pi * min(d / r_sense, 1.0)))
-    _add_kernel_mean(out, w, q, k, G.kappa_fill)
-    if not _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, r_sense + r_occupied,
-                       r_occupied, lattice, taken, nearest):
-        _add_kernel_mean(out, w, q, k, G.kappa_expl)
-        return out
+        arg[i] = np.pi * min(np.sqrt(d2[i]) / r_sense, 1.0)
+    sx, sy, fx, fy, free = _kernel_sums(q, arg, k, qa, qb, taken, w, wf)
+    o0 = 0.0
+    o1 = 0.0
+    w_sum = pairwise_sum(w, 0, k)
+    if w_sum > 0:
+        o0 += G.kappa_fill * sx / w_sum
+        o1 += G.kappa_fill * sy / w_sum
+    f_sum = w_sum if free == k else pairwise_sum(wf, 0, free)
+    if f_sum > 0:
+        o0 += G.kappa_expl * fx / f_sum
+        o1 += G.kappa_expl * fy / f_sum
+    return o0, o1
+
+
+@njit(cache=True)
+def _kernel_sums(q, arg, k, qa, qb, taken, w, wf):  # pragma: no cover - compiled
+    """The raised-cosine weights ``w[i] = (1 + cos(arg[i])) / 2`` of the points ``q[:k]``
+    and their weighted sums (sx, sy), the free points' (their bit in ``taken`` not set)
+    weights into ``wf`` and weighted sums (fx, fy), each added in point order as
+    kernel._add_kernel_mean adds them. Returns sx, sy, fx, fy and the number of free points."""
+    sx = 0.0
+    sy = 0.0
+    fx = 0.0
+    fy = 0.0
     free = 0
-    for p in range(k):
-        if not taken[qcell[p]]:
-            wf[free] = w[p]
-            qf[free, 0], qf[free, 1] = q[p, 0], q[p, 1]
+    for i in range(k):
+        wi = 0.5 * (1.0 + np.cos(arg[i]))
+        w[i] = wi
+        sx += wi * q[i, 0]
+        sy += wi * q[i, 1]
+        b = qb[i]
+        if not (taken[qa[i], b >> 6] >> (b & 63)) & 1:
+            wf[free] = wi
+            fx += wi * q[i, 0]
+            fy += wi * q[i, 1]
             free += 1
-    _add_kernel_mean(out, wf, qf, free, G.kappa_expl)
-    return out
+    return sx, sy, fx, fy, free
 
 
 @njit(cache=True)
 def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lattice, taken,
-                nearest):  # pragma: no cover - compiled
-    """``taken`` (side * side,): the stencil cells within ``r_occupied`` of a neighbour at
-    most ``near`` away, by kernel.explore's test (dx * dx, then + dy * dy, <= r_occupied **
-    2) on the smallest such sum over the neighbours (``nearest``, scratch). Returns whether
-    any neighbour is that near."""
+                dy2):  # pragma: no cover - compiled
+    """``taken`` (side, words) int64: bit b % 64 of word b // 64 of row a set when stencil
+    cell (a, b) lies within ``r_occupied`` of a neighbour at most ``near`` away, by
+    kernel.explore's test (dx * dx, then + dy * dy, <= r_occupied ** 2); ``dy2`` (side,):
+    scratch."""
     cell, reach, _ = lattice
     side = 2 * reach + 1
     limit = r_occupied ** 2
@@ -136,13 +171,10 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
     # test's dx (computed as the sensed points' offsets are) is within a few ulps of
     # ix * cell - (odo + n), far less than this margin
     reach_out = r_occupied * (1.0 + 1e-6) + 1e-6 * cell
-    dy2 = np.empty(side)
-    nearest[:] = np.inf
-    any_near = False
+    taken[:, :] = 0
     for j in range(distances.shape[0]):
         if not distances[j] <= near:
             continue
-        any_near = True
         nx, ny = offsets[j, 0], offsets[j, 1]
         a_lo = max(np.int64(math.ceil((odo_i[0] + nx - reach_out) / cell)) - cx + reach, 0)
         a_hi = min(np.int64(math.floor((odo_i[0] + nx + reach_out) / cell)) + 1 - cx + reach,
@@ -156,12 +188,16 @@ def _mark_taken(qx, qy, cx, cy, odo_i, offsets, distances, near, r_occupied, lat
         for a in range(a_lo, a_hi):
             dx = qx[a] - nx
             dx2 = dx * dx
-            row = a * side
+            # gathered in a word and or-ed in once a word, without a branch a cell: where a
+            # row's marks end is hard to predict
+            word = b_lo >> 6
+            m = np.int64(0)
             for b in range(b_lo, b_hi):
-                nearest[row + b] = min(nearest[row + b], dx2 + dy2[b])
-    for c in range(side * side):
-        taken[c] = nearest[c] <= limit
-    return any_near
+                if b >> 6 != word:
+                    taken[a, word] |= m
+                    word, m = b >> 6, np.int64(0)
+                m |= np.int64(dx2 + dy2[b] <= limit) << (b & 63)
+            taken[a, word] |= m
 
 
 @njit(cache=True)
@@ -178,25 +214,25 @@ def decide_chunk(rows, odo, grid, origin, velocity, status, on_target, has_beaco
     starts, offsets, distances, sender, vx, vy = heard
     side = 2 * lattice.reach + 1
     q = np.empty((side * side, 2))
-    qf = np.empty((side * side, 2))
-    w = np.empty(side * side)
-    wf = np.empty(side * side)
-    qcell = np.empty(side * side, dtype=np.int64)
-    taken = np.empty(side * side, dtype=np.bool_)
-    nearest = np.empty(side * side)
+    d2 = np.empty(side * side)
+    qa = np.empty(side * side, dtype=np.int64)
+    qb = np.empty(side * side, dtype=np.int64)
+    taken = np.empty((side, (side + 63) // 64), dtype=np.int64)
+    scratch = np.empty((3, side * side))
     qx, qy = np.empty(side), np.empty(side)
     inertia, vmax, deadband = G.inertia, G.v, G.deadband
     for k in range(len(rows)):
         i = rows[k]
-        n_q, cx, cy = _sensed_target(grid[i], origin[i], odo[i], lattice, q, qcell, qx, qy)
-        e0, e1 = _entering(on_target[k], q, n_q, has_beacon, beacons[k], G.kappa_enter)
+        n_q, cx, cy = _sensed_target(grid[i], origin[i], odo[i], lattice, q, d2, qa, qb, qx, qy)
+        e0, e1 = _entering(on_target[k], q, d2, n_q, has_beacon, beacons[k], G.kappa_enter)
         a, b = starts[k], starts[k + 1]
-        x = _exploring(q, n_q, qcell, qx, qy, cx, cy, odo[i], offsets[a:b], distances[a:b], G,
-                       lattice, w, wf, qf, taken, nearest)
-        f = interact(offsets[a:b], distances[a:b], sender[a:b], vx[a:b], vy[a:b], velocity[i],
-                     G.d_cover, G.r_sense, G.kappa_avoid, G.kappa_cons, no_sender)
-        c0 = (e0 + x[0]) + f[0]
-        c1 = (e1 + x[1]) + f[1]
+        x0, x1 = _exploring(q, d2, n_q, qa, qb, qx, qy, cx, cy, odo[i], offsets[a:b],
+                            distances[a:b], G, lattice, taken, scratch)
+        f0, f1 = interaction(offsets[a:b], distances[a:b], sender[a:b], vx[a:b], vy[a:b],
+                             velocity[i], G.d_cover, G.r_sense, G.kappa_avoid, G.kappa_cons,
+                             no_sender)
+        c0 = (e0 + x0) + f0
+        c1 = (e1 + x1) + f1
         n = hypot(c0, c1)
         if n > vmax:
             c0, c1 = c0 * (vmax / n), c1 * (vmax / n)

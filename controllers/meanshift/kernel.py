@@ -96,6 +96,17 @@ def interact(offsets, distances, sender, vx, vy, velocity, d_cover, r_sense, kap
     ``d_cover`` (units) and velocity consensus with those heard within ``r_sense`` (their
     broadcast ``vx``, ``vy``, float32; a ``sender`` of ``no_sender``: nothing heard)."""
     out = np.zeros(2)
+    out[0], out[1] = interaction(offsets, distances, sender, vx, vy, velocity, d_cover,
+                                 r_sense, kappa_avoid, kappa_cons, no_sender)
+    return out
+
+
+@njit(cache=True)
+def interaction(offsets, distances, sender, vx, vy, velocity, d_cover, r_sense, kappa_avoid,
+                kappa_cons, no_sender):  # pragma: no cover - compiled
+    """:func:`interact`'s command as a pair (x, y), units per tick (no array made)."""
+    o0 = 0.0
+    o1 = 0.0
     sx = 0.0
     sy = 0.0
     close = 0
@@ -107,8 +118,8 @@ def interact(offsets, distances, sender, vx, vy, velocity, d_cover, r_sense, kap
             sy += offsets[j, 1] / d * push
             close += 1
     if close:
-        out[0] -= kappa_avoid * sx
-        out[1] -= kappa_avoid * sy
+        o0 -= kappa_avoid * sx
+        o1 -= kappa_avoid * sy
     if kappa_cons > 0:
         cx = 0.0
         cy = 0.0
@@ -119,10 +130,9 @@ def interact(offsets, distances, sender, vx, vy, velocity, d_cover, r_sense, kap
                 cy += velocity[1] - np.float64(vy[j])
                 count += 1
         if count:
-            out[0] -= kappa_cons * (cx / count)
-            out[1] -= kappa_cons * (cy / count)
-    return out
-
+            o0 -= kappa_cons * (cx / count)
+            o1 -= kappa_cons * (cy / count)
+    return o0, o1
 
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""

@@ -9,6 +9,7 @@ import shapely
 from shapely.geometry import box
 
 from controllers.common.localmap import probe_all
+from controllers.common.mapbatch import MapRows
 from controllers.common.mapkernel import lattice_values, window_within
 from controllers.common.npsum import pairwise_sum
 from controllers.common.push import push_away
@@ -22,9 +23,10 @@ from swarmsim.sensing.sensing import FloorSensor
 
 
 def test_pairwise_sum_is_numpys_sum_to_the_bit():
-    """Sizes round numpy's block of 128 and its halving (a plain running sum differs)."""
+    """Sizes round numpy's block of 128 and its halving, nested calls and the stack beyond
+    them (a plain running sum differs)."""
     rng = np.random.default_rng(3)
-    for n in [*range(300), 511, 512, 513, 1031, 4099]:
+    for n in [*range(300), 511, 512, 513, 1031, 2047, 2048, 2049, 2100, 4099, 9000]:
         a = rng.random(n) * 10 ** rng.uniform(-3, 3)
         assert pairwise_sum(a, 0, n) == a.sum()
     a = rng.random(1000)
@@ -258,3 +260,38 @@ def test_formation_kernels_match_the_numpy_formulas():
         hits["parent"] += first >= 0
         hits["blocked"] += bool(answer)
     assert all(40 < v < 360 for v in hits.values()), hits  # each test answered both ways
+
+
+@pytest.mark.parametrize("radius, cell", [(10.0, 1.0), (5.0, 0.7), (2.0, 0.5)])
+def test_map_rows_search_the_rim_for_the_points_the_whole_stencil_gives(radius, cell):
+    """Robots walking in small steps (and now and then a long one) over a random floor: the
+    points a chunk asks, searched on the rim after a robot's first sensing, are those the
+    whole stencil's search asks, in the same order, to the bit; and the maps stay the same."""
+    rng = np.random.default_rng(21)
+    robots = 40
+    rim_maps, full_maps = MapRows(robots, radius, cell), MapRows(robots, radius, cell)
+    assert len(rim_maps.rim) < (2 * rim_maps.reach + 1) ** 2 / 2
+    rows = rng.permutation(robots)[:30].astype(np.int64)
+    small = asked_any = 0
+    for tick in range(300):
+        moved = rng.normal(size=(len(rows), 2)) * (0.12 * cell if tick % 9 else 2 * cell)
+        small += int((np.hypot(moved[:, 0], moved[:, 1]) <= rim_maps.step).sum())
+        asked = []
+        for maps in (rim_maps, full_maps):
+            if maps is full_maps:
+                maps.sensed[:] = False  # the whole stencil every time
+            asked.append((np.zeros(0, dtype=np.int64), np.zeros((0, 2))))  # none asked
+
+            def probe_many(ks, offsets, maps=maps, asked=asked):
+                asked[-1] = (ks.copy(), offsets.copy())
+                return np.sin(3 * (maps.odo[rows[ks], 0] + offsets[:, 0])) > np.cos(
+                    2 * (maps.odo[rows[ks], 1] + offsets[:, 1]))
+
+            maps.sense(rows, moved, probe_many)
+        (ks_rim, at_rim), (ks_full, at_full) = asked
+        asked_any += len(ks_rim) > 0
+        assert np.array_equal(ks_rim, ks_full) and at_rim.tobytes() == at_full.tobytes()
+        assert np.array_equal(rim_maps.grid, full_maps.grid)
+        assert np.array_equal(rim_maps.origin, full_maps.origin)
+    assert small > 5000  # most steps searched the rim
+    assert asked_any > 200  # most ticks asked points

@@ -107,6 +107,63 @@ def test_swarm_decides_a_hand_made_chunk_as_each_robot_steps():
     assert np.abs(chunk.velocities).sum() > 0  # they moved
 
 
+def _crowded_batch(rng, robots, map_cell):
+    """A hand-made chunk of ``robots`` robots, each hearing up to 30 neighbours (some
+    moving, some silent) within 13 units, on a wavy floor: many sensed target points are
+    occupied. Returns the batch, each robot's Perception, and the floor probe."""
+    params = MeanShiftParams(map_cell=map_cell)
+    counts = rng.integers(0, 31, size=robots)
+    starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    radius = 13.0 * np.sqrt(rng.random(starts[-1]))
+    angle = rng.uniform(-np.pi, np.pi, starts[-1])
+    offsets = np.column_stack([radius * np.cos(angle), radius * np.sin(angle)])
+    distances = np.hypot(offsets[:, 0], offsets[:, 1])
+    dtype = message_dtype(MeanShift.MESSAGE_FIELDS)
+    messages = np.array([silent_message(dtype)] * starts[-1], dtype=dtype)
+    heard = rng.random(starts[-1]) < 0.7
+    messages["id"][heard] = rng.integers(0, 100, size=heard.sum())
+    messages["vx"][heard] = rng.normal(0, 0.05, size=heard.sum())
+    messages["vy"][heard] = rng.normal(0, 0.05, size=heard.sum())
+    on_target = rng.random(robots) < 0.5
+    moved = rng.normal(0, 0.06, size=(robots, 2))
+    probe = lambda offset: bool(np.sin(offset[0] / 3) + np.cos(offset[1] / 4) > -0.4)
+
+    def perceive(k):
+        s, e = starts[k], starts[k + 1]
+        return Perception(0, offsets[s:e], distances[s:e], messages[s:e], bool(on_target[k]),
+                          probe, np.array([0.6, 0.8]), moved[k])
+
+    batch = DecideBatch(0, NeighbourBatch(messages, distances, starts), offsets, on_target,
+                        moved, np.tile([0.6, 0.8], (robots, 1)), lambda k: probe, perceive,
+                        None)
+    return params, batch, perceive
+
+
+@pytest.mark.parametrize("map_cell", [1.0, 0.3], ids=["one word a row", "two words a row"])
+def test_swarm_decides_crowded_robots_as_each_robot_steps(map_cell):
+    """Robots among up to 30 neighbours (the marking of occupied points: a stencil row in
+    one word of bits, and, at map_cell 0.3, 71 cells in two): the swarm's velocities and
+    sleep decisions are each robot's own step's, tick after tick."""
+    rng = np.random.default_rng(72)
+    params, batch, perceive = _crowded_batch(rng, 8, map_cell)
+    swarm = MeanShiftSwarm([RobotSetup(i) for i in range(8)], params)
+    robots = [MeanShiftRobot(RobotSetup(i), params, np.random.default_rng(0)) for i in range(8)]
+    for _ in range(3):
+        chunk = swarm.decide(np.arange(8), batch)
+        for k, robot in enumerate(robots):
+            action = robot.step(perceive(k))
+            assert tuple(chunk.velocities[k]) == action.velocity
+            assert chunk.sleep[k] == action.sleep
+    alone = MeanShiftRobot(RobotSetup(0), params, np.random.default_rng(0))
+    crowd = perceive(int(np.argmax(np.diff(batch.neighbours.starts))))
+    points, target = alone.map.sense(crowd)
+    no_one = Perception(0, np.zeros((0, 2)), np.zeros(0), crowd.messages[:0], crowd.on_target,
+                        crowd.probe, crowd.beacon, crowd.moved)
+    # the neighbours occupy target points: the command is not the one without them
+    assert not np.array_equal(alone.exploring(crowd, points, target),
+                              alone.exploring(no_one, points, target))
+
+
 @njit
 def _compiled_hypots(xy):
     out = np.empty(len(xy))
