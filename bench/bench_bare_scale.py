@@ -5,8 +5,10 @@ robots a group), a GGC run goes --warmup ticks, and then a fresh Physics of the 
 the run's positions, each given its run's command of that tick, is stepped by pymunk alone
 (--ticks ticks, best of --repeats), four ways: our drive as a run has it (a body, a control
 body, a pivot and a gear joint a robot; Chipmunk's bounding-box tree), Chipmunk's spatial
-hash instead of the tree (cell 1 and 2 units), and without sleeping. Prints ms a tick and
-microseconds a robot.
+hash instead of the tree (cell 1 and 2 units), without sleeping, with 3 pymunk steps a tick
+instead of 6 (``substeps``) and with 2 solver iterations instead of 5 (``iterations``): what
+each costs, not what it does to contacts (``swarmsim study realism --set`` measures that).
+Prints ms a tick and microseconds a robot.
 
     python bench/bench_bare_scale.py                        # 2000 and 10000 robots, tick 150
     python bench/bench_bare_scale.py --robots 2000 6000 10000 --warmup 600
@@ -32,7 +34,8 @@ from swarmsim import Simulation
 from swarmsim.physics.physics import Physics
 
 WAYS = {"tree": ({}, None), "hash 1": ({}, 1.0), "hash 2": ({}, 2.0),
-        "no sleep": ({"physics_sleep": False}, None)}
+        "no sleep": ({"physics_sleep": False}, None), "3 substeps": ({"substeps": 3}, None),
+        "2 iterations": ({"iterations": 2}, None)}
 """Each way of stepping: PhysicsConfig changes, and the spatial hash's cell size (None: the
 tree)."""
 

@@ -11,7 +11,9 @@ full tick / bare step says how much the simulator adds on top of pymunk.
 
 With --world, each controller instead makes whole runs of that world (seeds --seeds, to its
 own end or --max-ticks) and the bench prints its mean tick, wall and CPU, by phase, and the
-ratio of its CPU per tick to GGC's (issue 72: every shipped controller within 3x of GGC):
+ratio of its CPU per tick to GGC's (issue 72: every shipped controller within 3x of GGC),
+and the same per decided robot-tick (a controller whose robots never sleep decides more
+robots a tick):
 
     python bench/bench_tick.py --world K --controller ggc cvt meanshift kilobot dash fcdfs \
         dispersion --seeds 1 2
@@ -77,7 +79,7 @@ def measure(robots: int, controller: str, warmup: int, ticks: int, repeats: int)
 def measure_runs(world: str, controller: str, seeds: list[int], max_ticks: int | None) -> dict:
     """Whole runs of ``world``: ms per tick (wall, CPU and each phase's wall), over all the
     runs' ticks together."""
-    ticks, wall, cpu, phases = 0, 0.0, 0.0, dict.fromkeys(PHASES, 0.0)
+    ticks, decided, wall, cpu, phases = 0, 0, 0.0, 0.0, dict.fromkeys(PHASES, 0.0)
     for seed in seeds:
         sim = Simulation(world, controller=controller, seed=seed, max_ticks=max_ticks)
         start, start_cpu = time.perf_counter(), time.process_time()
@@ -86,10 +88,12 @@ def measure_runs(world: str, controller: str, seeds: list[int], max_ticks: int |
         wall += time.perf_counter() - start
         cpu += time.process_time() - start_cpu
         ticks += sim.tick
+        decided += sim.costs.decisions
         for k in PHASES:
             phases[k] += sim.phase_seconds[k]
     out = {k: v / ticks * 1e3 for k, v in phases.items()}
-    out.update(ticks=ticks, tick=wall / ticks * 1e3, cpu=cpu / ticks * 1e3)
+    out.update(ticks=ticks, tick=wall / ticks * 1e3, cpu=cpu / ticks * 1e3,
+               decided=decided / ticks, per_robot=cpu / max(decided, 1) * 1e6)
     return out
 
 
@@ -98,13 +102,16 @@ def main_world(args: argparse.Namespace) -> None:
     controllers = ["ggc", *[c for c in args.controller if c != "ggc"]]
     print(f"{args.world}, seeds {args.seeds}: ms per tick over whole runs (wall by phase)")
     print(f"{'controller':<11}{'ticks':>8}" + "".join(f"{p:>9}" for p in PHASES)
-          + f"{'tick':>9}{'cpu':>9}{'x ggc':>7}")
-    base = None
+          + f"{'tick':>9}{'cpu':>9}{'x ggc':>7}{'decided':>9}{'us/robot':>9}{'x ggc':>7}")
+    print("(decided: robots decided a tick, on average; us/robot: CPU a decided robot-tick)")
+    base = base_robot = None
     for controller in controllers:
         r = measure_runs(args.world, controller, args.seeds, args.max_ticks)
-        base = base or r["cpu"]
+        base, base_robot = base or r["cpu"], base_robot or r["per_robot"]
         print(f"{controller:<11}{r['ticks']:>8}" + "".join(f"{r[p]:>9.2f}" for p in PHASES)
-              + f"{r['tick']:>9.2f}{r['cpu']:>9.2f}{r['cpu'] / base:>7.1f}", flush=True)
+              + f"{r['tick']:>9.2f}{r['cpu']:>9.2f}{r['cpu'] / base:>7.1f}"
+              + f"{r['decided']:>9.0f}{r['per_robot']:>9.2f}{r['per_robot'] / base_robot:>7.1f}",
+              flush=True)
 
 
 def main() -> None:
