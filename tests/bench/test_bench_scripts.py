@@ -1,6 +1,7 @@
 """The benches the issues' figures come from still run: bench_floor.py (a run's tick against
 pymunk's bare step), bench_tick.py (the phases of a tick), bench_groups.py (a run's cost by
-groups) and bench_scale_runs.py (a made world's run cost by size), on a tiny world."""
+groups), bench_scale_runs.py (a made world's run cost by size) and bench_glue.py (compiled
+code against Python in a tick), on a tiny world."""
 
 from __future__ import annotations
 
@@ -56,6 +57,7 @@ def test_bench_tick_compares_whole_runs_of_a_world():
     r = tick.measure_runs("tiny", "dispersion", seeds=[0, 1], max_ticks=30)
     assert r["ticks"] == 60 and r["tick"] > 0 and r["cpu"] > 0
     assert r["tick"] >= r["decide"]
+    assert 0 < r["decided"] <= 60 and r["per_robot"] > 0  # robots decided a tick, CPU each
 
 
 def test_bench_scale_runs_makes_the_same_shape_at_each_size_and_runs_it():
@@ -97,3 +99,15 @@ def test_bench_bare_scale_steps_pymunk_alone_each_way(capsys):
     assert set(ways) == set(bare.WAYS) and all(ms > 0 for ms in ways.values())
     bare.main(["--robots", "60", "--warmup", "3", "--ticks", "1", "--repeats", "1"])
     assert capsys.readouterr().out.splitlines()[1].startswith("     60: tree ")
+
+
+def test_bench_glue_splits_a_tick_into_chipmunk_kernels_and_python():
+    glue = load("bench_glue")
+    import pymunk
+
+    step = pymunk.Space.step
+    r = glue.measure("tiny", "ggc", seed=0, max_ticks=40)
+    assert r["ticks"] == 39 and r["wrapped"] > 10 and r["kernel_calls"] > 1
+    assert r["chipmunk"] > 0 and r["kernels"] > 0 and r["python"] > 0
+    assert r["chipmunk"] + r["kernels"] + r["python"] == pytest.approx(r["tick"])
+    assert pymunk.Space.step is step  # the timers are taken off again
