@@ -143,16 +143,10 @@ def _unknown_in_stencil(k, odo_i, grid_i, origin_i, b0, b1, reach, cell, radius2
     """List chunk robot k's unknown lattice points within the radius, the whole stencil round
     lattice cell (b0, b1) searched, from row ``m`` of ``ks``, ``offsets``, ``cells``; returns
     the rows used."""
-    o0, o1 = origin_i[0], origin_i[1]
     for a in range(-reach, reach + 1):
-        dx = (b0 + a) * cell - odo_i[0]
         for b in range(-reach, reach + 1):
-            dy = (b1 + b) * cell - odo_i[1]
-            if dx * dx + dy * dy <= radius2 and grid_i[b0 + a - o0, b1 + b - o1] < 0:
-                ks[m] = k
-                offsets[m, 0], offsets[m, 1] = dx, dy
-                cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
-                m += 1
+            m = _ask_if_unknown(k, odo_i, grid_i, origin_i, b0 + a, b1 + b, cell, radius2, ks,
+                                offsets, cells, m)
     return m
 
 
@@ -162,16 +156,25 @@ def _unknown_on_rim(k, odo_i, grid_i, origin_i, b0, b1, rim, cell, radius2, ks, 
     """As :func:`_unknown_in_stencil`, only the stencil's ``rim`` searched (offsets (a, b) in
     stencil order): the same points, by the same test, in the same order, when every point
     off the rim within the radius is known."""
-    o0, o1 = origin_i[0], origin_i[1]
     for j in range(rim.shape[0]):
-        a, b = rim[j, 0], rim[j, 1]
-        dx = (b0 + a) * cell - odo_i[0]
-        dy = (b1 + b) * cell - odo_i[1]
-        if dx * dx + dy * dy <= radius2 and grid_i[b0 + a - o0, b1 + b - o1] < 0:
-            ks[m] = k
-            offsets[m, 0], offsets[m, 1] = dx, dy
-            cells[m, 0], cells[m, 1] = b0 + a - o0, b1 + b - o1
-            m += 1
+        m = _ask_if_unknown(k, odo_i, grid_i, origin_i, b0 + rim[j, 0], b1 + rim[j, 1], cell,
+                            radius2, ks, offsets, cells, m)
+    return m
+
+
+@njit(cache=True, inline="always")
+def _ask_if_unknown(k, odo_i, grid_i, origin_i, p0, p1, cell, radius2, ks, offsets, cells,
+                    m):  # pragma: no cover - compiled
+    """Append lattice point (p0, p1) to chunk robot k's questions (row ``m`` of ``ks``,
+    ``offsets``, ``cells``) when it lies within the radius and its map does not know it;
+    returns the rows used."""
+    dx, dy = p0 * cell - odo_i[0], p1 * cell - odo_i[1]
+    c0, c1 = p0 - origin_i[0], p1 - origin_i[1]
+    if dx * dx + dy * dy <= radius2 and grid_i[c0, c1] < 0:
+        ks[m] = k
+        offsets[m, 0], offsets[m, 1] = dx, dy
+        cells[m, 0], cells[m, 1] = c0, c1
+        m += 1
     return m
 
 
