@@ -30,6 +30,7 @@ import numpy as np
 
 from swarmsim import Simulation
 from swarmsim.engine.sim import PHASES
+from swarmsim.errors import ConfigError
 from swarmsim.physics.physics import Physics
 
 
@@ -94,8 +95,11 @@ def main() -> None:
           + "".join(f"{p:>9}" for p in PHASES))
     ratios = []
     for seed in args.seeds:
-        r = measure(args.world, args.controller, seed, args.every, args.bare_ticks,
-                    args.max_ticks)
+        try:
+            r = measure(args.world, args.controller, seed, args.every, args.bare_ticks,
+                        args.max_ticks)
+        except ConfigError as bad:  # a world, controller, seed or limit the run refuses
+            parser.error(str(bad))
         ratios.append(r["tick"] / r["bare"])
         print(f"{seed:>4}{r['ticks']:>8}{r['tick']:>8.3f}{r['bare']:>8.3f}{ratios[-1]:>7.2f}"
               + "".join(f"{r[p]:>9.3f}" for p in PHASES), flush=True)

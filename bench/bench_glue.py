@@ -27,6 +27,7 @@ import pymunk
 from numba.core.registry import CPUDispatcher
 
 from swarmsim import Simulation
+from swarmsim.errors import ConfigError
 
 OWN_PACKAGES = ("swarmsim", "controllers")
 
@@ -100,7 +101,10 @@ def main(argv: list[str] | None = None) -> None:
     print(f"{'seed':>4}{'ticks':>8}{'tick':>8}{'chipmunk':>16}{'kernels':>16}{'calls':>7}"
           f"{'python':>16}")
     for seed in args.seeds:
-        r = measure(args.world, args.controller, seed, args.max_ticks)
+        try:
+            r = measure(args.world, args.controller, seed, args.max_ticks)
+        except ConfigError as bad:  # a world, controller, seed or limit the run refuses
+            parser.error(str(bad))
         cells = "".join(f"{r[k]:>8.3f} ({r[k] / r['tick']:4.0%})"
                         for k in ("chipmunk", "kernels"))
         print(f"{seed:>4}{r['ticks']:>8}{r['tick']:>8.3f}{cells}{r['kernel_calls']:>7.1f}"

@@ -30,6 +30,7 @@ import time
 
 from swarmsim import Simulation
 from swarmsim.engine.sim import PHASES
+from swarmsim.errors import ConfigError
 from swarmsim.limits import MAX_TICKS
 from swarmsim.world.world import World, world_from_dict
 
@@ -125,9 +126,14 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, nargs="+", default=[1], help="with --world")
     parser.add_argument("--max-ticks", type=int, dest="max_ticks", help="with --world")
     args = parser.parse_args()
-    if args.world:
-        main_world(args)
-        return
+    try:
+        main_world(args) if args.world else main_sizes(args)
+    except ConfigError as bad:  # a world, controller, seed or limit the run refuses
+        parser.error(str(bad))
+
+
+def main_sizes(args: argparse.Namespace) -> None:
+    """Square worlds of --robots per controller: phases against the bare step."""
     head = (f"{'controller':<11}{'robots':>7}{'awake':>7}" + "".join(f"{p:>9}" for p in PHASES)
             + f"{'tick':>9}{'bare':>9}{'ratio':>8}")
     print("ms per tick (median of blocks); bare = pymunk step of the same bodies")
