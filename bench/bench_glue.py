@@ -37,7 +37,7 @@ class Clock:
 
     def __init__(self) -> None:
         self.seconds = {"chipmunk": 0.0, "kernels": 0.0}
-        self.kernel_calls = 0
+        self.calls = {"chipmunk": 0, "kernels": 0}
 
     def timed(self, kind: str, f: Callable) -> Callable:
         """``f`` with its time added to ``kind``."""
@@ -47,7 +47,7 @@ class Clock:
                 return f(*args, **kwargs)
             finally:
                 self.seconds[kind] += time.perf_counter() - start
-                self.kernel_calls += kind == "kernels"
+                self.calls[kind] += 1
         return wrapper
 
 
@@ -87,7 +87,7 @@ def measure(world: str, controller: str, seed: int, max_ticks: int | None) -> di
     per_tick = {k: v / ticks * 1e3 for k, v in clock.seconds.items()}
     return {"ticks": ticks, "wrapped": wrapped, "tick": whole / ticks * 1e3, **per_tick,
             "python": (whole - sum(clock.seconds.values())) / ticks * 1e3,
-            "kernel_calls": clock.kernel_calls / ticks}
+            "kernel_calls": clock.calls["kernels"] / ticks}
 
 
 def main(argv: list[str] | None = None) -> None:

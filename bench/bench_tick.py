@@ -127,7 +127,10 @@ def main() -> None:
     parser.add_argument("--max-ticks", type=int, dest="max_ticks", help="with --world")
     args = parser.parse_args()
     try:
-        main_world(args) if args.world else main_sizes(args)
+        if args.world:
+            main_world(args)
+        else:
+            main_sizes(args)
     except ConfigError as bad:  # a world, controller, seed or limit the run refuses
         parser.error(str(bad))
 

@@ -134,6 +134,7 @@ def interaction(offsets, distances, sender, vx, vy, velocity, d_cover, r_sense, 
             o1 -= kappa_cons * (cy / count)
     return o0, o1
 
+
 def warm_up() -> None:
     """Compile (first time on a machine) or load (from the cache) the kernels now."""
     q = np.zeros((1, 2))
